@@ -1,0 +1,124 @@
+# libsfm: one entry point.
+#   make            build/libsfm.a and build/libsfm.so (the core, no capture)
+#   make test       install what is missing, build and run every test, one summary line
+#   make demo       the three-view pipeline on bundled data
+#   make bench      benchmarks beside their anchors
+#   make cross      build/aarch64/libsfm.a
+#   make firmware   build/cortex-m7/libsfm.a
+#   make install PREFIX=/usr/local
+#   make fuzz       run the fuzz targets for a while
+#
+# Variables: NATIVE=1 adds -march=native (off by default: a library built on
+# one machine must run on another).
+
+.DEFAULT_GOAL := all
+SHELL := /bin/bash
+
+BUILD ?= build
+PREFIX ?= /usr/local
+PYTHON_VENV ?= .venv
+PYTHON ?= $(PYTHON_VENV)/bin/python
+
+# Modules of the core library, in layer order (data flows left to right; no
+# module includes a header of a module to its right).
+CORE_MODULES := core solvers robust refine recon features
+LIB_SRCS := $(foreach m,$(CORE_MODULES),$(wildcard libsfm/$(m)/*.c) $(wildcard libsfm/$(m)/generated/*.c))
+PUBLIC_HEADERS := $(wildcard include/sfm/*.h)
+
+WARN := -Wall -Wextra -Wpedantic -Werror -Wshadow -Wdouble-promotion
+STD := -std=c11 -ffp-contract=off
+OPT ?= -O2
+ifeq ($(NATIVE),1)
+OPT += -march=native
+endif
+CPPFLAGS_LIB := -Iinclude -Ilibsfm
+CPPFLAGS_TEST := $(CPPFLAGS_LIB) -Itests/harness
+
+UNIT_SRCS := $(wildcard tests/harness/*.c) $(wildcard tests/unit/*.c)
+
+# ---------------------------------------------------------------------------
+# Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS) defines
+#   DIR/libsfm.a                 the core library
+#   DIR/tests/unit_tests         the unit test runner
+define variant
+$(1)_DIR := $(2)
+$(1)_CC := $(3)
+$(1)_CFLAGS := $(4)
+$(1)_LDFLAGS := $(5)
+$(1)_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(LIB_SRCS))
+$(1)_TEST_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(UNIT_SRCS)) $(2)/obj/tests/registry.o
+
+$(2)/obj/libsfm/%.o: libsfm/%.c $$(PUBLIC_HEADERS) | $(2)/.dir
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_LIB) -c $$< -o $$@
+
+$(2)/obj/tests/%.o: tests/%.c $$(PUBLIC_HEADERS) tests/harness/sfm_test.h | $(2)/.dir
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
+
+$(2)/obj/tests/registry.o: $(2)/tests/registry.c
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
+
+$(2)/tests/registry.c: $$(UNIT_SRCS) tools/gen_test_registry.sh | $(2)/.dir
+	@mkdir -p $$(@D)
+	sh tools/gen_test_registry.sh $$(UNIT_SRCS) > $$@
+
+$(2)/libsfm.a: $$($(1)_OBJS)
+	@rm -f $$@
+	$$(AR_$(1)) rcs $$@ $$^
+
+$(2)/tests/unit_tests: $$($(1)_TEST_OBJS) $(2)/libsfm.a
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) -o $$@ $$($(1)_TEST_OBJS) $(2)/libsfm.a $$($(1)_LDFLAGS) -lm
+
+$(2)/.dir:
+	@mkdir -p $(2)
+	@touch $$@
+endef
+
+ASAN_LDFLAGS := -fsanitize=address,undefined
+ASAN_CFLAGS := $(STD) -O1 -g $(WARN) $(ASAN_LDFLAGS) -fno-sanitize-recover=all -fno-omit-frame-pointer
+AR_native := ar
+AR_asan := ar
+$(eval $(call variant,native,$(BUILD),cc,$(STD) $(OPT) $(WARN) -fPIC -fvisibility=hidden,))
+$(eval $(call variant,asan,$(BUILD)/asan,cc,$(ASAN_CFLAGS),$(ASAN_LDFLAGS)))
+
+$(BUILD)/libsfm.so: $(native_OBJS)
+	cc -shared -o $@ $^ -lm
+
+# The cdef the Python binding reads: the public headers after the
+# preprocessor, plus the integer macros, kept beside the library it describes.
+$(BUILD)/sfm_cdef.h: $(PUBLIC_HEADERS) tools/gen_cdef.sh | $(BUILD)/.dir
+	sh tools/gen_cdef.sh include/sfm/sfm.h > $@
+
+all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/sfm_cdef.h
+
+# ---------------------------------------------------------------------------
+# Tests. Each fragment in mk/ appends its steps to TEST_STEPS; `make test`
+# runs them all (a failing step does not stop the others) and ends with the
+# summary line of tools/run_tests.sh.
+TEST_STEPS := test-unit test-asan test-heapfree
+
+test-unit: $(BUILD)/tests/unit_tests
+	$(BUILD)/tests/unit_tests
+
+test-asan: $(BUILD)/asan/tests/unit_tests
+	ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 $(BUILD)/asan/tests/unit_tests
+
+# The core never calls an allocator: no object of it may reference one.
+test-heapfree: $(BUILD)/libsfm.a
+	sh tools/check_heapfree.sh $(BUILD)/libsfm.a
+
+-include $(sort $(wildcard mk/*.mk))
+
+deps:
+	sh tools/setup_deps.sh
+
+test: deps
+	@bash tools/run_tests.sh $(TEST_STEPS)
+
+clean:
+	rm -rf $(BUILD)
+
+.PHONY: all test deps clean $(TEST_STEPS)

@@ -1,0 +1,12 @@
+/* libsfm: multi-view geometry for robots. Umbrella header. */
+#ifndef SFM_H
+#define SFM_H
+
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_rng.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_poly.h"
+#include "sfm/sfm_rotation.h"
+#include "sfm/sfm_camera.h"
+
+#endif

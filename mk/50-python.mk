@@ -1,0 +1,5 @@
+# Python binding tests (cffi ABI mode over build/libsfm.so).
+TEST_STEPS += test-python
+
+test-python: all
+	PYTHONPATH=python $(PYTHON) -m pytest -q tests/python
