@@ -34,7 +34,11 @@ endif
 CPPFLAGS_LIB := -Iinclude -Ilibsfm
 CPPFLAGS_TEST := $(CPPFLAGS_LIB) -Itests/harness
 
+# tests/unit: portable tests that run on every target (no files, no threads,
+# modest memory). tests/native: host-only tests (real data in ../shared/data,
+# threads, large problems), same harness, own runner.
 UNIT_SRCS := $(wildcard tests/harness/*.c) $(wildcard tests/unit/*.c)
+NATIVE_TEST_SRCS := $(wildcard tests/harness/*.c) $(wildcard tests/native/*.c)
 
 # ---------------------------------------------------------------------------
 # Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS) defines
@@ -98,7 +102,20 @@ all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/sfm_cdef.h
 # Tests. Each fragment in mk/ appends its steps to TEST_STEPS; `make test`
 # runs them all (a failing step does not stop the others) and ends with the
 # summary line of tools/run_tests.sh.
-TEST_STEPS := test-unit test-asan test-heapfree
+TEST_STEPS := test-unit test-asan test-native test-heapfree
+
+NATIVE_TEST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(NATIVE_TEST_SRCS)) $(BUILD)/obj/tests/native_registry.o
+$(BUILD)/tests/native_registry.c: $(NATIVE_TEST_SRCS) tools/gen_test_registry.sh | $(BUILD)/.dir
+	@mkdir -p $(@D)
+	sh tools/gen_test_registry.sh $(NATIVE_TEST_SRCS) > $@
+$(BUILD)/obj/tests/native_registry.o: $(BUILD)/tests/native_registry.c
+	cc $(native_CFLAGS) $(CPPFLAGS_TEST) -c $< -o $@
+$(BUILD)/tests/native_tests: $(NATIVE_TEST_OBJS) $(BUILD)/libsfm.a
+	cc $(native_CFLAGS) -o $@ $(NATIVE_TEST_OBJS) $(BUILD)/libsfm.a -lm -lpthread
+
+# Host-only tests run from the project root so ../shared/data resolves.
+test-native: $(BUILD)/tests/native_tests
+	$(BUILD)/tests/native_tests
 
 test-unit: $(BUILD)/tests/unit_tests
 	$(BUILD)/tests/unit_tests

@@ -67,6 +67,15 @@ void sfm_test_fail(sfm_test_ctx *t, const char *file, int line, const char *fmt,
         printf("\n");                                                          \
     } while (0)
 
+/* Loop counts for randomized tests: full on a host, a tenth on targets that
+ * run under full-system emulation (built with -DSFM_TEST_REDUCED), where the
+ * point is to prove the code runs there, not to repeat the statistics. */
+#ifdef SFM_TEST_REDUCED
+#define SFM_TEST_ITERS(n) (((n) / 10) > 0 ? ((n) / 10) : 1)
+#else
+#define SFM_TEST_ITERS(n) (n)
+#endif
+
 /* Random helpers for building synthetic problems. */
 double sfm_test_uniform(sfm_test_ctx *t, double lo, double hi);
 double sfm_test_normal(sfm_test_ctx *t, double sigma);
