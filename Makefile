@@ -127,7 +127,13 @@ test-asan: $(BUILD)/asan/tests/unit_tests
 test-heapfree: $(BUILD)/libsfm.a
 	sh tools/check_heapfree.sh $(BUILD)/libsfm.a
 
+# Benchmarks: fragments append to BENCH_STEPS; `make bench` runs them in turn.
+BENCH_STEPS :=
+
 -include $(sort $(wildcard mk/*.mk))
+
+bench: all
+	@set -e; for s in $(BENCH_STEPS); do echo "=== $$s"; $(MAKE) --no-print-directory $$s; done
 
 deps:
 	sh tools/setup_deps.sh
@@ -138,4 +144,4 @@ test: deps
 clean:
 	rm -rf $(BUILD)
 
-.PHONY: all test deps clean $(TEST_STEPS)
+.PHONY: all test deps clean bench $(TEST_STEPS) $(BENCH_STEPS)
