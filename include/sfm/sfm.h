@@ -9,5 +9,6 @@
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_camera.h"
 #include "sfm/sfm_pose.h"
+#include "sfm/sfm_ransac.h"
 
 #endif
