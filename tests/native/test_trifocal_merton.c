@@ -38,7 +38,7 @@ static int read_corners(const char *path, double *xy, int cap)
 
 static double c1[2 * MAX_CORNERS], c2[2 * MAX_CORNERS], c3[2 * MAX_CORNERS];
 static double x1[2 * MAX_TRIPLETS], x2[2 * MAX_TRIPLETS], x3[2 * MAX_TRIPLETS];
-static unsigned char ws[64 * 1024];
+static unsigned char ws[256 * 1024];
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -90,7 +90,7 @@ SFM_TEST(trifocal_merton_transfer_against_ground_truth)
     SFM_CHECK_EQ_INT(sfm_trifocal_7pt(x1, x2, x3, n, Te, ws, sizeof ws), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Tgt, F21gt, NULL, NULL), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Te, F21, NULL, NULL), SFM_OK);
-    static double err_e[MAX_TRIPLETS], err_g[MAX_TRIPLETS];
+    static double err_e[MAX_TRIPLETS], err_g[MAX_TRIPLETS], err_d[MAX_TRIPLETS];
     int m = 0;
     for (int p = 0; p < n; p++) {
         double ye[2], yg[2];
@@ -99,12 +99,20 @@ SFM_TEST(trifocal_merton_transfer_against_ground_truth)
             continue;
         err_e[m] = hypot(ye[0] - x3[2 * p], ye[1] - x3[2 * p + 1]);
         err_g[m] = hypot(yg[0] - x3[2 * p], yg[1] - x3[2 * p + 1]);
+        err_d[m] = hypot(ye[0] - yg[0], ye[1] - yg[1]);
         m++;
     }
     SFM_CHECK(m == n);
     qsort(err_e, (size_t)m, sizeof(double), cmp_double);
     qsort(err_g, (size_t)m, sizeof(double), cmp_double);
-    SFM_TEST_LOG("%d triplets: median transfer error %.3f px (estimated tensor), %.3f px (ground-truth tensor)",
-                 m, err_e[m / 2], err_g[m / 2]);
-    SFM_CHECK(err_e[m / 2] <= 0.5);
+    qsort(err_d, (size_t)m, sizeof(double), cmp_double);
+    SFM_TEST_LOG("%d triplets, median point transfer: estimated tensor vs ground-truth tensor %.3f px; "
+                 "against the observed corner: estimated %.3f px, ground truth %.3f px",
+                 m, err_d[m / 2], err_e[m / 2], err_g[m / 2]);
+    /* The tensors agree to well under a pixel where the points are. Against
+     * the observed corners even the ground-truth tensor reaches only about
+     * 0.6 px (three views of corner noise), so that figure is bounded by
+     * the ground truth's own, not by 0.5 px. */
+    SFM_CHECK(err_d[m / 2] <= 0.5);
+    SFM_CHECK(err_e[m / 2] <= err_g[m / 2] * 1.05);
 }

@@ -224,7 +224,7 @@ static int make_triplets(sfm_test_ctx *t, double P[3][12], int n, double *x1, do
     return got == n;
 }
 
-static unsigned char tf_ws[64 * 1024];
+static unsigned char tf_ws[256 * 1024];
 
 SFM_TEST(trifocal_7pt_exact_on_noise_free_triplets)
 {
