@@ -10,5 +10,6 @@
 #include "sfm/sfm_camera.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
+#include "sfm/sfm_triangulate.h"
 
 #endif
