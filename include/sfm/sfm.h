@@ -12,5 +12,6 @@
 #include "sfm/sfm_ransac.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
+#include "sfm/sfm_ransac_trifocal.h"
 
 #endif

@@ -79,3 +79,50 @@ def trifocal_point_error(P1, P2, P3, x1, x2, x3):
     check(lib.sfm_trifocal_point_error(dptr(Ps[0]), dptr(Ps[1]), dptr(Ps[2]), dptr(xs[0]), dptr(xs[1]),
                                        dptr(xs[2]), err, dptr(X)), "trifocal_point_error")
     return float(err[0]), X
+
+
+def _ransac_options(threshold_px, seed, confidence=None, max_iterations=None):
+    opt = ffi.new("sfm_ransac_options *")
+    check(lib.sfm_ransac_default_options(opt), "ransac options")
+    opt.threshold = float(threshold_px)
+    opt.seed = int(seed)
+    if confidence is not None:
+        opt.confidence = float(confidence)
+    if max_iterations is not None:
+        opt.max_iterations = int(max_iterations)
+    return opt
+
+
+def _stats_dict(stats):
+    return dict(iterations=stats.iterations, num_inliers=stats.num_inliers, score=stats.score,
+                seed=int(stats.seed), stop_reason=stats.stop_reason, flags=stats.flags,
+                sprt_rejected=stats.sprt_rejected, lo_runs=stats.lo_runs)
+
+
+def estimate_trifocal(x1, x2, x3, threshold_px=1.0, seed=0, confidence=None, max_iterations=None):
+    """Trifocal RANSAC over (n,2) pixel triplets.
+
+    Returns dict(T (3,3,3), P (3,3,4) with P[0] = [I|0], inliers (n,) bool,
+    iterations, num_inliers, score, seed, stop_reason, ...). threshold_px is
+    a per-view pixel distance (the three-view reprojection error after
+    optimal triangulation, averaged over the views).
+    """
+    x1 = as_array(x1, (None, 2), "x1")
+    n = x1.shape[0]
+    x2 = as_array(x2, (n, 2), "x2")
+    x3 = as_array(x3, (n, 2), "x3")
+    opt = _ransac_options(threshold_px, seed, confidence, max_iterations)
+    T = np.empty((3, 3, 3))
+    P = np.empty((3, 3, 4))
+    mask = np.zeros(n, dtype=np.uint8)
+    stats = ffi.new("sfm_ransac_stats *")
+    need = lib.sfm_ransac_trifocal_workspace_size(n)
+    if need == 0:
+        raise ValueError("need at least 7 triplets, got %d" % n)
+    buf, ws, size = workspace(need)
+    check(lib.sfm_ransac_trifocal(dptr(x1), dptr(x2), dptr(x3), n, opt, dptr(T), dptr(P),
+                                  ffi.cast("uint8_t *", ffi.from_buffer(mask)), stats, ws, size),
+          "estimate_trifocal")
+    out = dict(T=T, P=P, inliers=mask.astype(bool))
+    out.update(_stats_dict(stats))
+    return out

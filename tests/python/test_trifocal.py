@@ -75,3 +75,22 @@ def test_bad_shapes_and_status():
     P = np.hstack([np.eye(3), np.zeros((3, 1))])
     with pytest.raises(libsfm.SfmError):
         libsfm.trifocal_from_cameras(P, P, P)
+
+
+def test_estimate_trifocal_with_outliers():
+    rng = np.random.default_rng(3)
+    Ps = random_cameras(rng)
+    X = rng.uniform(-1, 1, size=(150, 3))
+    xs = [project(P, X) + rng.normal(scale=0.5, size=(150, 2)) for P in Ps]
+    bad = rng.random(150) < 0.3
+    xs[2][bad] = rng.uniform(0, 640, size=(bad.sum(), 2))
+    r = libsfm.estimate_trifocal(*xs, threshold_px=2.0, seed=7)
+    assert r["inliers"].dtype == bool
+    assert np.sum(r["inliers"] & ~bad) >= 0.95 * np.sum(~bad)
+    assert np.sum(r["inliers"] & bad) <= 3
+    assert same_up_to_sign(r["T"], libsfm.trifocal_from_cameras(*r["P"])) < 1e-8
+    clean = [project(P, X) for P in Ps]
+    x3 = libsfm.trifocal_transfer(r["T"], clean[0], clean[1])
+    assert np.median(np.linalg.norm(x3 - clean[2], axis=1)) < 0.5
+    again = libsfm.estimate_trifocal(*xs, threshold_px=2.0, seed=7)
+    assert np.array_equal(again["inliers"], r["inliers"]) and np.array_equal(again["T"], r["T"])
