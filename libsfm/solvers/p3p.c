@@ -24,12 +24,13 @@
 
 #include "sfm/sfm_pose.h"
 
-static int all_finite(const double *v, int n)
+/* 1 when all n values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
+static inline int all_finite(const double *v, int n)
 {
+    double acc = 0.0;
     for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
+        acc += v[i] * 0.0;
+    return acc == 0.0;
 }
 
 static inline void cross3(const double a[3], const double b[3], double c[3])
@@ -44,26 +45,30 @@ static inline double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* One real root of the monic cubic x^3 + b x^2 + c x + d (Cardano for one
- * real root, the trigonometric form for three, then two Newton steps). */
+/* One real root of the monic cubic x^3 + b x^2 + c x + d: Cardano with a
+ * single cube root when one root is real (u v = -p/3, u taken on the side
+ * without cancellation), the trigonometric form for three; then two Newton
+ * steps. */
 static double cubic_one_root(double b, double c, double d)
 {
-    double p = c - b * b / 3.0;
-    double q = (2.0 * b * b * b - 9.0 * b * c) / 27.0 + d;
-    double disc = 0.25 * q * q + p * p * p / 27.0;
+    double b3 = b * (1.0 / 3.0);
+    double p = c - b * b3;
+    double q = (2.0 * b3 * b3 - c) * b3 + d;
+    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
     double x;
     if (disc >= 0.0) {
         double s = sqrt(disc);
-        x = cbrt(-0.5 * q + s) + cbrt(-0.5 * q - s) - b / 3.0;
+        double u = cbrt(-0.5 * q - copysign(s, q));
+        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
     } else {
         /* p < 0 here */
-        double r = sqrt(-p / 3.0);
+        double r = sqrt(-p * (1.0 / 3.0));
         double arg = -0.5 * q / (r * r * r);
         if (arg > 1.0)
             arg = 1.0;
         if (arg < -1.0)
             arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) / 3.0) - b / 3.0;
+        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3;
     }
     for (int it = 0; it < 2; it++) {
         double f = ((x + b) * x + c) * x + d;
@@ -321,7 +326,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             double t[3];
             for (int rw = 0; rw < 3; rw++)
                 t[rw] = Y1[rw] - (R[3 * rw] * X[0] + R[3 * rw + 1] * X[1] + R[3 * rw + 2] * X[2]);
-            if (!all_finite(R, 9) || !all_finite(t, 3))
+            if (!(all_finite(R, 9) && all_finite(t, 3)))
                 continue;
             memcpy(poses[nsol].R, R, sizeof R);
             memcpy(poses[nsol].t, t, sizeof t);
