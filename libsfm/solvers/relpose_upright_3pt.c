@@ -241,11 +241,11 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
      *   P = (a0, 0, a2) x b = (-a2 b1, a2 b0 - a0 b2, a0 b1),
      *   S = (a2, 0, -a0) x b = (P2, -(a0 b0 + a2 b2), -P0),
      *   W = (0, a1, 0) x b = (a1 b2, 0, -a1 b0). */
-    double P[3][3], S1[3], W0[3], W2[3], B[3][3];
+    double P[3][3], S1[3], W0[3], W2[3], A[3][3], B[3][3];
     double mag = 1.0;
     for (int i = 0; i < 3; i++) {
         const double *p1 = x1 + 3 * i, *p2 = x2 + 3 * i;
-        double a[3], *b = B[i];
+        double *a = A[i], *b = B[i];
         a[0] = Q1[0] * p1[0] + Q1[1] * p1[1] + Q1[2] * p1[2];
         a[1] = Q1[3] * p1[0] + Q1[4] * p1[1] + Q1[5] * p1[2];
         a[2] = Q1[6] * p1[0] + Q1[7] * p1[1] + Q1[8] * p1[2];
@@ -353,16 +353,32 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
             if (!(mt > 0.0))
                 continue;
         }
-        /* Sign of t': the frame-1 depths have the signs of -(t' x b_i).r_i,
-         * summed over the points (noise-free, all agree). */
+        /* Sign of t' and cheirality. With v_i = Ry a_i and r_i = v_i x b_i,
+         * the depths along a_i (frame 1) and b_i (frame 2) have the signs of
+         * -(t' x b_i).r_i and -(t' x v_i).r_i. The sign of t' follows the
+         * majority of the frame-1 depths; a solution that then leaves a point
+         * behind either camera is not a physical one and is dropped. */
+        double s1[3];
         int vote = 0;
         for (int i = 0; i < 3; i++) {
             double tb[3];
             cross3(tq, B[i], tb);
-            double dv = dot3(tb, r[i]);
-            vote += (dv < 0.0) - (dv > 0.0);
+            s1[i] = -dot3(tb, r[i]);
+            vote += (s1[i] > 0.0) - (s1[i] < 0.0);
         }
-        double it = (vote < 0 ? -1.0 : 1.0) / sqrt(mt);
+        double sg = vote < 0 ? -1.0 : 1.0;
+        if (sg * s1[0] < 0.0 || sg * s1[1] < 0.0 || sg * s1[2] < 0.0)
+            continue;
+        int behind = 0;
+        for (int i = 0; i < 3; i++) {
+            const double *a = A[i];
+            double v[3] = {c * a[0] + s * a[2], a[1], c * a[2] - s * a[0]}, tv[3];
+            cross3(tq, v, tv);
+            behind |= sg * dot3(tv, r[i]) > 0.0;
+        }
+        if (behind)
+            continue;
+        double it = sg / sqrt(mt);
         tq[0] *= it;
         tq[1] *= it;
         tq[2] *= it;
