@@ -10,9 +10,12 @@
 double sfm_feat_harris(const uint8_t *img, int stride, int x, int y);
 
 /* Sub-pixel corner location near integer (x, y), in the same level's pixel
- * coordinates. Returns 1 and writes (*rx, *ry) on success; returns 0 (and
- * writes (x, y)) when the window is edge-like or the estimate wanders more
- * than 3 pixels. Needs 8 pixels of image around (x, y). */
-int sfm_feat_refine(const uint8_t *img, int stride, int x, int y, double *rx, double *ry);
+ * coordinates (Foerstner, iterated up to 3 times, re-centred on the rounded
+ * estimate). Returns 1 and writes (*rx, *ry) on success; returns 0 (and
+ * writes (x, y)) when the window is edge-like, the estimate wanders more than
+ * 3 pixels, or the gradient lines miss it by more than max_residual (weighted
+ * mean squared distance, level pixels squared). Needs 8 pixels of image
+ * around (x, y). */
+int sfm_feat_refine(const uint8_t *img, int stride, int x, int y, double max_residual, double *rx, double *ry);
 
 #endif

@@ -27,6 +27,10 @@
 #include "sfm/sfm_features.h"
 
 #define MAX_SIDE 32768
+/* A cell keeps at most this many times its fair share of a level's quota. */
+#define CELL_CAP 2.0
+/* Sub-pixel acceptance: rms distance of the gradient lines, level-0 pixels. */
+#define REFINE_RMS 0.7
 
 typedef struct cand {
     int32_t x, y;
@@ -48,7 +52,7 @@ typedef struct plan {
 typedef struct layout {
     uint8_t *level[SFM_FEATURES_MAX_LEVELS]; /* [0] unused: level 0 is the caller's image */
     uint8_t *smooth;
-    uint16_t *tmp;
+    uint8_t *tmp;
     int32_t *xofs;
     uint16_t *xw;
     uint8_t *ring;
@@ -106,11 +110,9 @@ static void make_plan(const sfm_features_params *p, int w0, int h0, plan *pl)
         pl->gx[l] = (span_x + p->cell_size - 1) / p->cell_size;
         pl->gy[l] = (span_y + p->cell_size - 1) / p->cell_size;
         const int cells = pl->gx[l] * pl->gy[l];
-        /* every level may receive the whole budget through the carry */
-        const int share = (p->max_features + cells - 1) / cells;
-        int K = 2 * ((pl->quota[l] + cells - 1) / cells) + 4;
-        if (K > share + 4)
-            K = share + 4;
+        /* a cell keeps at most CELL_CAP times its fair share of the level's
+         * quota (plus 2), so strong texture cannot take the whole budget */
+        int K = (int)ceil(CELL_CAP * (double)pl->quota[l] / (double)cells) + 2;
         pl->K[l] = K;
         if (cells * K > pl->max_slots)
             pl->max_slots = cells * K;
@@ -128,13 +130,13 @@ static void carve(sfm_arena *a, const plan *pl, layout *ly)
     for (int l = 1; l < pl->n_levels; l++)
         ly->level[l] = SFM_ARENA_ARRAY(a, uint8_t, (size_t)pl->w[l] * (size_t)pl->h[l]);
     ly->smooth = SFM_ARENA_ARRAY(a, uint8_t, w0 * h0);
-    ly->tmp = SFM_ARENA_ARRAY(a, uint16_t, w0);
+    ly->tmp = SFM_ARENA_ARRAY(a, uint8_t, w0);
     ly->xofs = SFM_ARENA_ARRAY(a, int32_t, w0);
     ly->xw = SFM_ARENA_ARRAY(a, uint16_t, w0);
     ly->ring = SFM_ARENA_ARRAY(a, uint8_t, 3 * w0);
     ly->slots = SFM_ARENA_ARRAY(a, cand, pl->max_slots);
     ly->count = SFM_ARENA_ARRAY(a, int32_t, pl->max_cells);
-    ly->rank = SFM_ARENA_ARRAY(a, int32_t, pl->max_cells);
+    ly->rank = SFM_ARENA_ARRAY(a, int32_t, pl->max_slots);
 }
 
 size_t sfm_features_workspace_size(const sfm_features_params *p, int width, int height)
@@ -217,6 +219,39 @@ static void sort_cands(cand *c, int n)
     }
 }
 
+/* Heapsort of candidate indices into the order of before() (deterministic,
+ * no recursion, O(n log n)). */
+static void sift(const cand *c, int32_t *idx, int i, int n)
+{
+    int32_t v = idx[i];
+    for (;;) {
+        int ch = 2 * i + 1;
+        if (ch >= n)
+            break;
+        /* max-heap on "later in the order" so the sorted array is ascending in it */
+        if (ch + 1 < n && before(&c[idx[ch]], &c[idx[ch + 1]]))
+            ch++;
+        if (!before(&c[v], &c[idx[ch]]))
+            break;
+        idx[i] = idx[ch];
+        i = ch;
+    }
+    idx[i] = v;
+}
+
+static void sort_by_harris(const cand *c, int32_t *idx, int n)
+{
+    /* heap whose root is the candidate that comes last in before() order */
+    for (int i = n / 2 - 1; i >= 0; i--)
+        sift(c, idx, i, n);
+    for (int end = n - 1; end > 0; end--) {
+        int32_t t = idx[0];
+        idx[0] = idx[end];
+        idx[end] = t;
+        sift(c, idx, 0, end);
+    }
+}
+
 /* FAST + NMS + cell heaps over one level. */
 static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, int K,
                     uint8_t *ring, cand *slots, int32_t *count, int cells)
@@ -259,7 +294,9 @@ static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int level, cons
                 sfm_keypoint *kp, uint8_t *desc)
 {
     double rx, ry, co, si;
-    (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, &rx, &ry);
+    /* gradient lines must meet within REFINE_RMS level-0 pixels (rms) */
+    const double max_res = REFINE_RMS * REFINE_RMS / (lv->sx * lv->sy);
+    (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
     sfm_feat_orientation(smooth, lv->w, c->x, c->y, &co, &si);
     sfm_feat_describe(smooth, lv->w, c->x, c->y, co, si, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
@@ -329,34 +366,16 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             sort_cands(cc, ly.count[ci]);
         }
         sfm_feat_smooth(lv.data, lv.w, lv.h, lv.stride, ly.smooth, ly.tmp);
-        int taken = 0;
-        for (int r = 0; r < K && taken < budget; r++) {
-            int nr = 0;
-            for (int ci = 0; ci < cells; ci++)
-                if (ly.count[ci] > r)
-                    ly.rank[nr++] = ci;
-            if (nr == 0)
-                break;
-            if (taken + nr > budget) {
-                /* partial rank: strongest first (insertion sort on cell ids) */
-                for (int i = 1; i < nr; i++) {
-                    int32_t v = ly.rank[i];
-                    const cand *cv = ly.slots + (size_t)v * (size_t)K + r;
-                    int j = i - 1;
-                    while (j >= 0 && before(cv, ly.slots + (size_t)ly.rank[j] * (size_t)K + r)) {
-                        ly.rank[j + 1] = ly.rank[j];
-                        j--;
-                    }
-                    ly.rank[j + 1] = v;
-                }
-                nr = budget - taken;
-            }
-            for (int i = 0; i < nr; i++) {
-                const cand *c = ly.slots + (size_t)ly.rank[i] * (size_t)K + r;
-                taken += emit(&lv, ly.smooth, l, c, &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
-                n_out++;
-            }
-        }
+        /* every cell's kept candidates compete by Harris measure */
+        int n = 0;
+        for (int ci = 0; ci < cells; ci++)
+            for (int k = 0; k < ly.count[ci]; k++)
+                ly.rank[n++] = ci * K + k;
+        sort_by_harris(ly.slots, ly.rank, n);
+        const int take = n < budget ? n : budget;
+        for (int i = 0; i < take; i++, n_out++)
+            emit(&lv, ly.smooth, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
+        const int taken = take;
         carry = budget - taken;
     }
     return n_out;

@@ -73,8 +73,38 @@ void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
 #define G2 34u
 #define G3 18u
 
-void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint16_t *tmp)
+/* Vertical taps for 16 columns; each sum is at most 256 * 255 + 128, so
+ * 16-bit lanes suffice (fixed trip count: vectorised without target flags). */
+static void vpass16(const uint8_t *restrict const *r, int x, uint8_t *restrict tmp)
 {
+    const uint8_t *restrict a = r[0] + x, *restrict b = r[1] + x, *restrict c = r[2] + x, *restrict d = r[3] + x,
+                            *restrict e = r[4] + x, *restrict f = r[5] + x, *restrict g = r[6] + x;
+    for (int k = 0; k < 16; k++) {
+        uint16_t s = (uint16_t)(G3 * (uint16_t)(a[k] + g[k]) + G2 * (uint16_t)(b[k] + f[k]) +
+                                G1 * (uint16_t)(c[k] + e[k]) + G0 * (uint16_t)d[k] + 128u);
+        tmp[x + k] = (uint8_t)(s >> 8);
+    }
+}
+
+static void hpass16(const uint8_t *restrict p, uint8_t *restrict d)
+{
+    for (int k = 0; k < 16; k++) {
+        uint16_t s = (uint16_t)(G3 * (uint16_t)(p[k] + p[k + 6]) + G2 * (uint16_t)(p[k + 1] + p[k + 5]) +
+                                G1 * (uint16_t)(p[k + 2] + p[k + 4]) + G0 * (uint16_t)p[k + 3] + 128u);
+        d[k] = (uint8_t)(s >> 8);
+    }
+}
+
+static uint8_t vtap(const uint8_t *const *r, int x)
+{
+    uint32_t s = G3 * ((uint32_t)r[0][x] + r[6][x]) + G2 * ((uint32_t)r[1][x] + r[5][x]) +
+                 G1 * ((uint32_t)r[2][x] + r[4][x]) + G0 * (uint32_t)r[3][x];
+    return (uint8_t)((s + 128u) >> 8);
+}
+
+void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint8_t *tmp)
+{
+    static const uint32_t g[7] = {G3, G2, G1, G0, G1, G2, G3};
     for (int y = 0; y < h; y++) {
         const uint8_t *r[7];
         for (int k = -3; k <= 3; k++) {
@@ -82,28 +112,32 @@ void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst
             yy = yy < 0 ? 0 : (yy >= h ? h - 1 : yy);
             r[k + 3] = src + (size_t)yy * (size_t)sstride;
         }
-        /* vertical pass: at most 255 * 256, fits 16 bits */
-        for (int x = 0; x < w; x++)
-            tmp[x] = (uint16_t)(G3 * ((uint32_t)r[0][x] + r[6][x]) + G2 * ((uint32_t)r[1][x] + r[5][x]) +
-                                G1 * ((uint32_t)r[2][x] + r[4][x]) + G0 * (uint32_t)r[3][x]);
+        int x = 0;
+        for (; x + 16 <= w; x += 16)
+            vpass16(r, x, tmp);
+        for (; x < w; x++)
+            tmp[x] = vtap(r, x);
         uint8_t *d = dst + (size_t)y * (size_t)w;
-        for (int x = 3; x < w - 3; x++) {
-            const uint16_t *p = tmp + x;
-            uint32_t s = G3 * ((uint32_t)p[-3] + p[3]) + G2 * ((uint32_t)p[-2] + p[2]) +
-                         G1 * ((uint32_t)p[-1] + p[1]) + G0 * (uint32_t)p[0];
-            d[x] = (uint8_t)((s + 32768u) >> 16);
+        /* interior: columns [3, w - 3) read tmp[x - 3 .. x + 3] */
+        x = 3;
+        for (; x + 16 <= w - 3; x += 16)
+            hpass16(tmp + x - 3, d + x);
+        for (; x < w - 3; x++) {
+            uint32_t s = 0;
+            for (int k = -3; k <= 3; k++)
+                s += g[k + 3] * tmp[x + k];
+            d[x] = (uint8_t)((s + 128u) >> 8);
         }
-        for (int x = 0; x < w; x++) {
+        for (x = 0; x < w; x++) {
             if (x == 3 && w - 3 > 3)
                 x = w - 3; /* interior done above */
-            static const uint32_t g[7] = {G3, G2, G1, G0, G1, G2, G3};
             uint32_t s = 0;
             for (int k = -3; k <= 3; k++) {
                 int xx = x + k;
                 xx = xx < 0 ? 0 : (xx >= w ? w - 1 : xx);
                 s += g[k + 3] * tmp[xx];
             }
-            d[x] = (uint8_t)((s + 32768u) >> 16);
+            d[x] = (uint8_t)((s + 128u) >> 8);
         }
     }
 }

@@ -24,7 +24,8 @@ void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
                      uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw);
 
 /* Separable 7-tap Gaussian (sigma about 2, integer weights summing to 256),
- * borders replicated. dst has stride w; tmp holds w entries. */
-void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint16_t *tmp);
+ * borders replicated, vertical pass first (rounded to 8 bits), then
+ * horizontal. dst has stride w; tmp holds w bytes. */
+void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint8_t *tmp);
 
 #endif
