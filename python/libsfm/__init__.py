@@ -11,3 +11,4 @@ from .features import associate_three_views, detect_and_describe, match  # noqa:
 def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
+from . import frames  # noqa: F401,E402
