@@ -1,0 +1,335 @@
+/*
+ * Essential matrices from five bearing pairs: Nister, "An efficient solution
+ * to the five-point relative pose problem", IEEE PAMI 26(6), 2004.
+ *
+ * Assumptions: calibrated bearings (any nonzero length), x2^T E x1 = 0 with
+ * x_cam2 = R x_cam1 + t and E = [t]x R.
+ *
+ * 1. The 5x9 epipolar system has a 4-dimensional null space; with an
+ *    orthonormal basis X, Y, Z, W (Householder QR of its transpose),
+ *    E = x X + y Y + z Z + W.
+ * 2. det(E) = 0 and 2 E E^T E - tr(E E^T) E = 0 give 10 cubics in (x, y, z),
+ *    a 10x20 coefficient matrix over the monomials ordered as in the paper:
+ *    x^3 y^3 x^2y xy^2 x^2z x^2 y^2z y^2 xyz xy | xz^2 xz x yz^2 yz y z^3 z^2 z 1.
+ * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block.
+ *    Rows e-z*f, g-z*h, i-z*j of the reduced system are three equations
+ *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
+ *    tenth-degree polynomial, solved by Sturm bisection (sfm_poly_real_roots).
+ * 4. For each real root, [x y 1] is the null vector of B(z): the largest
+ *    cross product of two of its rows.
+ * Solutions with a vanishing W coefficient (x, y or z infinite) are not
+ * representable in this parametrization; they have measure zero.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_poly.h"
+#include "sfm/sfm_solvers.h"
+#include "solvers/linear9.h"
+#include "solvers/normalize.h"
+
+/* Linear polynomials are coefficient vectors over (x, y, z, 1); quadratics over
+ * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above. */
+static void mul11(const double *a, const double *b, double *q)
+{
+    q[0] = a[0] * b[0];
+    q[1] = a[0] * b[1] + a[1] * b[0];
+    q[2] = a[1] * b[1];
+    q[3] = a[0] * b[2] + a[2] * b[0];
+    q[4] = a[1] * b[2] + a[2] * b[1];
+    q[5] = a[2] * b[2];
+    q[6] = a[0] * b[3] + a[3] * b[0];
+    q[7] = a[1] * b[3] + a[3] * b[1];
+    q[8] = a[2] * b[3] + a[3] * b[2];
+    q[9] = a[3] * b[3];
+}
+
+/* Cubic index of (quadratic monomial) * (linear monomial). */
+static const unsigned char IDX3[10][4] = {
+    {0, 2, 4, 5},     /* x^2 */
+    {2, 3, 8, 9},     /* xy */
+    {3, 1, 6, 7},     /* y^2 */
+    {4, 8, 10, 11},   /* xz */
+    {8, 6, 13, 14},   /* yz */
+    {10, 13, 16, 17}, /* z^2 */
+    {5, 9, 11, 12},   /* x */
+    {9, 7, 14, 15},   /* y */
+    {11, 14, 17, 18}, /* z */
+    {12, 15, 18, 19}, /* 1 */
+};
+
+/* c += s * q * l */
+static void addmul21(double *c, const double *q, const double *l, double s)
+{
+    for (int a = 0; a < 10; a++) {
+        double qa = s * q[a];
+        for (int b = 0; b < 4; b++)
+            c[IDX3[a][b]] += qa * l[b];
+    }
+}
+
+static void polymul(const double *a, int da, const double *b, int db, double *c)
+{
+    for (int i = 0; i <= da + db; i++)
+        c[i] = 0.0;
+    for (int i = 0; i <= da; i++)
+        for (int j = 0; j <= db; j++)
+            c[i + j] += a[i] * b[j];
+}
+
+static double horner(const double *c, int d, double x)
+{
+    double r = c[0];
+    for (int i = 1; i <= d; i++)
+        r = r * x + c[i];
+    return r;
+}
+
+#ifndef REFINE_ITERS
+#define REFINE_ITERS 2
+#endif
+/* One Gauss-Newton step on the 10 original cubic constraints. */
+static void refine(double M0[10][20], double *px, double *py, double *pz)
+{
+    double x = *px, y = *py, z = *pz;
+    double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
+                    x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
+    double mx[20] = {3 * x * x, 0, 2 * x * y, y * y, 2 * x * z, 2 * x, 0, 0, y * z, y, z * z, z, 1,
+                     0, 0, 0, 0, 0, 0, 0};
+    double my[20] = {0, 3 * y * y, x * x, 2 * x * y, 0, 0, 2 * y * z, 2 * y, x * z, x, 0, 0, 0,
+                     z * z, z, 1, 0, 0, 0, 0};
+    double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
+                     3 * z * z, 2 * z, 1, 0};
+    double JtJ[6] = {0}, Jtf[3] = {0};
+    for (int r = 0; r < 10; r++) {
+        double f = 0, a = 0, b = 0, c = 0;
+        for (int k = 0; k < 20; k++) {
+            f += M0[r][k] * m[k];
+            a += M0[r][k] * mx[k];
+            b += M0[r][k] * my[k];
+            c += M0[r][k] * mz[k];
+        }
+        JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
+        JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
+        Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
+    }
+    /* Solve the 3x3 symmetric system by Cramer's rule. */
+    double A00 = JtJ[0], A01 = JtJ[1], A02 = JtJ[2], A11 = JtJ[3], A12 = JtJ[4], A22 = JtJ[5];
+    double c00 = A11 * A22 - A12 * A12, c01 = A02 * A12 - A01 * A22, c02 = A01 * A12 - A02 * A11;
+    double det = A00 * c00 + A01 * c01 + A02 * c02;
+    if (!(fabs(det) > 0.0))
+        return;
+    double c11 = A00 * A22 - A02 * A02, c12 = A01 * A02 - A00 * A12, c22 = A00 * A11 - A01 * A01;
+    double dx = (c00 * Jtf[0] + c01 * Jtf[1] + c02 * Jtf[2]) / det;
+    double dy = (c01 * Jtf[0] + c11 * Jtf[1] + c12 * Jtf[2]) / det;
+    double dz = (c02 * Jtf[0] + c12 * Jtf[1] + c22 * Jtf[2]) / det;
+    if (!isfinite(dx) || !isfinite(dy) || !isfinite(dz))
+        return;
+    *px = x - dx; *py = y - dy; *pz = z - dz;
+}
+
+int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
+{
+    if (!x1 || !x2 || !E)
+        return SFM_E_ARGUMENT;
+    if (!sfm__all_finite(x1, 15) || !sfm__all_finite(x2, 15))
+        return SFM_E_NONFINITE;
+
+    /* 1. Null space. */
+    double A[45], N[36];
+    for (int i = 0; i < 5; i++)
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
+    if (sfm__null9_exact(A, 5, N))
+        return 0;
+    double e[9][4];
+    for (int k = 0; k < 9; k++) {
+        e[k][0] = N[k];
+        e[k][1] = N[9 + k];
+        e[k][2] = N[18 + k];
+        e[k][3] = N[27 + k];
+    }
+
+    /* 2. The 10x20 constraint matrix. */
+    double M[10][20];
+    memset(M, 0, sizeof M);
+    double q[10];
+    mul11(e[4], e[8], q);
+    {
+        double t[10];
+        mul11(e[5], e[7], t);
+        for (int k = 0; k < 10; k++)
+            q[k] -= t[k];
+        addmul21(M[0], q, e[0], 1.0);
+        mul11(e[3], e[8], q);
+        mul11(e[5], e[6], t);
+        for (int k = 0; k < 10; k++)
+            q[k] -= t[k];
+        addmul21(M[0], q, e[1], -1.0);
+        mul11(e[3], e[7], q);
+        mul11(e[4], e[6], t);
+        for (int k = 0; k < 10; k++)
+            q[k] -= t[k];
+        addmul21(M[0], q, e[2], 1.0);
+    }
+    double EEt[3][3][10];
+    for (int i = 0; i < 3; i++)
+        for (int j = i; j < 3; j++) {
+            double t[10];
+            mul11(e[3 * i], e[3 * j], EEt[i][j]);
+            mul11(e[3 * i + 1], e[3 * j + 1], t);
+            for (int k = 0; k < 10; k++)
+                EEt[i][j][k] += t[k];
+            mul11(e[3 * i + 2], e[3 * j + 2], t);
+            for (int k = 0; k < 10; k++)
+                EEt[i][j][k] += t[k];
+            if (j != i)
+                memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
+        }
+    for (int k = 0; k < 10; k++) {
+        double half_tr = 0.5 * (EEt[0][0][k] + EEt[1][1][k] + EEt[2][2][k]);
+        EEt[0][0][k] -= half_tr;
+        EEt[1][1][k] -= half_tr;
+        EEt[2][2][k] -= half_tr;
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j], 1.0);
+
+    double M0[10][20];
+    memcpy(M0, M, sizeof M);
+    /* 3. Gauss-Jordan on the left 10x10 block. */
+    for (int r = 0; r < 10; r++) {
+        double mx = 0.0;
+        for (int c = 0; c < 20; c++)
+            if (fabs(M[r][c]) > mx)
+                mx = fabs(M[r][c]);
+        if (!(mx > 0.0))
+            return 0;
+        mx = 1.0 / mx;
+        for (int c = 0; c < 20; c++)
+            M[r][c] *= mx;
+    }
+    for (int c = 0; c < 10; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 10; r++)
+            if (fabs(M[r][c]) > fabs(M[piv][c]))
+                piv = r;
+        if (!(fabs(M[piv][c]) > 1e-12))
+            return 0; /* degenerate (e.g. pure rotation: a continuum of E) */
+        if (piv != c)
+            for (int k = c; k < 20; k++) {
+                double t = M[c][k];
+                M[c][k] = M[piv][k];
+                M[piv][k] = t;
+            }
+        double inv = 1.0 / M[c][c];
+        for (int k = c + 1; k < 20; k++)
+            M[c][k] *= inv;
+        M[c][c] = 1.0;
+        for (int r = 0; r < 10; r++) {
+            if (r == c)
+                continue;
+            double f = M[r][c];
+            if (f == 0.0)
+                continue;
+            for (int k = c + 1; k < 20; k++)
+                M[r][k] -= f * M[c][k];
+            M[r][c] = 0.0;
+        }
+    }
+
+    /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
+     * are the coefficients of xz^2 xz x yz^2 yz y z^3 z^2 z 1. */
+    double pa[3][4], pb[3][4], pc[3][5];
+    for (int k = 0; k < 3; k++) {
+        const double *Be = M[4 + 2 * k] + 10, *Bf = M[5 + 2 * k] + 10;
+        pa[k][0] = -Bf[0];
+        pa[k][1] = Be[0] - Bf[1];
+        pa[k][2] = Be[1] - Bf[2];
+        pa[k][3] = Be[2];
+        pb[k][0] = -Bf[3];
+        pb[k][1] = Be[3] - Bf[4];
+        pb[k][2] = Be[4] - Bf[5];
+        pb[k][3] = Be[5];
+        pc[k][0] = -Bf[6];
+        pc[k][1] = Be[6] - Bf[7];
+        pc[k][2] = Be[7] - Bf[8];
+        pc[k][3] = Be[8] - Bf[9];
+        pc[k][4] = Be[9];
+    }
+    /* det B(z) = c0 (a1 b2 - a2 b1) - c1 (a0 b2 - a2 b0) + c2 (a0 b1 - a1 b0). */
+    double poly[11], m1[7], m2[7], t10[11];
+    memset(poly, 0, sizeof poly);
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        polymul(pa[i], 3, pb[j], 3, m1);
+        polymul(pa[j], 3, pb[i], 3, m2);
+        for (int s = 0; s < 7; s++)
+            m1[s] -= m2[s];
+        polymul(pc[k], 4, m1, 6, t10);
+        for (int s = 0; s < 11; s++)
+            poly[s] += t10[s];
+    }
+
+    /* Sturm bisection for the real roots. Drop vanishing leading terms. */
+    double pmax = 0.0;
+    for (int s = 0; s < 11; s++)
+        if (fabs(poly[s]) > pmax)
+            pmax = fabs(poly[s]);
+    if (!(pmax > 0.0) || !isfinite(pmax))
+        return 0;
+    int lead = 0;
+    while (lead < 10 && fabs(poly[lead]) <= 1e-14 * pmax)
+        lead++;
+    int deg = 10 - lead;
+    if (deg < 1)
+        return 0;
+    double zr[10];
+    int nz = sfm_poly_real_roots(poly + lead, deg, -INFINITY, INFINITY, zr);
+    if (nz <= 0)
+        return 0;
+
+    /* 4. Back substitution. */
+    double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
+    int ns = 0;
+    for (int s = 0; s < nz && ns < SFM_RELPOSE_5PT_MAX_SOLUTIONS; s++) {
+        double z = zr[s];
+        double B[3][3];
+        for (int k = 0; k < 3; k++) {
+            B[k][0] = horner(pa[k], 3, z);
+            B[k][1] = horner(pb[k], 3, z);
+            B[k][2] = horner(pc[k], 4, z);
+        }
+        double best[3] = {0.0, 0.0, 0.0}, bn = -1.0;
+        for (int k = 0; k < 3; k++) {
+            const double *u = B[k], *w = B[(k + 1) % 3];
+            double v[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                           u[0] * w[1] - u[1] * w[0]};
+            double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            if (n2 > bn) {
+                bn = n2;
+                best[0] = v[0];
+                best[1] = v[1];
+                best[2] = v[2];
+            }
+        }
+        if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
+            continue;
+        double x = best[0] / best[2], y = best[1] / best[2];
+        for (int iter = 0; iter < REFINE_ITERS; iter++)
+            refine(M0, &x, &y, &z);
+        double *o = out[ns];
+        for (int k = 0; k < 9; k++)
+            o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+        if (sfm__normalize9(o))
+            continue;
+        ns++;
+    }
+    for (int s = 0; s < ns; s++)
+        for (int k = 0; k < 9; k++)
+            E[s].m[k] = out[s][k];
+    return ns;
+}
