@@ -86,17 +86,36 @@ static double horner(const double *c, int d, double x)
 }
 
 #ifndef PERM_RETRY_PIVOT
-#define PERM_RETRY_PIVOT 1e-2
+#define PERM_RETRY_PIVOT 3e-2
 #endif
 #ifndef REFINE_ITERS
-#define REFINE_ITERS 2
+#define REFINE_ITERS 3
 #endif
-/* One Gauss-Newton step on the 10 original cubic constraints. */
-static void refine(double M0[10][20], double *px, double *py, double *pz)
+#ifndef REFINE_TOL
+#define REFINE_TOL 1e-15
+#endif
+/* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
+ * largest coefficient). Returns 1 when the residual is already at rounding
+ * level (no step taken), else 0. */
+static int refine(double M0[10][20], double *px, double *py, double *pz)
 {
     double x = *px, y = *py, z = *pz;
     double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
                     x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
+    double mmax = 0.0, fmax_ = 0.0, fr[10];
+    for (int k = 0; k < 20; k++)
+        if (fabs(m[k]) > mmax)
+            mmax = fabs(m[k]);
+    for (int r = 0; r < 10; r++) {
+        double f = 0.0;
+        for (int k = 0; k < 20; k++)
+            f += M0[r][k] * m[k];
+        fr[r] = f;
+        if (fabs(f) > fmax_)
+            fmax_ = fabs(f);
+    }
+    if (fmax_ <= REFINE_TOL * mmax)
+        return 1;
     double mx[20] = {3 * x * x, 0, 2 * x * y, y * y, 2 * x * z, 2 * x, 0, 0, y * z, y, z * z, z, 1,
                      0, 0, 0, 0, 0, 0, 0};
     double my[20] = {0, 3 * y * y, x * x, 2 * x * y, 0, 0, 2 * y * z, 2 * y, x * z, x, 0, 0, 0,
@@ -105,9 +124,8 @@ static void refine(double M0[10][20], double *px, double *py, double *pz)
                      3 * z * z, 2 * z, 1, 0};
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
-        double f = 0, a = 0, b = 0, c = 0;
+        double f = fr[r], a = 0, b = 0, c = 0;
         for (int k = 0; k < 20; k++) {
-            f += M0[r][k] * m[k];
             a += M0[r][k] * mx[k];
             b += M0[r][k] * my[k];
             c += M0[r][k] * mz[k];
@@ -121,14 +139,15 @@ static void refine(double M0[10][20], double *px, double *py, double *pz)
     double c00 = A11 * A22 - A12 * A12, c01 = A02 * A12 - A01 * A22, c02 = A01 * A12 - A02 * A11;
     double det = A00 * c00 + A01 * c01 + A02 * c02;
     if (!(fabs(det) > 0.0))
-        return;
+        return 1;
     double c11 = A00 * A22 - A02 * A02, c12 = A01 * A02 - A00 * A12, c22 = A00 * A11 - A01 * A01;
     double dx = (c00 * Jtf[0] + c01 * Jtf[1] + c02 * Jtf[2]) / det;
     double dy = (c01 * Jtf[0] + c11 * Jtf[1] + c12 * Jtf[2]) / det;
     double dz = (c02 * Jtf[0] + c12 * Jtf[1] + c22 * Jtf[2]) / det;
     if (!isfinite(dx) || !isfinite(dy) || !isfinite(dz))
-        return;
+        return 1;
     *px = x - dx; *py = y - dy; *pz = z - dz;
+    return 0;
 }
 
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
@@ -188,8 +207,8 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
             for (int k = 0; k < 3; k++)
                 addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j], 1.0);
 
-    memcpy(M0, M, 10 * 20 * sizeof(double));
-    /* 3. Gauss-Jordan on the left 10x10 block. */
+    /* 3. Gauss-Jordan on the left 10x10 block, rows first scaled to unit
+     * largest entry (M0 keeps the scaled, unreduced rows for the polish). */
     for (int r = 0; r < 10; r++) {
         double mx = 0.0;
         for (int c = 0; c < 20; c++)
@@ -201,6 +220,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
         for (int c = 0; c < 20; c++)
             M[r][c] *= mx;
     }
+    memcpy(M0, M, 10 * 20 * sizeof(double));
     double minpiv = INFINITY;
     for (int c = 0; c < 10; c++) {
         int piv = c;
@@ -235,43 +255,11 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
     return minpiv;
 }
 
-int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
+/* Steps 3 (end) and 4 for one reduced system: solutions written to out as
+ * unit-norm 9-vectors; returns their number. */
+static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
+                         double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
-    if (!x1 || !x2 || !E)
-        return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(x1, 15) || !sfm__all_finite(x2, 15))
-        return SFM_E_NONFINITE;
-
-    /* 1. Null space. */
-    double A[45], N[36];
-    for (int i = 0; i < 5; i++)
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
-    if (sfm__null9_exact(A, 5, N))
-        return 0;
-    /* Nister fixes the coefficient of one null vector to 1; how well the
-     * 10x10 block is conditioned depends on which. When the first choice
-     * gives a small pivot, the other three cyclic orders are tried and the
-     * best-conditioned one is used (this takes the ground-truth-found rate
-     * from about 99% to above 99.9% on near-planar and distant scenes). */
-    double e[9][4], M0[10][20], M[10][20];
-    double piv = build_reduce(N, 0, e, M0, M);
-    if (piv < PERM_RETRY_PIVOT) {
-        double e2[9][4], M02[10][20], M2[10][20];
-        for (int perm = 1; perm < 4; perm++) {
-            double p2 = build_reduce(N, perm, e2, M02, M2);
-            if (p2 > piv) {
-                piv = p2;
-                memcpy(e, e2, sizeof e);
-                memcpy(M0, M02, sizeof M0);
-                memcpy(M, M2, sizeof M);
-            }
-        }
-        if (!(piv > 0.0))
-            return 0;
-    }
-
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
      * are the coefficients of xz^2 xz x yz^2 yz y z^3 z^2 z 1. */
     double pa[3][4], pb[3][4], pc[3][5];
@@ -324,7 +312,6 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         return 0;
 
     /* 4. Back substitution. */
-    double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
     int ns = 0;
     for (int s = 0; s < nz && ns < SFM_RELPOSE_5PT_MAX_SOLUTIONS; s++) {
         double z = zr[s];
@@ -351,13 +338,75 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
         for (int iter = 0; iter < REFINE_ITERS; iter++)
-            refine(M0, &x, &y, &z);
+            if (refine(M0, &x, &y, &z))
+                break;
         double *o = out[ns];
         for (int k = 0; k < 9; k++)
             o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
         if (sfm__normalize9(o))
             continue;
         ns++;
+    }
+    return ns;
+}
+
+int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
+{
+    if (!x1 || !x2 || !E)
+        return SFM_E_ARGUMENT;
+    if (!sfm__all_finite(x1, 15) || !sfm__all_finite(x2, 15))
+        return SFM_E_NONFINITE;
+
+    /* 1. Null space. */
+    double A[45], N[36];
+    for (int i = 0; i < 5; i++)
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
+    if (sfm__null9_exact(A, 5, N))
+        return 0;
+    /* Nister fixes the coefficient of one null vector to 1; how well the
+     * 10x10 block is conditioned depends on which. When the first choice
+     * gives a small pivot, the best-conditioned of the other three cyclic
+     * orders is solved as well and the two solution sets are merged (a root
+     * that the first polynomial's rounding turned into a complex pair is
+     * found by the second). This takes the ground-truth-found rate from
+     * about 99% to above 99.9% on near-planar and distant scenes. */
+    double e[9][4], M0[10][20], M[10][20];
+    double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
+    double piv = build_reduce(N, 0, e, M0, M);
+    int ns = piv > 0.0 ? solve_reduced(e, M0, M, out) : 0;
+    if (piv < PERM_RETRY_PIVOT) {
+        double p2 = 0.0;
+        int best = 0;
+        for (int perm = 1; perm < 4; perm++) {
+            double pp = build_reduce(N, perm, e, M0, M);
+            if (pp > p2) {
+                p2 = pp;
+                best = perm;
+            }
+        }
+        if (best > 0) {
+            double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
+            if (best != 3)
+                (void)build_reduce(N, best, e, M0, M);
+            int n2 = solve_reduced(e, M0, M, more);
+            for (int k = 0; k < n2; k++) {
+                int dup = 0;
+                for (int j = 0; j < ns && !dup; j++) {
+                    double dp = 0.0, dm = 0.0;
+                    for (int i = 0; i < 9; i++) {
+                        dp += (more[k][i] - out[j][i]) * (more[k][i] - out[j][i]);
+                        dm += (more[k][i] + out[j][i]) * (more[k][i] + out[j][i]);
+                    }
+                    dup = dp < 1e-12 || dm < 1e-12;
+                }
+                if (!dup)
+                    memcpy(out[ns++], more[k], sizeof out[0]);
+            }
+        }
+        if (ns > SFM_RELPOSE_5PT_MAX_SOLUTIONS)
+            ns = SFM_RELPOSE_5PT_MAX_SOLUTIONS;
     }
     for (int s = 0; s < ns; s++)
         for (int k = 0; k < 9; k++)
