@@ -10,3 +10,5 @@ from ._ffi import SfmError, ffi, lib  # noqa: F401
 def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
+from .solvers import (essential_8pt, fundamental_7pt, fundamental_8pt, homography_4pt,  # noqa: F401
+                      homography_dlt, relpose_5pt)
