@@ -231,7 +231,7 @@ def test_homography_same_as_opencv_and_numpy():
         assert np.linalg.norm(H4 - _dlt_reference(q1[:4], q2[:4])) < 1e-9
         assert np.linalg.norm(libsfm.homography_dlt(q1, q2) - _dlt_reference(q1, q2)) < 1e-9
     # OpenCV solves the normal equations in float64: agreement to its accuracy
-    assert np.median(d) < 1e-7 and np.max(d) < 1e-3, (np.median(d), np.max(d))
+    assert np.median(d) < 1e-5 and np.max(d) < 1e-2, (np.median(d), np.max(d))
 
 
 # ---- errors grow linearly with pixel noise ---------------------------------
