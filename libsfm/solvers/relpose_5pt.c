@@ -11,10 +11,11 @@
  * 2. det(E) = 0 and 2 E E^T E - tr(E E^T) E = 0 give 10 cubics in (x, y, z),
  *    a 10x20 coefficient matrix over the monomials ordered as in the paper:
  *    x^3 y^3 x^2y xy^2 x^2z x^2 y^2z y^2 xyz xy | xz^2 xz x yz^2 yz y z^3 z^2 z 1.
- * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block.
+ * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block
+ *    (back substitution only for the six rows needed).
  *    Rows e-z*f, g-z*h, i-z*j of the reduced system are three equations
  *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
- *    tenth-degree polynomial, solved by Sturm bisection (sfm_poly_real_roots).
+ *    tenth-degree polynomial, solved by Sturm bisection (below).
  * 4. For each real root, [x y 1] is the null vector of B(z): the largest
  *    cross product of two of its rows.
  * Solutions with a vanishing W coefficient (x, y or z infinite) are not
@@ -23,7 +24,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "sfm/sfm_poly.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -44,28 +44,210 @@ static void mul11(const double *a, const double *b, double *q)
     q[9] = a[3] * b[3];
 }
 
-/* Cubic index of (quadratic monomial) * (linear monomial). */
-static const unsigned char IDX3[10][4] = {
-    {0, 2, 4, 5},     /* x^2 */
-    {2, 3, 8, 9},     /* xy */
-    {3, 1, 6, 7},     /* y^2 */
-    {4, 8, 10, 11},   /* xz */
-    {8, 6, 13, 14},   /* yz */
-    {10, 13, 16, 17}, /* z^2 */
-    {5, 9, 11, 12},   /* x */
-    {9, 7, 14, 15},   /* y */
-    {11, 14, 17, 18}, /* z */
-    {12, 15, 18, 19}, /* 1 */
-};
-
-/* c += s * q * l */
-static void addmul21(double *c, const double *q, const double *l, double s)
+/* c += q * l for a quadratic q and a linear l, written out per cubic
+ * monomial of the order above. */
+static void addmul21(double *c, const double *q, const double *l)
 {
-    for (int a = 0; a < 10; a++) {
-        double qa = s * q[a];
-        for (int b = 0; b < 4; b++)
-            c[IDX3[a][b]] += qa * l[b];
+    c[0] += q[0] * l[0];
+    c[1] += q[2] * l[1];
+    c[2] += q[0] * l[1] + q[1] * l[0];
+    c[3] += q[1] * l[1] + q[2] * l[0];
+    c[4] += q[0] * l[2] + q[3] * l[0];
+    c[5] += q[0] * l[3] + q[6] * l[0];
+    c[6] += q[2] * l[2] + q[4] * l[1];
+    c[7] += q[2] * l[3] + q[7] * l[1];
+    c[8] += q[1] * l[2] + q[3] * l[1] + q[4] * l[0];
+    c[9] += q[1] * l[3] + q[6] * l[1] + q[7] * l[0];
+    c[10] += q[3] * l[2] + q[5] * l[0];
+    c[11] += q[3] * l[3] + q[6] * l[2] + q[8] * l[0];
+    c[12] += q[6] * l[3] + q[9] * l[0];
+    c[13] += q[4] * l[2] + q[5] * l[1];
+    c[14] += q[4] * l[3] + q[7] * l[2] + q[8] * l[1];
+    c[15] += q[7] * l[3] + q[9] * l[1];
+    c[16] += q[5] * l[2];
+    c[17] += q[5] * l[3] + q[8] * l[2];
+    c[18] += q[8] * l[3] + q[9] * l[2];
+    c[19] += q[9] * l[3];
+}
+
+/* Real roots of the tenth-degree polynomial by a Sturm sequence: bisection
+ * until each interval holds one root, then safeguarded Newton on the
+ * polynomial itself. Specialized to degree <= 10 with fixed storage (about
+ * 1 KB of stack); c: descending coefficients, c[0] != 0. */
+#define STURM_MAX 10
+
+typedef struct sturm_seq {
+    double s[STURM_MAX + 1][STURM_MAX + 1]; /* s[k] of degree deg[k], descending */
+    int deg[STURM_MAX + 1];
+    int n; /* number of polynomials */
+} sturm_seq;
+
+static void sturm_build(const double *c, int d, sturm_seq *S)
+{
+    double inv = 1.0 / c[0];
+    for (int i = 0; i <= d; i++)
+        S->s[0][i] = c[i] * inv;
+    for (int i = 0; i < d; i++)
+        S->s[1][i] = S->s[0][i] * (double)(d - i) / (double)d; /* p'/d, monic */
+    S->deg[0] = d;
+    S->deg[1] = d - 1;
+    S->n = 2;
+    while (S->deg[S->n - 1] > 0) {
+        const double *a = S->s[S->n - 2], *b = S->s[S->n - 1];
+        int da = S->deg[S->n - 2], db = S->deg[S->n - 1];
+        double r[STURM_MAX + 1];
+        for (int i = 0; i <= da; i++)
+            r[i] = a[i];
+        /* long division by b (leading coefficient +-1) */
+        for (int k = 0; k <= da - db; k++) {
+            double f = r[k] * b[0];
+            for (int j = 1; j <= db; j++)
+                r[k + j] -= f * b[j];
+        }
+        /* remainder: r[da-db+1 .. da], degree db-1; negate and make monic */
+        const double *rem = r + da - db + 1;
+        int dr = db - 1;
+        double lead = rem[0];
+        double mx = 0.0;
+        for (int i = 0; i <= dr; i++)
+            if (fabs(rem[i]) > mx)
+                mx = fabs(rem[i]);
+        if (!(mx > 0.0))
+            break; /* exact gcd: repeated roots; the sequence ends here */
+        if (fabs(lead) < 1e-300) {
+            /* leading term vanished: keep the unnormalized remainder */
+            int skip = 0;
+            while (skip < dr && rem[skip] == 0.0)
+                skip++;
+            rem += skip;
+            dr -= skip;
+            lead = rem[0];
+        }
+        double sc = -1.0 / fabs(lead);
+        for (int i = 0; i <= dr; i++)
+            S->s[S->n][i] = rem[i] * sc; /* -rem / |lead| */
+        S->deg[S->n] = dr;
+        S->n++;
     }
+}
+
+static int sturm_var(const sturm_seq *S, double x)
+{
+    int v = 0;
+    double prev = 0.0;
+    for (int k = 0; k < S->n; k++) {
+        const double *p = S->s[k];
+        double y = p[0];
+        for (int i = 1; i <= S->deg[k]; i++)
+            y = y * x + p[i];
+        if (y != 0.0) {
+            if (prev != 0.0 && (y > 0.0) != (prev > 0.0))
+                v++;
+            prev = y;
+        }
+    }
+    return v;
+}
+
+static double peval(const double *c, int d, double x)
+{
+    double y = c[0];
+    for (int i = 1; i <= d; i++)
+        y = y * x + c[i];
+    return y;
+}
+
+/* p and p' at x */
+static double peval_d(const double *c, int d, double x, double *dp)
+{
+    double y = c[0], dy = 0.0;
+    for (int i = 1; i <= d; i++) {
+        dy = dy * x + y;
+        y = y * x + c[i];
+    }
+    *dp = dy;
+    return y;
+}
+
+/* Root of p in (a, b) where p(a), p(b) differ in sign: Newton's method
+ * safeguarded by bisection (a bisection step whenever Newton would leave the
+ * bracket or not halve the step, as in "rtsafe", Numerical Recipes 9.4). */
+static double polish(const double *p, int d, double a, double b)
+{
+    double fa = peval(p, d, a);
+    double x = 0.5 * (a + b), dxold = b - a, dx = dxold;
+    for (int it = 0; it < 100; it++) {
+        double df, f = peval_d(p, d, x, &df);
+        if (f == 0.0)
+            return x;
+        if ((f > 0.0) == (fa > 0.0))
+            a = x;
+        else
+            b = x;
+        double xn;
+        if (df == 0.0 || fabs(2.0 * f) > fabs(dxold * df) || !((xn = x - f / df) > a && xn < b)) {
+            dxold = dx;
+            dx = 0.5 * (b - a);
+            xn = a + dx;
+        } else {
+            dxold = dx;
+            dx = f / df;
+        }
+        if (fabs(xn - x) <= 1e-15 * fabs(xn) || b - a <= 4e-16 * (fabs(a) + fabs(b)))
+            return xn;
+        x = xn;
+    }
+    return x;
+}
+
+/* All distinct real roots, ascending; returns their number. */
+static int sturm_roots(const double *c, int d, double *roots)
+{
+    sturm_seq S;
+    sturm_build(c, d, &S);
+    /* Cauchy bound of the monic polynomial */
+    double B = 0.0;
+    for (int i = 1; i <= d; i++)
+        if (fabs(S.s[0][i]) > B)
+            B = fabs(S.s[0][i]);
+    B += 1.0;
+    double st_a[2 * STURM_MAX + 2], st_b[2 * STURM_MAX + 2];
+    int st_va[2 * STURM_MAX + 2], st_vb[2 * STURM_MAX + 2];
+    int sp = 0, nr = 0;
+    st_a[0] = -B; st_b[0] = B;
+    st_va[0] = sturm_var(&S, -B); st_vb[0] = sturm_var(&S, B);
+    sp = 1;
+    while (sp > 0) {
+        sp--;
+        double a = st_a[sp], b = st_b[sp];
+        int va = st_va[sp], vb = st_vb[sp];
+        int k = va - vb;
+        if (k <= 0)
+            continue;
+        if (k == 1) {
+            double fa = peval(S.s[0], d, a), fb = peval(S.s[0], d, b);
+            if ((fa > 0.0) != (fb > 0.0) || fa == 0.0 || fb == 0.0) {
+                roots[nr++] = polish(S.s[0], d, a, b);
+                continue;
+            }
+        }
+        double m = 0.5 * (a + b);
+        if (b - a <= 1e-14 * (fabs(a) + fabs(b))) {
+            for (int j = 0; j < k && nr < d; j++)
+                roots[nr++] = m; /* a cluster below resolution */
+            continue;
+        }
+        int vm = sturm_var(&S, m);
+        /* only halves holding roots are kept (so at most d + 1 pending);
+         * the upper half first so roots come out ascending */
+        if (vm > vb) {
+            st_a[sp] = m; st_b[sp] = b; st_va[sp] = vm; st_vb[sp] = vb; sp++;
+        }
+        if (va > vm) {
+            st_a[sp] = a; st_b[sp] = m; st_va[sp] = va; st_vb[sp] = vm; sp++;
+        }
+    }
+    return nr;
 }
 
 static void polymul(const double *a, int da, const double *b, int db, double *c)
@@ -77,14 +259,6 @@ static void polymul(const double *a, int da, const double *b, int db, double *c)
             c[i + j] += a[i] * b[j];
 }
 
-static double horner(const double *c, int d, double x)
-{
-    double r = c[0];
-    for (int i = 1; i <= d; i++)
-        r = r * x + c[i];
-    return r;
-}
-
 #ifndef PERM_RETRY_PIVOT
 #define PERM_RETRY_PIVOT 3e-2
 #endif
@@ -92,7 +266,10 @@ static double horner(const double *c, int d, double x)
 #define REFINE_ITERS 3
 #endif
 #ifndef REFINE_TOL
-#define REFINE_TOL 1e-15
+#define REFINE_TOL 1e-11
+#endif
+#ifndef REFINE_PIVOT
+#define REFINE_PIVOT 0.1
 #endif
 /* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
  * largest coefficient). Returns 1 when the residual is already at rounding
@@ -170,17 +347,17 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
         mul11(e[5], e[7], t);
         for (int k = 0; k < 10; k++)
             q[k] -= t[k];
-        addmul21(M[0], q, e[0], 1.0);
+        addmul21(M[0], q, e[0]);
         mul11(e[3], e[8], q);
         mul11(e[5], e[6], t);
         for (int k = 0; k < 10; k++)
-            q[k] -= t[k];
-        addmul21(M[0], q, e[1], -1.0);
+            q[k] = t[k] - q[k];
+        addmul21(M[0], q, e[1]);
         mul11(e[3], e[7], q);
         mul11(e[4], e[6], t);
         for (int k = 0; k < 10; k++)
             q[k] -= t[k];
-        addmul21(M[0], q, e[2], 1.0);
+        addmul21(M[0], q, e[2]);
     }
     double EEt[3][3][10];
     for (int i = 0; i < 3; i++)
@@ -205,10 +382,11 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             for (int k = 0; k < 3; k++)
-                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j], 1.0);
+                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
 
-    /* 3. Gauss-Jordan on the left 10x10 block, rows first scaled to unit
-     * largest entry (M0 keeps the scaled, unreduced rows for the polish). */
+    /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
+     * first scaled to unit largest entry (M0 keeps the scaled, unreduced rows
+     * for the polish). */
     for (int r = 0; r < 10; r++) {
         double mx = 0.0;
         for (int c = 0; c < 20; c++)
@@ -241,9 +419,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
         for (int k = c + 1; k < 20; k++)
             M[c][k] *= inv;
         M[c][c] = 1.0;
-        for (int r = 0; r < 10; r++) {
-            if (r == c)
-                continue;
+        for (int r = c + 1; r < 10; r++) {
             double f = M[r][c];
             if (f == 0.0)
                 continue;
@@ -252,12 +428,20 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
             M[r][c] = 0.0;
         }
     }
+    /* Back substitution, only for the rows 4..9 used below (each needs only
+     * the rows after it): row i becomes x_i + B_i . (last ten monomials). */
+    for (int i = 8; i >= 4; i--)
+        for (int j = i + 1; j < 10; j++) {
+            double f = M[i][j];
+            for (int k = 10; k < 20; k++)
+                M[i][k] -= f * M[j][k];
+        }
     return minpiv;
 }
 
 /* Steps 3 (end) and 4 for one reduced system: solutions written to out as
  * unit-norm 9-vectors; returns their number. */
-static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
+static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20], int polish_roots,
                          double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
@@ -307,7 +491,7 @@ static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
     if (deg < 1)
         return 0;
     double zr[10];
-    int nz = sfm_poly_real_roots(poly + lead, deg, -INFINITY, INFINITY, zr);
+    int nz = sturm_roots(poly + lead, deg, zr);
     if (nz <= 0)
         return 0;
 
@@ -317,9 +501,9 @@ static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
         double z = zr[s];
         double B[3][3];
         for (int k = 0; k < 3; k++) {
-            B[k][0] = horner(pa[k], 3, z);
-            B[k][1] = horner(pb[k], 3, z);
-            B[k][2] = horner(pc[k], 4, z);
+            B[k][0] = peval(pa[k], 3, z);
+            B[k][1] = peval(pb[k], 3, z);
+            B[k][2] = peval(pc[k], 4, z);
         }
         double best[3] = {0.0, 0.0, 0.0}, bn = -1.0;
         for (int k = 0; k < 3; k++) {
@@ -337,7 +521,7 @@ static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
         if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
-        for (int iter = 0; iter < REFINE_ITERS; iter++)
+        for (int iter = 0; polish_roots && iter < REFINE_ITERS; iter++)
             if (refine(M0, &x, &y, &z))
                 break;
         double *o = out[ns];
@@ -375,7 +559,7 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
     double e[9][4], M0[10][20], M[10][20];
     double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
     double piv = build_reduce(N, 0, e, M0, M);
-    int ns = piv > 0.0 ? solve_reduced(e, M0, M, out) : 0;
+    int ns = piv > 0.0 ? solve_reduced(e, M0, M, piv < REFINE_PIVOT, out) : 0;
     if (piv < PERM_RETRY_PIVOT) {
         double p2 = 0.0;
         int best = 0;
@@ -390,7 +574,7 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
             double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
             if (best != 3)
                 (void)build_reduce(N, best, e, M0, M);
-            int n2 = solve_reduced(e, M0, M, more);
+            int n2 = solve_reduced(e, M0, M, 1, more);
             for (int k = 0; k < n2; k++) {
                 int dup = 0;
                 for (int j = 0; j < ns && !dup; j++) {
