@@ -1,0 +1,199 @@
+/*
+ * Calibrated three-view relative pose from the trifocal tensor (see
+ * sfm_three_view.h for the method). The tensor's fundamental matrices are
+ * mutually consistent, unlike three independently estimated pairwise ones,
+ * so the two essential matrices share one set of inliers.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "sfm/sfm_pose.h"
+#include "sfm/sfm_ransac_trifocal.h"
+#include "sfm/sfm_three_view.h"
+#include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_trifocal.h"
+
+typedef struct tv_ws {
+    double *ideal[3]; /* n x 2 ideal pinhole pixels per view */
+    double *bear;     /* 3 views x n x 3 bearings of the inliers, view-major */
+    double *X;        /* n x 3 */
+    int *flags;       /* n */
+    uint8_t *mask;    /* n */
+    void *ransac_ws;
+    size_t ransac_size;
+} tv_ws;
+
+static void layout(sfm_arena *a, int n, tv_ws *w)
+{
+    for (int v = 0; v < 3; v++)
+        w->ideal[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->bear = SFM_ARENA_ARRAY(a, double, 9 * (size_t)n);
+    w->X = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
+    w->flags = SFM_ARENA_ARRAY(a, int, n);
+    w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
+    w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
+    w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+}
+
+size_t sfm_recon_three_view_pose_workspace_size(int n)
+{
+    if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
+        return 0;
+    sfm_arena a;
+    tv_ws w;
+    sfm_arena_measure(&a);
+    layout(&a, n, &w);
+    return sfm_arena_required(&a);
+}
+
+static void K_of(const sfm_camera *c, double K[9])
+{
+    const double k[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
+    memcpy(K, k, sizeof k);
+}
+
+/* E = K2^T F K1 */
+static void essential(const double F[9], const double K1[9], const double K2[9], double E[9])
+{
+    double M[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            M[r * 3 + c] = F[r * 3] * K1[c] + F[r * 3 + 1] * K1[3 + c] + F[r * 3 + 2] * K1[6 + c];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            E[r * 3 + c] = K2[r] * M[c] + K2[3 + r] * M[3 + c] + K2[6 + r] * M[6 + c];
+}
+
+/* Ideal pinhole pixels and unit bearings of every point of one view. */
+static int undistort(const sfm_camera *cam, const double *px, int n, double *ideal)
+{
+    for (int i = 0; i < n; i++) {
+        double b[3];
+        int st = sfm_camera_unproject(cam, &px[2 * i], b);
+        if (st < 0)
+            return st;
+        if (!(b[2] > 1e-12))
+            return SFM_E_NO_CONVERGENCE; /* no pinhole image: outside the field of view */
+        ideal[2 * i] = cam->fx * b[0] / b[2] + cam->cx;
+        ideal[2 * i + 1] = cam->fy * b[1] / b[2] + cam->cy;
+    }
+    return SFM_OK;
+}
+
+static int finite_all(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+int sfm_recon_three_view_pose(const double *px1, const double *px2, const double *px3, int n,
+                              const sfm_camera *cam1, const sfm_camera *cam2, const sfm_camera *cam3,
+                              const sfm_ransac_options *opt, sfm_pose poses[3], uint8_t *inlier_mask,
+                              sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    if (px1 == NULL || px2 == NULL || px3 == NULL || cam1 == NULL || cam2 == NULL || cam3 == NULL ||
+        poses == NULL || ws == NULL || n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
+        return SFM_E_ARGUMENT;
+    const sfm_camera *cams[3] = {cam1, cam2, cam3};
+    const double *px[3] = {px1, px2, px3};
+    for (int v = 0; v < 3; v++) {
+        int st = sfm_camera_validate(cams[v]);
+        if (st < 0)
+            return st;
+        if (!finite_all(px[v], 2 * n))
+            return SFM_E_NONFINITE;
+    }
+    sfm_arena a;
+    tv_ws w;
+    sfm_arena_init(&a, ws, ws_size);
+    layout(&a, n, &w);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+    for (int v = 0; v < 3; v++) {
+        int st = undistort(cams[v], px[v], n, w.ideal[v]);
+        if (st < 0)
+            return st;
+    }
+    double T[27], P[36];
+    sfm_ransac_stats rs;
+    int cnt = sfm_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
+                                  w.ransac_ws, w.ransac_size);
+    if (cnt < 0)
+        return cnt;
+
+    /* Inlier bearings, view-major, from the ideal pixels. */
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (!w.mask[i])
+            continue;
+        for (int v = 0; v < 3; v++) {
+            double *b = &w.bear[((size_t)v * cnt + m) * 3];
+            b[0] = (w.ideal[v][2 * i] - cams[v]->cx) / cams[v]->fx;
+            b[1] = (w.ideal[v][2 * i + 1] - cams[v]->cy) / cams[v]->fy;
+            b[2] = 1.0;
+        }
+        m++;
+    }
+    double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];
+    int st = sfm_trifocal_fundamentals(T, F21, F31, NULL);
+    if (st < 0)
+        return st;
+    K_of(cam1, K1);
+    K_of(cam2, K2);
+    K_of(cam3, K3);
+    essential(F21, K1, K2, E21);
+    essential(F31, K1, K3, E31);
+    sfm_pose c2[4], c3[4];
+    const double *b1 = w.bear, *b2 = &w.bear[(size_t)cnt * 3], *b3 = &w.bear[(size_t)2 * cnt * 3];
+    if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) != 4 ||
+        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) != 4)
+        return SFM_E_SINGULAR;
+
+    /* Points from views 1 and 2 (midpoint), then the scale of t3 by least
+     * squares on b3 x (R3 X + s t3) = 0. */
+    sfm_pose two[2];
+    memset(&two[0], 0, sizeof two[0]);
+    two[0].R[0] = two[0].R[4] = two[0].R[8] = 1.0;
+    two[1] = c2[0];
+    st = sfm_triangulate_midpoint(2, two, m, w.bear, w.X, w.flags);
+    if (st < 0)
+        return st;
+    double num = 0, den = 0;
+    const double *R3 = c3[0].R, *t3 = c3[0].t;
+    for (int j = 0; j < m; j++) {
+        if (w.flags[j] != 0)
+            continue;
+        const double *X = &w.X[3 * j], *b = &b3[3 * j];
+        double y[3], ca[3], cc[3];
+        for (int r = 0; r < 3; r++)
+            y[r] = R3[r * 3] * X[0] + R3[r * 3 + 1] * X[1] + R3[r * 3 + 2] * X[2];
+        ca[0] = b[1] * t3[2] - b[2] * t3[1];
+        ca[1] = b[2] * t3[0] - b[0] * t3[2];
+        ca[2] = b[0] * t3[1] - b[1] * t3[0];
+        cc[0] = b[1] * y[2] - b[2] * y[1];
+        cc[1] = b[2] * y[0] - b[0] * y[2];
+        cc[2] = b[0] * y[1] - b[1] * y[0];
+        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
+        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    }
+    if (!(den > 0) || st == 0)
+        return SFM_E_SINGULAR;
+    double s = num / den;
+    if (!isfinite(s))
+        return SFM_E_SINGULAR;
+
+    memset(&poses[0], 0, sizeof poses[0]);
+    poses[0].R[0] = poses[0].R[4] = poses[0].R[8] = 1.0;
+    poses[1] = c2[0];
+    poses[2] = c3[0];
+    for (int r = 0; r < 3; r++)
+        poses[2].t[r] = s * t3[r];
+    if (inlier_mask != NULL)
+        memcpy(inlier_mask, w.mask, (size_t)n);
+    if (stats != NULL)
+        *stats = rs;
+    return cnt;
+}
