@@ -8,5 +8,6 @@
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_camera.h"
+#include "sfm/sfm_ba.h"
 
 #endif
