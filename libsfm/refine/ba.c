@@ -42,6 +42,7 @@ typedef struct ba_ws {
     int *cam_q;   /* m: camera-side parameters of an observation of camera c */
     int *cam_col; /* m x qmax: local column of each */
     int *cam_gi;  /* m x qmax: index in the reduced system */
+    int *cam_base; /* m: cam_gi[0] when the indices are consecutive, else -1 */
     int *pt_start;   /* n + 1 */
     int *pt_obs;     /* nobs, observations grouped by point */
     int *pt_free;    /* n */
@@ -90,6 +91,7 @@ static void layout(sfm_arena *a, const sfm_ba_dims *d, ba_ws *w, int *qmax_out, 
     w->cam_q = SFM_ARENA_ARRAY(a, int, m);
     w->cam_col = SFM_ARENA_ARRAY(a, int, (size_t)m * qmax);
     w->cam_gi = SFM_ARENA_ARRAY(a, int, (size_t)m * qmax);
+    w->cam_base = SFM_ARENA_ARRAY(a, int, m);
     w->pt_start = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
     w->pt_obs = SFM_ARENA_ARRAY(a, int, no);
     w->pt_free = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
@@ -259,10 +261,17 @@ static double linearize(ba_ctx *c)
             jc[a] = sc * J[col[a]];
             jc[qmax + a] = sc * J[NLOC + col[a]];
         }
+        int g0 = w->cam_base[ci];
         for (int a = 0; a < q; a++) {
             double j0 = jc[a], j1 = jc[qmax + a];
             int ga = gi[a];
             w->gc[ga] -= j0 * rx + j1 * ry;
+            if (g0 >= 0) {
+                double *Urow = w->U + (size_t)ga * nc + g0;
+                for (int b = 0; b <= a; b++)
+                    Urow[b] += j0 * jc[b] + j1 * jc[qmax + b];
+                continue;
+            }
             for (int b = 0; b < q; b++) {
                 int gb = gi[b];
                 if (gb <= ga)
@@ -380,10 +389,42 @@ static int form_reduced(ba_ctx *c, double mu)
                 w->dc[gi[a]] -= f[0] * z[0] + f[1] * z[1] + f[2] * z[2];
             }
             /* pairs (i, i2), i2 <= i: subtract F_i F_i2^T folded into the lower triangle */
+            int g0 = w->cam_base[ci];
             for (int i2 = s0; i2 <= i; i2++) {
                 int k2 = w->pt_obs[i2], c2 = p->obs_camera[k2];
                 int q2 = w->cam_q[c2];
                 const double *F2 = w->F + (size_t)k2 * 3 * qmax;
+                int h0 = w->cam_base[c2];
+                if (g0 >= 0 && h0 >= 0) {
+                    /* contiguous parameter blocks: no index lists */
+                    if (i2 == i) {
+                        for (int a = 0; a < q; a++) {
+                            const double *f = F + 3 * a;
+                            double *Srow = w->S + (size_t)(g0 + a) * nc + g0;
+                            for (int b = 0; b <= a; b++)
+                                Srow[b] -= f[0] * F2[3 * b] + f[1] * F2[3 * b + 1] + f[2] * F2[3 * b + 2];
+                        }
+                        continue;
+                    }
+                    if (g0 >= h0 + q2) {
+                        for (int a = 0; a < q; a++) {
+                            const double *f = F + 3 * a;
+                            double *Srow = w->S + (size_t)(g0 + a) * nc + h0;
+                            for (int b = 0; b < q2; b++)
+                                Srow[b] -= f[0] * F2[3 * b] + f[1] * F2[3 * b + 1] + f[2] * F2[3 * b + 2];
+                        }
+                        continue;
+                    }
+                    if (h0 >= g0 + q) {
+                        for (int b = 0; b < q2; b++) {
+                            const double *f2 = F2 + 3 * b;
+                            double *Srow = w->S + (size_t)(h0 + b) * nc + g0;
+                            for (int a = 0; a < q; a++)
+                                Srow[a] -= f2[0] * F[3 * a] + f2[1] * F[3 * a + 1] + f2[2] * F[3 * a + 2];
+                        }
+                        continue;
+                    }
+                }
                 const int *gi2 = w->cam_gi + (size_t)c2 * qmax;
                 for (int a = 0; a < q; a++) {
                     const double *f = F + 3 * a;
@@ -719,6 +760,13 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, void *ws, size_t ws
             w->cam_q[ci] += nic;
         }
         nc += nic;
+    }
+    for (int ci = 0; ci < m; ci++) {
+        const int *gi = w->cam_gi + (size_t)ci * qmax;
+        int contig = w->cam_q[ci] > 0;
+        for (int e = 1; e < w->cam_q[ci]; e++)
+            contig = contig && gi[e] == gi[0] + e;
+        w->cam_base[ci] = contig ? gi[0] : -1;
     }
     c.nc = nc;
     if (nc > ncmax)
