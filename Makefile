@@ -64,13 +64,16 @@ $(2)/obj/tests/registry.o: $(2)/tests/registry.c
 	@mkdir -p $$(@D)
 	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
 
-$(2)/tests/registry.c: $$(UNIT_SRCS) tools/gen_test_registry.sh | $(2)/.dir
+# The list of test files is recorded so that deleting one also rebuilds.
+$$(shell mkdir -p $(2)/tests; echo '$$(UNIT_SRCS)' | cmp -s - $(2)/tests/srclist || echo '$$(UNIT_SRCS)' > $(2)/tests/srclist)
+$(2)/tests/registry.c: $$(UNIT_SRCS) $(2)/tests/srclist tools/gen_test_registry.sh | $(2)/.dir
 	@mkdir -p $$(@D)
 	sh tools/gen_test_registry.sh $$(UNIT_SRCS) > $$@
 
-$(2)/libsfm.a: $$($(1)_OBJS)
+$$(shell mkdir -p $(2); echo '$$(LIB_SRCS)' | cmp -s - $(2)/lib_srclist || echo '$$(LIB_SRCS)' > $(2)/lib_srclist)
+$(2)/libsfm.a: $$($(1)_OBJS) $(2)/lib_srclist
 	@rm -f $$@
-	$$(AR_$(1)) rcs $$@ $$^
+	$$(AR_$(1)) rcs $$@ $$($(1)_OBJS)
 
 $(2)/tests/unit_tests: $$($(1)_TEST_OBJS) $(2)/libsfm.a
 	@mkdir -p $$(@D)
@@ -88,8 +91,8 @@ AR_asan := ar
 $(eval $(call variant,native,$(BUILD),cc,$(STD) $(OPT) $(WARN) -fPIC -fvisibility=hidden,))
 $(eval $(call variant,asan,$(BUILD)/asan,cc,$(ASAN_CFLAGS),$(ASAN_LDFLAGS)))
 
-$(BUILD)/libsfm.so: $(native_OBJS)
-	cc -shared -o $@ $^ -lm
+$(BUILD)/libsfm.so: $(native_OBJS) $(BUILD)/lib_srclist
+	cc -shared -o $@ $(native_OBJS) -lm
 
 # The cdef the Python binding reads: the public headers after the
 # preprocessor, plus the integer macros, kept beside the library it describes.
@@ -105,7 +108,8 @@ all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/sfm_cdef.h
 TEST_STEPS := test-unit test-asan test-native test-heapfree
 
 NATIVE_TEST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(NATIVE_TEST_SRCS)) $(BUILD)/obj/tests/native_registry.o
-$(BUILD)/tests/native_registry.c: $(NATIVE_TEST_SRCS) tools/gen_test_registry.sh | $(BUILD)/.dir
+$(shell mkdir -p $(BUILD)/tests; echo '$(NATIVE_TEST_SRCS)' | cmp -s - $(BUILD)/tests/native_srclist || echo '$(NATIVE_TEST_SRCS)' > $(BUILD)/tests/native_srclist)
+$(BUILD)/tests/native_registry.c: $(NATIVE_TEST_SRCS) $(BUILD)/tests/native_srclist tools/gen_test_registry.sh | $(BUILD)/.dir
 	@mkdir -p $(@D)
 	sh tools/gen_test_registry.sh $(NATIVE_TEST_SRCS) > $@
 $(BUILD)/obj/tests/native_registry.o: $(BUILD)/tests/native_registry.c

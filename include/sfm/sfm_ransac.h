@@ -1,0 +1,157 @@
+/*
+ * Robust estimation: one RANSAC engine driven by an estimator table.
+ *
+ * The engine draws minimal samples (uniformly, or PROSAC-ordered when points
+ * carry quality scores), asks the estimator for up to max_models models per
+ * sample, verifies each with SPRT (Chum & Matas, "Optimal randomized RANSAC",
+ * PAMI 2008) so that bad models are dropped after a few points, scores the
+ * survivors with MSAC (truncated quadratic: sum of min(r^2, tau^2)), runs
+ * local optimisation (LO-RANSAC: a few nonlinear refinement rounds on the
+ * inliers) on every new best model, and stops at a confidence level, an
+ * iteration cap or a time budget read from a caller-supplied clock.
+ *
+ * Memory: the run call works in caller memory only. Its size comes from
+ * sfm_ransac_workspace_size(dims) or, for a static buffer, from the macro
+ * SFM_RANSAC_WS_SIZE(n, sample_size, max_models, model_size); both describe
+ * the same carving (a unit test holds them equal).
+ *
+ * Determinism: all randomness comes from an sfm_rng seeded with opt->seed; the
+ * same seed, inputs and build give the same model and inlier mask bit for bit.
+ * There is no global state: concurrent calls on distinct workspaces are safe.
+ *
+ * Poses, where estimators return them, map world (or first camera) to camera:
+ * x_cam = R X + t, R row-major.
+ */
+#ifndef SFM_RANSAC_H
+#define SFM_RANSAC_H
+
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_camera.h"
+#include "sfm/sfm_rng.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Engine capacities. */
+#define SFM_RANSAC_MAX_SAMPLE 16      /* points in one minimal sample */
+#define SFM_RANSAC_MAX_MODELS 64      /* models one solve may return */
+#define SFM_RANSAC_MAX_MODEL_SIZE 64  /* doubles per model */
+#define SFM_RANSAC_MAX_POINTS 16777216
+
+/* Why a run stopped (sfm_ransac_stats.stop_reason). */
+#define SFM_RANSAC_STOP_CONFIDENCE 0     /* adaptive count reached at opt->confidence */
+#define SFM_RANSAC_STOP_MAX_ITERATIONS 1 /* opt->max_iterations reached */
+#define SFM_RANSAC_STOP_TIME 2           /* opt->time_budget exhausted */
+
+/* Estimator flags (sfm_ransac_stats.flags). */
+#define SFM_RANSAC_FLAG_PLANAR 1          /* relative pose: inliers dominated by one plane */
+#define SFM_RANSAC_FLAG_PURE_ROTATION 2   /* relative pose: no measurable translation */
+#define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: a plane-and-parallax model won */
+
+/*
+ * The estimator table. ctx is the estimator's own data (points, scratch); the
+ * engine passes it back unchanged and never looks inside.
+ *
+ *  solve(ctx, sample, models): fit the minimal sample (sample_size point
+ *      indices); write up to max_models models of model_size doubles each from
+ *      models[0]; return how many (0 for a degenerate sample) or a negative
+ *      status (the run then stops with it).
+ *  residual(ctx, model, i): squared residual of point i, in the units of
+ *      opt->threshold squared. Must be >= 0 (NaN counts as an outlier).
+ *  refine(ctx, inliers, n_inliers, model): optional (may be NULL). A few
+ *      nonlinear steps on the listed inliers, updating model in place; return
+ *      >= 0 on success, < 0 to leave the model as it was.
+ *  degenerate(ctx, sample): optional. Nonzero rejects the sample before solve.
+ *  fix_best(ctx, sample, model, rng): optional. Called when a model becomes the
+ *      best so far, before local optimisation (DEGENSAC's plane-and-parallax
+ *      step); may overwrite model with a better one and return 1, else 0. May
+ *      draw from rng.
+ */
+typedef struct sfm_ransac_estimator {
+    int sample_size; /* 1..SFM_RANSAC_MAX_SAMPLE */
+    int max_models;  /* 1..SFM_RANSAC_MAX_MODELS */
+    int model_size;  /* 1..SFM_RANSAC_MAX_MODEL_SIZE */
+    int (*solve)(void *ctx, const int *sample, double *models);
+    double (*residual)(void *ctx, const double *model, int i);
+    int (*refine)(void *ctx, const int *inliers, int n_inliers, double *model);
+    int (*degenerate)(void *ctx, const int *sample);
+    int (*fix_best)(void *ctx, const int *sample, double *model, sfm_rng *rng);
+    void *ctx;
+} sfm_ransac_estimator;
+
+/* Monotonic clock in seconds, supplied by the caller (a microcontroller has no
+ * clock_gettime). */
+typedef double (*sfm_ransac_clock_fn)(void *clock_ctx);
+
+typedef struct sfm_ransac_options {
+    double threshold;      /* inlier threshold tau, > 0 (estimator units; pixels
+                              for the estimators below) */
+    double confidence;     /* in (0, 1): stop when a better model is that unlikely */
+    int min_iterations;    /* >= 0 */
+    int max_iterations;    /* >= 1, >= min_iterations */
+    uint64_t seed;         /* seeds the run's own sfm_rng */
+    int lo_rounds;         /* local-optimisation rounds per new best (0: no LO) */
+    int use_sprt;          /* 1: SPRT early rejection; 0: full MSAC scoring */
+    const double *quality; /* optional per-point quality (higher is better):
+                              PROSAC sampling; NULL: uniform sampling */
+    sfm_ransac_clock_fn clock; /* optional; with time_budget > 0 bounds the run */
+    void *clock_ctx;
+    double time_budget;    /* seconds; <= 0 or clock NULL: no budget */
+} sfm_ransac_options;
+
+typedef struct sfm_ransac_stats {
+    int iterations;       /* samples drawn */
+    int models;           /* models verified */
+    int sprt_rejected;    /* models dropped by SPRT before full scoring */
+    int lo_runs;          /* local optimisations run */
+    int num_inliers;      /* inliers of the returned model (r^2 < tau^2) */
+    double score;         /* MSAC cost of the returned model */
+    uint64_t seed;        /* the seed used */
+    int stop_reason;      /* an SFM_RANSAC_STOP_* value */
+    int flags;            /* SFM_RANSAC_FLAG_* bits raised by the estimator */
+} sfm_ransac_stats;
+
+/* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
+ * SFM_RNG_DEFAULT_SEED, 3 LO rounds, SPRT on, no quality, no clock.
+ * Statuses: SFM_OK, SFM_E_ARGUMENT (opt NULL). */
+SFM_API int sfm_ransac_default_options(sfm_ransac_options *opt);
+
+typedef struct sfm_ransac_dims {
+    int n;           /* number of points */
+    int sample_size;
+    int max_models;
+    int model_size;
+} sfm_ransac_dims;
+
+/* Bytes of workspace sfm_ransac_run needs for these dimensions (alignment
+ * slack included); 0 when a dimension is out of range. */
+SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
+
+/* The same size as a constant expression, for static buffers. */
+#define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
+#define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
+    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 3u +                           \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) +               \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
+     SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 2u + 15u)
+
+/*
+ * Run RANSAC over n points with estimator est.
+ * On success returns the inlier count (>= 1) and writes model (model_size
+ * doubles), inlier_mask (n bytes, 1 = inlier; may be NULL) and stats (may be
+ * NULL). model and inlier_mask must not overlap ws.
+ * Statuses: count >= 1; SFM_E_ARGUMENT (NULL est/opt/model/ws or callbacks,
+ * dimensions out of range, n < sample_size, bad options); SFM_E_NONFINITE
+ * (NaN/Inf option or quality); SFM_E_WORKSPACE (ws_size too small);
+ * SFM_E_NO_CONVERGENCE (no model with any inlier found); any negative status
+ * returned by est->solve. On failure nothing is written.
+ */
+SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
+                           double *model, uint8_t *inlier_mask, sfm_ransac_stats *stats,
+                           void *ws, size_t ws_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,372 @@
+/*
+ * The RANSAC engine: sampling (uniform or PROSAC), SPRT verification, MSAC
+ * scoring with early exit, LO-RANSAC and adaptive termination.
+ *
+ * References: Fischler & Bolles 1981 (RANSAC); Torr & Zisserman 2000 (MSAC);
+ * Chum, Matas & Kittler 2003 (LO-RANSAC); Chum & Matas 2005 (PROSAC) and 2008
+ * (SPRT, "Optimal randomized RANSAC").
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "robust/prosac.h"
+#include "robust/sprt.h"
+#include "sfm/sfm_ransac.h"
+
+/* Initial SPRT parameters; SPRT only starts once a best model exists and
+ * sets eps from its support. */
+#define SPRT_EPS0 0.1
+#define SPRT_DELTA0 0.05
+
+typedef struct engine {
+    const sfm_ransac_estimator *est;
+    int n, k, m, s;
+    double tau2;
+    int *perm;    /* verification order: a seeded random permutation */
+    int *order;   /* PROSAC ranking (points by decreasing quality) */
+    int *inl;     /* inlier list scratch */
+    double *models;
+    double *best;
+    double *tmp;
+    double *spare;
+    int *sample;
+    int *best_sample;
+} engine;
+
+static int dims_ok(const sfm_ransac_dims *d)
+{
+    return d != NULL && d->n >= 1 && d->n <= SFM_RANSAC_MAX_POINTS && d->sample_size >= 1 &&
+           d->sample_size <= SFM_RANSAC_MAX_SAMPLE && d->max_models >= 1 &&
+           d->max_models <= SFM_RANSAC_MAX_MODELS && d->model_size >= 1 &&
+           d->model_size <= SFM_RANSAC_MAX_MODEL_SIZE;
+}
+
+/* The one layout, used both to measure and to carve (keep in step with
+ * SFM_RANSAC_WS_SIZE in the header). */
+static void carve(sfm_arena *a, const sfm_ransac_dims *d, engine *e)
+{
+    e->perm = SFM_ARENA_ARRAY(a, int, d->n);
+    e->order = SFM_ARENA_ARRAY(a, int, d->n);
+    e->inl = SFM_ARENA_ARRAY(a, int, d->n);
+    e->models = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
+    e->best = SFM_ARENA_ARRAY(a, double, d->model_size);
+    e->tmp = SFM_ARENA_ARRAY(a, double, d->model_size);
+    e->spare = SFM_ARENA_ARRAY(a, double, d->model_size);
+    e->sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
+    e->best_sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
+}
+
+size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims)
+{
+    if (!dims_ok(dims))
+        return 0;
+    sfm_arena a;
+    engine e;
+    sfm_arena_measure(&a);
+    carve(&a, dims, &e);
+    return sfm_arena_required(&a);
+}
+
+int sfm_ransac_default_options(sfm_ransac_options *opt)
+{
+    if (opt == NULL)
+        return SFM_E_ARGUMENT;
+    memset(opt, 0, sizeof *opt);
+    opt->threshold = 1.0;
+    opt->confidence = 0.999;
+    opt->min_iterations = 0;
+    opt->max_iterations = 10000;
+    opt->seed = SFM_RNG_DEFAULT_SEED;
+    opt->lo_rounds = 3;
+    opt->use_sprt = 1;
+    opt->quality = NULL;
+    opt->clock = NULL;
+    opt->clock_ctx = NULL;
+    opt->time_budget = 0.0;
+    return SFM_OK;
+}
+
+/* Full MSAC score of a model; the inlier count goes to *ninl. */
+static double score_full(const engine *e, const double *model, int *ninl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    double s = 0.0;
+    int c = 0;
+    for (int i = 0; i < e->n; i++) {
+        double r2 = est->residual(est->ctx, model, i);
+        if (r2 < e->tau2) {
+            s += r2;
+            c++;
+        } else {
+            s += e->tau2;
+        }
+    }
+    *ninl = c;
+    return s;
+}
+
+static int collect_inliers(const engine *e, const double *model, int *list)
+{
+    const sfm_ransac_estimator *est = e->est;
+    int c = 0;
+    for (int i = 0; i < e->n; i++) {
+        double r2 = est->residual(est->ctx, model, i);
+        if (r2 < e->tau2)
+            list[c++] = i;
+    }
+    return c;
+}
+
+#define EVAL_BETTER 0
+#define EVAL_WORSE 1
+#define EVAL_SPRT 2
+
+/* Verify a model in the permuted order: SPRT rejection and MSAC early exit
+ * once the partial cost reaches the best cost (every term is >= 0, so the
+ * model cannot win any more). */
+static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *model,
+                    double best_score, double *score, int *ninl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double tau2 = e->tau2;
+    const int sprt_on = use_sprt && sp->active && isfinite(best_score);
+    const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
+    double lambda = 1.0, s = 0.0;
+    int c = 0;
+    for (int j = 0; j < e->n; j++) {
+        double r2 = est->residual(est->ctx, model, e->perm[j]);
+        if (r2 < tau2) {
+            s += r2;
+            c++;
+            lambda *= min_;
+        } else {
+            s += tau2;
+            lambda *= mout;
+        }
+        if (sprt_on && lambda > A) {
+            sfm_sprt_record_rejection(sp, j + 1, c);
+            return EVAL_SPRT;
+        }
+        if (s >= best_score)
+            return EVAL_WORSE;
+    }
+    *score = s;
+    *ninl = c;
+    return EVAL_BETTER;
+}
+
+/* LO-RANSAC: refine on the inliers, keep the result while the cost drops. */
+static void local_optimise(const engine *e, int rounds, double *model, double *score, int *ninl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    if (est->refine == NULL)
+        return;
+    for (int r = 0; r < rounds; r++) {
+        int c = collect_inliers(e, model, e->inl);
+        if (c < e->k)
+            return;
+        memcpy(e->tmp, model, sizeof(double) * (size_t)e->s);
+        if (est->refine(est->ctx, e->inl, c, e->tmp) < 0)
+            return;
+        int c2;
+        double s2 = score_full(e, e->tmp, &c2);
+        if (!(s2 < *score))
+            return;
+        memcpy(model, e->tmp, sizeof(double) * (size_t)e->s);
+        *score = s2;
+        *ninl = c2;
+    }
+}
+
+/* Samples needed so that an all-inlier, SPRT-accepted sample has been drawn
+ * with probability conf. */
+static double needed_iterations(double eps, int k, double pass, double conf)
+{
+    double p = pow(eps, (double)k) * pass;
+    if (p >= 1.0)
+        return 0.0;
+    if (p <= 1e-300)
+        return INFINITY;
+    double denom = log1p(-p);
+    if (denom >= 0.0)
+        return INFINITY;
+    return ceil(log(1.0 - conf) / denom);
+}
+
+static int contains(const int *a, int k, int v)
+{
+    for (int i = 0; i < k; i++)
+        if (a[i] == v)
+            return 1;
+    return 0;
+}
+
+int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
+                   double *model, uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                   size_t ws_size)
+{
+    if (est == NULL || opt == NULL || model == NULL || ws == NULL || est->solve == NULL ||
+        est->residual == NULL)
+        return SFM_E_ARGUMENT;
+    sfm_ransac_dims d = {n, est->sample_size, est->max_models, est->model_size};
+    if (!dims_ok(&d) || n < est->sample_size)
+        return SFM_E_ARGUMENT;
+    if (!isfinite(opt->threshold) || !isfinite(opt->confidence) ||
+        (opt->clock != NULL && !isfinite(opt->time_budget)))
+        return SFM_E_NONFINITE;
+    if (!(opt->threshold > 0.0) || !(opt->confidence > 0.0 && opt->confidence < 1.0) ||
+        opt->min_iterations < 0 || opt->max_iterations < 1 ||
+        opt->min_iterations > opt->max_iterations || opt->lo_rounds < 0)
+        return SFM_E_ARGUMENT;
+    if (opt->quality != NULL) {
+        for (int i = 0; i < n; i++)
+            if (!isfinite(opt->quality[i]))
+                return SFM_E_NONFINITE;
+    }
+    size_t need = sfm_ransac_workspace_size(&d);
+    if (need == 0)
+        return SFM_E_ARGUMENT;
+    if (ws_size < need)
+        return SFM_E_WORKSPACE;
+
+    engine e;
+    sfm_arena a;
+    sfm_arena_init(&a, ws, ws_size);
+    carve(&a, &d, &e);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+    e.est = est;
+    e.n = n;
+    e.k = est->sample_size;
+    e.m = est->max_models;
+    e.s = est->model_size;
+    e.tau2 = opt->threshold * opt->threshold;
+
+    sfm_rng rng;
+    sfm_rng_seed(&rng, opt->seed);
+    /* verification order: Fisher-Yates on the run's own stream */
+    for (int i = 0; i < n; i++)
+        e.perm[i] = i;
+    for (int i = n - 1; i > 0; i--) {
+        int j = (int)sfm_rng_bounded(&rng, (uint32_t)(i + 1));
+        int tmp = e.perm[i];
+        e.perm[i] = e.perm[j];
+        e.perm[j] = tmp;
+    }
+    sfm_prosac prosac;
+    const int use_prosac = opt->quality != NULL;
+    if (use_prosac) {
+        sfm_prosac_sort(e.order, opt->quality, n);
+        sfm_prosac_init(&prosac, n, e.k);
+    }
+
+    sfm_sprt sprt;
+    sfm_sprt_init(&sprt, SPRT_EPS0, SPRT_DELTA0);
+    const int use_sprt = opt->use_sprt != 0;
+
+    const int use_clock = opt->clock != NULL && opt->time_budget > 0.0;
+    double t0 = use_clock ? opt->clock(opt->clock_ctx) : 0.0;
+
+    double best_score = INFINITY;
+    int best_inl = 0, have_best = 0;
+    double k_needed = INFINITY;
+    int it = 0, models = 0, rejected = 0, lo_runs = 0;
+    int stop = SFM_RANSAC_STOP_MAX_ITERATIONS;
+
+    for (;;) {
+        if (it >= opt->max_iterations) {
+            stop = (double)it >= k_needed ? SFM_RANSAC_STOP_CONFIDENCE
+                                          : SFM_RANSAC_STOP_MAX_ITERATIONS;
+            break;
+        }
+        if (it >= opt->min_iterations && (double)it >= k_needed) {
+            stop = SFM_RANSAC_STOP_CONFIDENCE;
+            break;
+        }
+        if (use_clock && opt->clock(opt->clock_ctx) - t0 >= opt->time_budget) {
+            stop = SFM_RANSAC_STOP_TIME;
+            break;
+        }
+        it++;
+        if (use_prosac) {
+            sfm_prosac_sample(&prosac, &rng, e.sample);
+            for (int i = 0; i < e.k; i++)
+                e.sample[i] = e.order[e.sample[i]];
+        } else {
+            for (int i = 0; i < e.k; i++) {
+                int v;
+                do {
+                    v = (int)sfm_rng_bounded(&rng, (uint32_t)n);
+                } while (contains(e.sample, i, v));
+                e.sample[i] = v;
+            }
+        }
+        if (est->degenerate != NULL && est->degenerate(est->ctx, e.sample))
+            continue;
+        int nm = est->solve(est->ctx, e.sample, e.models);
+        if (nm < 0)
+            return nm;
+        if (nm > e.m)
+            nm = e.m;
+        sfm_sprt_record_models(&sprt, nm);
+        for (int mi = 0; mi < nm; mi++) {
+            const double *cand = e.models + (size_t)mi * (size_t)e.s;
+            double sc;
+            int ci;
+            models++;
+            int r = evaluate(&e, &sprt, use_sprt, cand, best_score, &sc, &ci);
+            if (r == EVAL_SPRT)
+                rejected++;
+            if (r != EVAL_BETTER)
+                continue;
+            memcpy(e.spare, cand, sizeof(double) * (size_t)e.s);
+            memcpy(e.best_sample, e.sample, sizeof(int) * (size_t)e.k);
+            if (est->fix_best != NULL && est->fix_best(est->ctx, e.sample, e.spare, &rng) == 1)
+                sc = score_full(&e, e.spare, &ci);
+            if (opt->lo_rounds > 0 && est->refine != NULL) {
+                lo_runs++;
+                local_optimise(&e, opt->lo_rounds, e.spare, &sc, &ci);
+            }
+            if (!(sc < best_score))
+                continue;
+            memcpy(e.best, e.spare, sizeof(double) * (size_t)e.s);
+            best_score = sc;
+            best_inl = ci;
+            have_best = 1;
+            /* re-tune SPRT and the stopping rule with the new inlier ratio */
+            double eps = (double)best_inl / (double)n;
+            sprt.eps = eps;
+            sfm_sprt_update(&sprt);
+            k_needed = needed_iterations(eps, e.k, use_sprt ? sfm_sprt_pass_probability(&sprt) : 1.0,
+                                         opt->confidence);
+        }
+    }
+
+    if (!have_best)
+        return SFM_E_NO_CONVERGENCE;
+    int ninl;
+    double final_score = score_full(&e, e.best, &ninl);
+    if (ninl < 1)
+        return SFM_E_NO_CONVERGENCE;
+
+    memcpy(model, e.best, sizeof(double) * (size_t)e.s);
+    if (inlier_mask != NULL) {
+        for (int i = 0; i < n; i++) {
+            double r2 = est->residual(est->ctx, e.best, i);
+            inlier_mask[i] = (uint8_t)(r2 < e.tau2);
+        }
+    }
+    if (stats != NULL) {
+        stats->iterations = it;
+        stats->models = models;
+        stats->sprt_rejected = rejected;
+        stats->lo_runs = lo_runs;
+        stats->num_inliers = ninl;
+        stats->score = final_score;
+        stats->seed = opt->seed;
+        stats->stop_reason = stop;
+        stats->flags = 0;
+    }
+    return ninl;
+}

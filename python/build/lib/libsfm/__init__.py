@@ -1,0 +1,12 @@
+"""libsfm: multi-view geometry for robots (cffi ABI binding over libsfm.so).
+
+Arrays go in and come out as float64 numpy arrays; matrices are row-major as
+in C. Poses are world-to-camera, x_cam = R X + t. A negative C status raises
+SfmError carrying the code and its description.
+"""
+from ._ffi import SfmError, ffi, lib  # noqa: F401
+
+
+def version():
+    v = lib.sfm_version()
+    return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
