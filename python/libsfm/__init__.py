@@ -11,3 +11,4 @@ def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
 from . import frames  # noqa: F401,E402
+from .ba import bundle_adjust  # noqa: F401
