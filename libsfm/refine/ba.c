@@ -338,6 +338,20 @@ static void bwd3(const double *L, const double *b, double *y)
     y[0] = (b[0] - L[3] * y[1] - L[6] * y[2]) / L[0];
 }
 
+/* S[a][b] -= sum_r A[r][a] B[r][b] for a 6x6 block (rows of A and B are
+ * qmax apart): the common pose-only case, with constant trip counts. */
+static void sub_outer6(double *restrict S, int nc, const double *restrict A, const double *restrict B,
+                       int qmax)
+{
+    const double *B0 = B, *B1 = B + qmax, *B2 = B + 2 * qmax;
+    for (int a = 0; a < 6; a++) {
+        double f0 = A[a], f1 = A[qmax + a], f2 = A[2 * qmax + a];
+        double *Srow = S + (size_t)a * nc;
+        for (int b = 0; b < 6; b++)
+            Srow[b] -= f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
+    }
+}
+
 /* Forms S (lower) = U + Dc - sum F F^T and its right-hand side in dc, with the
  * damping mu (0: undamped). Returns 0 when a point block is not positive
  * definite. */
@@ -378,15 +392,19 @@ static int form_reduced(ba_ctx *c, double mu)
             double E0[3], E1[3];
             fwd3(L, Jp, E0);
             fwd3(L, Jp + 3, E1);
+            /* F is stored transposed, 3 rows of qmax, so the pair products
+             * below run over contiguous rows */
             double *F = w->F + (size_t)k * 3 * qmax;
             const int *gi = w->cam_gi + (size_t)ci * qmax;
             for (int a = 0; a < q; a++) {
                 double j0 = jc[a], j1 = jc[qmax + a];
-                double *f = F + 3 * a;
-                f[0] = j0 * E0[0] + j1 * E1[0];
-                f[1] = j0 * E0[1] + j1 * E1[1];
-                f[2] = j0 * E0[2] + j1 * E1[2];
-                w->dc[gi[a]] -= f[0] * z[0] + f[1] * z[1] + f[2] * z[2];
+                double f0 = j0 * E0[0] + j1 * E1[0];
+                double f1 = j0 * E0[1] + j1 * E1[1];
+                double f2 = j0 * E0[2] + j1 * E1[2];
+                F[a] = f0;
+                F[qmax + a] = f1;
+                F[2 * qmax + a] = f2;
+                w->dc[gi[a]] -= f0 * z[0] + f1 * z[1] + f2 * z[2];
             }
             /* pairs (i, i2), i2 <= i: subtract F_i F_i2^T folded into the lower triangle */
             int g0 = w->cam_base[ci];
@@ -399,40 +417,40 @@ static int form_reduced(ba_ctx *c, double mu)
                     /* contiguous parameter blocks: no index lists */
                     if (i2 == i) {
                         for (int a = 0; a < q; a++) {
-                            const double *f = F + 3 * a;
+                            double f0 = F[a], f1 = F[qmax + a], f2 = F[2 * qmax + a];
                             double *Srow = w->S + (size_t)(g0 + a) * nc + g0;
                             for (int b = 0; b <= a; b++)
-                                Srow[b] -= f[0] * F2[3 * b] + f[1] * F2[3 * b + 1] + f[2] * F2[3 * b + 2];
+                                Srow[b] -= f0 * F2[b] + f1 * F2[qmax + b] + f2 * F2[2 * qmax + b];
                         }
                         continue;
                     }
-                    if (g0 >= h0 + q2) {
-                        for (int a = 0; a < q; a++) {
-                            const double *f = F + 3 * a;
-                            double *Srow = w->S + (size_t)(g0 + a) * nc + h0;
-                            for (int b = 0; b < q2; b++)
-                                Srow[b] -= f[0] * F2[3 * b] + f[1] * F2[3 * b + 1] + f[2] * F2[3 * b + 2];
-                        }
-                        continue;
+                    const double *A = F, *B = F2;
+                    int ra = g0, rb = h0, qa = q, qb = q2;
+                    if (h0 >= g0 + q) { /* block above the diagonal: write its transpose */
+                        A = F2; B = F; ra = h0; rb = g0; qa = q2; qb = q;
+                    } else if (!(g0 >= h0 + q2)) {
+                        goto general;
                     }
-                    if (h0 >= g0 + q) {
-                        for (int b = 0; b < q2; b++) {
-                            const double *f2 = F2 + 3 * b;
-                            double *Srow = w->S + (size_t)(h0 + b) * nc + g0;
-                            for (int a = 0; a < q; a++)
-                                Srow[a] -= f2[0] * F[3 * a] + f2[1] * F[3 * a + 1] + f2[2] * F[3 * a + 2];
+                    if (qa == 6 && qb == 6) {
+                        sub_outer6(w->S + (size_t)ra * nc + rb, nc, A, B, qmax);
+                    } else {
+                        for (int a = 0; a < qa; a++) {
+                            double f0 = A[a], f1 = A[qmax + a], f2 = A[2 * qmax + a];
+                            double *Srow = w->S + (size_t)(ra + a) * nc + rb;
+                            for (int b = 0; b < qb; b++)
+                                Srow[b] -= f0 * B[b] + f1 * B[qmax + b] + f2 * B[2 * qmax + b];
                         }
-                        continue;
                     }
+                    continue;
                 }
+            general:;
                 const int *gi2 = w->cam_gi + (size_t)c2 * qmax;
                 for (int a = 0; a < q; a++) {
-                    const double *f = F + 3 * a;
+                    double f0 = F[a], f1 = F[qmax + a], f2 = F[2 * qmax + a];
                     int ga = gi[a];
                     double *Srow = w->S + (size_t)ga * nc;
                     for (int b = 0; b < q2; b++) {
-                        const double *f2 = F2 + 3 * b;
-                        double v = f[0] * f2[0] + f[1] * f2[1] + f[2] * f2[2];
+                        double v = f0 * F2[b] + f1 * F2[qmax + b] + f2 * F2[2 * qmax + b];
                         int gb = gi2[b];
                         if (i2 == i) {
                             if (gb <= ga)
@@ -480,9 +498,9 @@ static int solve_step(ba_ctx *c, double mu)
                 const int *gi = w->cam_gi + (size_t)ci * qmax;
                 for (int a = 0; a < q; a++) {
                     double d = w->dc[gi[a]];
-                    y[0] -= F[3 * a] * d;
-                    y[1] -= F[3 * a + 1] * d;
-                    y[2] -= F[3 * a + 2] * d;
+                    y[0] -= F[a] * d;
+                    y[1] -= F[qmax + a] * d;
+                    y[2] -= F[2 * qmax + a] * d;
                 }
             }
         }
