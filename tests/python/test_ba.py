@@ -152,3 +152,25 @@ def test_bad_inputs():
     with pytest.raises(SfmError) as e:
         libsfm.bundle_adjust(cams, Xn, obs)
     assert e.value.status == -2
+
+
+def test_modes_and_shared_focal():
+    rng = np.random.default_rng(6)
+    R, t, K, X, obs = _scene(rng, m=4, n=40)
+    R0, t0, X0 = _perturb(rng, R, t, X)
+    out = libsfm.bundle_adjust({"rotations": R0, "translations": t0, "intrinsics": K}, X, obs,
+                               {"mode": "pose_only", "function_tolerance": 1e-14})
+    np.testing.assert_array_equal(out["points"], X)
+    np.testing.assert_allclose(out["cameras"]["translations"], t, atol=1e-8)
+    out = libsfm.bundle_adjust({"rotations": R, "translations": t, "intrinsics": K}, X0, obs,
+                               {"mode": "points_only", "function_tolerance": 1e-14})
+    np.testing.assert_allclose(out["points"], X, atol=1e-8)
+    t0[1, 2] = t[1, 2]
+    K0 = K.copy()
+    K0[:, :2] *= 1.02
+    out = libsfm.bundle_adjust({"rotations": R0, "translations": t0, "intrinsics": K0}, X0, obs,
+                               {"intrinsics": "shared", "refine": ["focal"], "scale_gauge": "coordinate",
+                                "scale_camera": 1, "scale_coordinate": 2,
+                                "function_tolerance": 1e-15, "parameter_tolerance": 1e-15})
+    np.testing.assert_allclose(out["cameras"]["intrinsics"], K, atol=1e-6)
+    assert out["stop_reason"] in ("function_tolerance", "parameter_tolerance", "gradient")
