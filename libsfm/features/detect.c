@@ -55,6 +55,7 @@ typedef struct layout {
     uint8_t *tmp;
     int32_t *xofs;
     uint16_t *xw;
+    uint16_t *row;
     uint8_t *ring;
     cand *slots;
     int32_t *count;
@@ -68,7 +69,7 @@ int sfm_features_default_params(sfm_features_params *p)
     p->max_features = 2000;
     p->n_levels = 6;
     p->scale_factor = 1.25;
-    p->fast_threshold = 15;
+    p->fast_threshold = 20;
     p->cell_size = 48;
     return SFM_OK;
 }
@@ -133,6 +134,7 @@ static void carve(sfm_arena *a, const plan *pl, layout *ly)
     ly->tmp = SFM_ARENA_ARRAY(a, uint8_t, w0);
     ly->xofs = SFM_ARENA_ARRAY(a, int32_t, w0);
     ly->xw = SFM_ARENA_ARRAY(a, uint16_t, w0);
+    ly->row = SFM_ARENA_ARRAY(a, uint16_t, w0);
     ly->ring = SFM_ARENA_ARRAY(a, uint8_t, 3 * w0);
     ly->slots = SFM_ARENA_ARRAY(a, cand, pl->max_slots);
     ly->count = SFM_ARENA_ARRAY(a, int32_t, pl->max_cells);
@@ -343,7 +345,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             lv.stride = image->stride;
             lv.sx = lv.sy = 1.0;
         } else {
-            sfm_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw);
+            sfm_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw, ly.row);
             lv.data = ly.level[l];
             lv.w = pl.w[l];
             lv.h = pl.h[l];
