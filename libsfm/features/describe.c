@@ -14,6 +14,7 @@
 #include "features/describe.h"
 
 #include <math.h>
+#include <stddef.h>
 
 #include "features/brief_pattern.h"
 
@@ -54,12 +55,12 @@ void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, double *
 #define FIX 12
 #define BIAS (16 << FIX)
 
-void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, double c, double s, uint8_t *out)
+/* Offsets (relative to the patch centre, for this stride) of the pattern
+ * rotated by (c, s): o1[i], o2[i] for the two points of pair i. */
+static void steer(int stride, double c, double s, int32_t *restrict o1, int32_t *restrict o2)
 {
-    const uint8_t *ctr = img + (long)y * stride + x;
     const int32_t cs = (int32_t)floor(c * (double)(1 << FIX) + 0.5), sn = (int32_t)floor(s * (double)(1 << FIX) + 0.5);
     const int32_t half = 1 << (FIX - 1);
-    int32_t o1[SFM_BRIEF_PAIRS], o2[SFM_BRIEF_PAIRS];
     const signed char *x1 = sfm_brief_pattern[0], *y1 = sfm_brief_pattern[1], *x2 = sfm_brief_pattern[2],
                       *y2 = sfm_brief_pattern[3];
     for (int k = 0; k < SFM_BRIEF_PAIRS; k++) {
@@ -70,6 +71,29 @@ void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, double c, d
         o1[k] = v1 * stride + u1;
         o2[k] = v2 * stride + u2;
     }
+}
+
+void sfm_feat_steer_table(int stride, int32_t *table)
+{
+    for (int b = 0; b < SFM_FEAT_ANGLE_BINS; b++) {
+        const double a = 6.283185307179586 * (double)b / (double)SFM_FEAT_ANGLE_BINS;
+        steer(stride, cos(a), sin(a), table + (size_t)b * 2 * SFM_BRIEF_PAIRS,
+              table + (size_t)b * 2 * SFM_BRIEF_PAIRS + SFM_BRIEF_PAIRS);
+    }
+}
+
+int sfm_feat_angle_bin(double c, double s)
+{
+    const double a = atan2(s, c); /* (-pi, pi] */
+    int b = (int)floor(a * ((double)SFM_FEAT_ANGLE_BINS / 6.283185307179586) + 0.5);
+    b %= SFM_FEAT_ANGLE_BINS;
+    return b < 0 ? b + SFM_FEAT_ANGLE_BINS : b;
+}
+
+void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, const int32_t *offsets, uint8_t *out)
+{
+    const uint8_t *ctr = img + (long)y * stride + x;
+    const int32_t *o1 = offsets, *o2 = offsets + SFM_BRIEF_PAIRS;
     for (int byte = 0; byte < 32; byte++) {
         unsigned bits = 0;
         for (int k = 0; k < 8; k++) {
