@@ -8,10 +8,12 @@
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_camera.h"
+#include "sfm/sfm_solvers.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "sfm/sfm_ransac_trifocal.h"
+#include "sfm/sfm_features.h"
 
 #endif
