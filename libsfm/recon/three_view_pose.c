@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_three_view.h"
@@ -22,6 +23,10 @@ typedef struct tv_ws {
     uint8_t *mask;    /* n */
     void *ransac_ws;
     size_t ransac_size;
+    int *obs_cam, *obs_pt; /* 3n */
+    double *obs_xy;        /* 3n x 2 */
+    void *ba_ws;
+    size_t ba_size;
 } tv_ws;
 
 static void layout(sfm_arena *a, int n, tv_ws *w)
@@ -34,6 +39,12 @@ static void layout(sfm_arena *a, int n, tv_ws *w)
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
     w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+    w->obs_cam = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
+    w->obs_pt = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
+    w->obs_xy = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
+    sfm_ba_dims d = {3, n, 3 * n, SFM_BA_INTRINSICS_FIXED, 0};
+    w->ba_size = sfm_ba_workspace_size(&d);
+    w->ba_ws = sfm_arena_alloc(a, w->ba_size);
 }
 
 size_t sfm_recon_three_view_pose_workspace_size(int n)
@@ -77,6 +88,61 @@ static int undistort(const sfm_camera *cam, const double *px, int n, double *ide
             return SFM_E_NO_CONVERGENCE; /* no pinhole image: outside the field of view */
         ideal[2 * i] = cam->fx * b[0] / b[2] + cam->cx;
         ideal[2 * i + 1] = cam->fy * b[1] / b[2] + cam->cy;
+    }
+    return SFM_OK;
+}
+
+/* Metric bundle adjustment of the three poses and the inlier points, view 1
+ * fixed and |t2| = 1, on the ideal pixels (intrinsics held). The projective
+ * tensor has 18 degrees of freedom against the calibrated problem's 11, so
+ * its essential matrices fit the noise; this step brings the estimate to the
+ * calibrated maximum-likelihood answer. A Huber loss at 2 px guards against
+ * inliers that are outliers of the calibrated model. */
+static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est[3])
+{
+    int st = sfm_triangulate_midpoint(3, est, m, w->bear, w->X, w->flags);
+    if (st < 0)
+        return st;
+    int np = 0, no = 0;
+    for (int j = 0; j < m; j++) {
+        if (w->flags[j] != 0)
+            continue;
+        memmove(&w->X[3 * np], &w->X[3 * j], 3 * sizeof(double));
+        for (int v = 0; v < 3; v++) {
+            const double *b = &w->bear[((size_t)v * m + j) * 3];
+            w->obs_cam[no] = v;
+            w->obs_pt[no] = np;
+            w->obs_xy[2 * no] = cams[v]->fx * b[0] / b[2] + cams[v]->cx;
+            w->obs_xy[2 * no + 1] = cams[v]->fy * b[1] / b[2] + cams[v]->cy;
+            no++;
+        }
+        np++;
+    }
+    if (np < SFM_TRIFOCAL_MIN_POINTS)
+        return SFM_E_SINGULAR;
+    double Rs[27], ts[9], K[18];
+    for (int v = 0; v < 3; v++) {
+        memcpy(&Rs[9 * v], est[v].R, 9 * sizeof(double));
+        memcpy(&ts[3 * v], est[v].t, 3 * sizeof(double));
+        const double k[6] = {cams[v]->fx, cams[v]->fy, cams[v]->cx, cams[v]->cy, 0, 0};
+        memcpy(&K[6 * v], k, sizeof k);
+    }
+    sfm_ba_problem p = {3, np, no, Rs, ts, K, w->X, w->obs_cam, w->obs_pt, w->obs_xy, NULL, NULL, NULL};
+    sfm_ba_options o;
+    sfm_ba_default_options(&o);
+    o.loss = SFM_BA_LOSS_HUBER;
+    o.loss_scale = 2.0;
+    o.scale_gauge = SFM_BA_SCALE_DISTANCE;
+    o.scale_camera = 1;
+    o.scale_distance = 1.0;
+    o.max_iterations = 30;
+    sfm_ba_result res;
+    st = sfm_ba_solve(&p, &o, w->ba_ws, w->ba_size, &res, NULL);
+    if (st < 0)
+        return st;
+    for (int v = 0; v < 3; v++) {
+        memcpy(est[v].R, &Rs[9 * v], 9 * sizeof(double));
+        memcpy(est[v].t, &ts[3 * v], 3 * sizeof(double));
     }
     return SFM_OK;
 }
@@ -185,12 +251,16 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     if (!isfinite(s))
         return SFM_E_SINGULAR;
 
-    memset(&poses[0], 0, sizeof poses[0]);
-    poses[0].R[0] = poses[0].R[4] = poses[0].R[8] = 1.0;
-    poses[1] = c2[0];
-    poses[2] = c3[0];
+    sfm_pose est[3];
+    est[0] = two[0];
+    est[1] = c2[0];
+    est[2] = c3[0];
     for (int r = 0; r < 3; r++)
-        poses[2].t[r] = s * t3[r];
+        est[2].t[r] = s * t3[r];
+    st = polish(&w, cams, m, est);
+    if (st < 0)
+        return st;
+    memcpy(poses, est, sizeof est);
     if (inlier_mask != NULL)
         memcpy(inlier_mask, w.mask, (size_t)n);
     if (stats != NULL)
