@@ -151,6 +151,104 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
                            double *model, uint8_t *inlier_mask, sfm_ransac_stats *stats,
                            void *ws, size_t ws_size);
 
+/* ======================================================================
+ * Estimators. All take pixels and camera models (sfm_camera, distortion
+ * included: pixels are unprojected to bearings once per call). The inlier
+ * threshold opt->threshold is in pixels; internally it is divided by the mean
+ * focal length of the cameras involved. opt may be NULL (defaults, threshold
+ * 1 px). Outputs: inlier_mask (n bytes, may be NULL) and stats (may be NULL)
+ * as for sfm_ransac_run; stats->flags carries the SFM_RANSAC_FLAG_* bits.
+ * Every estimator returns the inlier count (>= its sample size) or a negative
+ * status: SFM_E_ARGUMENT (NULL inputs/outputs, n below the sample size, n
+ * above SFM_RANSAC_MAX_POINTS, bad options), SFM_E_NONFINITE (NaN/Inf in
+ * pixels, points, directions or options), SFM_E_WORKSPACE (ws_size below the
+ * size function's value), SFM_E_NO_CONVERGENCE (no model found), or a camera
+ * status (SFM_E_ARGUMENT for an invalid camera, SFM_E_NO_CONVERGENCE when a
+ * pixel cannot be undistorted). Nothing is written on failure.
+ * ====================================================================== */
+
+/* Model sizes (doubles) the estimators hand to the engine. */
+#define SFM_RANSAC_RELPOSE_MODEL 22
+#define SFM_RANSAC_ABSPOSE_MODEL 12
+#define SFM_RANSAC_MAT3_MODEL 9
+
+/*
+ * Relative pose from n >= 5 pixel pairs: 5-point samples (Nister), SPRT +
+ * MSAC on the Sampson error of unit bearings (the first-order angular
+ * distance to the epipolar constraint, converted to pixels through the mean
+ * focal length), LO by Levenberg-Marquardt on the Sampson error over the
+ * inliers in (R, t), final pose by cheirality over the inliers.
+ * pose: x_cam2 = R x_cam1 + t, |t| = 1. E = [t]x R (unit Frobenius norm).
+ * stats->flags: SFM_RANSAC_FLAG_PURE_ROTATION when the inliers are explained
+ * by a rotation alone (t is then meaningless), SFM_RANSAC_FLAG_PLANAR when a
+ * homography explains them (the pose may be one of two twisted solutions).
+ * The pose is still written: check the flags before trusting t.
+ */
+SFM_API size_t sfm_ransac_relpose_workspace_size(int n);
+SFM_API int sfm_ransac_relpose(const double *px1, const double *px2, int n,
+                               const sfm_camera *cam1, const sfm_camera *cam2,
+                               const sfm_ransac_options *opt, sfm_pose *pose, double E[9],
+                               uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                               size_t ws_size);
+
+/*
+ * Upright relative pose from n >= 3 pixel pairs and one direction known in
+ * both frames (d1 in camera 1, d2 = R d1 in camera 2, e.g. gravity): 3-point
+ * samples, Sampson scoring as above, LO on the 3 remaining degrees of freedom
+ * (rotation about d2 and the translation direction), final pose by
+ * cheirality. Same flags as sfm_ransac_relpose.
+ */
+SFM_API size_t sfm_ransac_relpose_upright_workspace_size(int n);
+SFM_API int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
+                                       const sfm_camera *cam1, const sfm_camera *cam2,
+                                       const double d1[3], const double d2[3],
+                                       const sfm_ransac_options *opt, sfm_pose *pose,
+                                       double E[9], uint8_t *inlier_mask,
+                                       sfm_ransac_stats *stats, void *ws, size_t ws_size);
+
+/*
+ * Absolute pose from n >= 3 pixel / world point pairs (px n x 2, X n x 3):
+ * P3P samples (Lambda Twist), SPRT + MSAC on the reprojection error measured
+ * on the tangent plane of each bearing (pixels at the image centre of a
+ * pinhole camera), LO by Levenberg-Marquardt on that error over the inliers.
+ * pose: x_cam = R X + t.
+ */
+SFM_API size_t sfm_ransac_abspose_workspace_size(int n);
+SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camera *cam,
+                               const sfm_ransac_options *opt, sfm_pose *pose,
+                               uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                               size_t ws_size);
+
+/*
+ * Fundamental matrix from n >= 8 pixel pairs: 7-point samples, Sampson error
+ * in pixels, LO by a normalized 8-point least-squares refit on the inliers,
+ * DEGENSAC (Chum, Werner & Matas, CVPR 2005): when the best sample has five
+ * or more points on one homography, F is re-estimated by plane and parallax
+ * and SFM_RANSAC_FLAG_DEGENSAC is raised when that model wins.
+ * cam1, cam2 may be NULL (pixels used as given); otherwise pixels are first
+ * undistorted to the cameras' ideal pinhole pixels (F then relates those).
+ * F: p2h^T F p1h = 0, unit Frobenius norm.
+ */
+SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);
+SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
+                                   const sfm_camera *cam1, const sfm_camera *cam2,
+                                   const sfm_ransac_options *opt, double F[9],
+                                   uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                                   size_t ws_size);
+
+/*
+ * Homography from n >= 4 pixel pairs: 4-point samples, symmetric transfer
+ * error in pixels (the larger of the two directions), LO by a normalized DLT
+ * refit on the inliers. cam1, cam2 may be NULL, as for the fundamental
+ * matrix. H: p2h ~ H p1h, unit Frobenius norm.
+ */
+SFM_API size_t sfm_ransac_homography_workspace_size(int n);
+SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,
+                                  const sfm_camera *cam1, const sfm_camera *cam2,
+                                  const sfm_ransac_options *opt, double H[9],
+                                  uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                                  size_t ws_size);
+
 #ifdef __cplusplus
 }
 #endif
