@@ -10,3 +10,4 @@ from ._ffi import SfmError, ffi, lib  # noqa: F401
 def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
+from . import frames  # noqa: F401,E402

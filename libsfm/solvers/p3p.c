@@ -1,0 +1,332 @@
+/*
+ * P3P: absolute pose from three bearings and three world points.
+ *
+ * Lambda Twist: M. Persson and K. Nordberg, "Lambda Twist: An Accurate Fast
+ * Robust Perspective Three Point (P3P) Solver", ECCV 2018.
+ * The depths lambda_i of the three points satisfy
+ *     lambda_i^2 + lambda_j^2 - 2 b_ij lambda_i lambda_j = a_ij,
+ * b_ij = cosine of the angle between bearings i and j, a_ij = |X_i - X_j|^2.
+ * Two homogeneous combinations D1, D2 of these quadrics span a pencil; one
+ * real root gamma of det(D1 + gamma D2) = 0 gives a degenerate conic, a pair
+ * of planes through the origin in lambda space (whenever a real solution
+ * exists, every real root gives a real pair of planes through all of them).
+ * Each plane meets the other conic in at most two lines, scaled by one of the
+ * inhomogeneous equations. The depths are polished by Gauss-Newton on the
+ * three equations, then R = G F^T from orthonormal frames of the point
+ * triad in the camera (G) and in the world (F), and t = lambda_1 y_1 - R X_1.
+ *
+ * Assumptions: bearings nonzero (normalized here), points in front of the
+ * camera (positive depths only). Pose convention x_cam = R X + t.
+ * Stack: under 600 bytes, no workspace.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_pose.h"
+
+static int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+static inline void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* One real root of the monic cubic x^3 + b x^2 + c x + d (Cardano for one
+ * real root, the trigonometric form for three, then two Newton steps). */
+static double cubic_one_root(double b, double c, double d)
+{
+    double p = c - b * b / 3.0;
+    double q = (2.0 * b * b * b - 9.0 * b * c) / 27.0 + d;
+    double disc = 0.25 * q * q + p * p * p / 27.0;
+    double x;
+    if (disc >= 0.0) {
+        double s = sqrt(disc);
+        x = cbrt(-0.5 * q + s) + cbrt(-0.5 * q - s) - b / 3.0;
+    } else {
+        /* p < 0 here */
+        double r = sqrt(-p / 3.0);
+        double arg = -0.5 * q / (r * r * r);
+        if (arg > 1.0)
+            arg = 1.0;
+        if (arg < -1.0)
+            arg = -1.0;
+        x = 2.0 * r * cos(acos(arg) / 3.0) - b / 3.0;
+    }
+    for (int it = 0; it < 2; it++) {
+        double f = ((x + b) * x + c) * x + d;
+        double df = (3.0 * x + 2.0 * b) * x + c;
+        if (df != 0.0)
+            x -= f / df;
+    }
+    return x;
+}
+
+/* det of a symmetric 3x3 given by its six entries (00,01,02,11,12,22). */
+#define SYM_DET(m) \
+    ((m)[0] * ((m)[3] * (m)[5] - (m)[4] * (m)[4]) - (m)[1] * ((m)[1] * (m)[5] - (m)[4] * (m)[2]) + \
+     (m)[2] * ((m)[1] * (m)[4] - (m)[3] * (m)[2]))
+
+/* tr(adj(A) B) for symmetric A, B (six entries each). */
+static inline double sym_adj_tr(const double A[6], const double B[6])
+{
+    double c00 = A[3] * A[5] - A[4] * A[4];
+    double c11 = A[0] * A[5] - A[2] * A[2];
+    double c22 = A[0] * A[3] - A[1] * A[1];
+    double c01 = A[2] * A[4] - A[1] * A[5];
+    double c02 = A[1] * A[4] - A[2] * A[3];
+    double c12 = A[1] * A[2] - A[0] * A[4];
+    return c00 * B[0] + c11 * B[3] + c22 * B[5] + 2.0 * (c01 * B[1] + c02 * B[2] + c12 * B[4]);
+}
+
+int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOLUTIONS])
+{
+    if (!x || !X || !poses)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(x, 9) || !all_finite(X, 9))
+        return SFM_E_NONFINITE;
+
+    double y[3][3];
+    for (int i = 0; i < 3; i++) {
+        double n2 = x[3 * i] * x[3 * i] + x[3 * i + 1] * x[3 * i + 1] + x[3 * i + 2] * x[3 * i + 2];
+        if (!(n2 > 0.0))
+            return 0;
+        double inv = 1.0 / sqrt(n2);
+        y[i][0] = x[3 * i] * inv;
+        y[i][1] = x[3 * i + 1] * inv;
+        y[i][2] = x[3 * i + 2] * inv;
+    }
+
+    double X12[3], X13[3], X23[3];
+    for (int k = 0; k < 3; k++) {
+        X12[k] = X[k] - X[3 + k];
+        X13[k] = X[k] - X[6 + k];
+        X23[k] = X[3 + k] - X[6 + k];
+    }
+    double a12 = dot3(X12, X12), a13 = dot3(X13, X13), a23 = dot3(X23, X23);
+    double Xn[3];
+    cross3(X12, X13, Xn);
+    double xn2 = dot3(Xn, Xn);
+    /* Coincident or collinear world points: no unique pose. */
+    if (!(xn2 > 1e-24 * a12 * a13) || !(a23 > 0.0))
+        return 0;
+
+    double b12 = dot3(y[0], y[1]), b13 = dot3(y[0], y[2]), b23 = dot3(y[1], y[2]);
+    /* Coincident bearings: depths undetermined. */
+    if (b12 > 1.0 - 1e-15 || b13 > 1.0 - 1e-15 || b23 > 1.0 - 1e-15)
+        return 0;
+
+    /* D1 = a23 M12 - a12 M23, D2 = a23 M13 - a13 M23 (six entries each). */
+    double D1[6] = {a23, -a23 * b12, 0.0, a23 - a12, a12 * b23, -a12};
+    double D2[6] = {a23, 0.0, -a23 * b13, -a13, a13 * b23, a23 - a13};
+    double c3 = SYM_DET(D2), c0 = SYM_DET(D1);
+    double c2 = sym_adj_tr(D2, D1), c1 = sym_adj_tr(D1, D2);
+
+    /* det(D1 + g D2) = c3 g^3 + c2 g^2 + c1 g + c0. Solve in g, or in the
+     * reciprocal when that has the larger leading coefficient. */
+    double D0[6], Dq[6]; /* degenerate conic; the other conic used to cut it */
+    if (fabs(c3) >= fabs(c0)) {
+        if (c3 == 0.0)
+            return 0;
+        double g = cubic_one_root(c2 / c3, c1 / c3, c0 / c3);
+        for (int k = 0; k < 6; k++)
+            D0[k] = D1[k] + g * D2[k];
+        memcpy(Dq, fabs(g) >= 1.0 ? D1 : D2, sizeof Dq);
+    } else {
+        double g = cubic_one_root(c1 / c0, c2 / c0, c3 / c0);
+        for (int k = 0; k < 6; k++)
+            D0[k] = g * D1[k] + D2[k];
+        memcpy(Dq, fabs(g) >= 1.0 ? D2 : D1, sizeof Dq);
+    }
+
+    /* Eigen-decomposition of the rank-2 D0: null vector from the rows. */
+    double r0[3] = {D0[0], D0[1], D0[2]}, r1[3] = {D0[1], D0[3], D0[4]},
+           r2[3] = {D0[2], D0[4], D0[5]};
+    double n01[3], n02[3], n12[3];
+    cross3(r0, r1, n01);
+    cross3(r0, r2, n02);
+    cross3(r1, r2, n12);
+    double m01 = dot3(n01, n01), m02 = dot3(n02, n02), m12 = dot3(n12, n12);
+    double *nb = n01, mb = m01;
+    if (m02 > mb) {
+        nb = n02;
+        mb = m02;
+    }
+    if (m12 > mb) {
+        nb = n12;
+        mb = m12;
+    }
+    if (!(mb > 0.0))
+        return 0;
+    double tr = D0[0] + D0[3] + D0[5];
+    double mi = (D0[0] * D0[3] - D0[1] * D0[1]) + (D0[0] * D0[5] - D0[2] * D0[2]) +
+                (D0[3] * D0[5] - D0[4] * D0[4]);
+    /* Real planes need an indefinite D0 (sigma1 sigma2 = mi < 0). */
+    if (!(mi < 0.0))
+        return 0;
+    double sig1 = 0.5 * tr + sqrt(0.25 * tr * tr - mi); /* > 0 */
+    double sig2 = mi / sig1;                             /* < 0 */
+    /* e1: largest column of D0 - sig2 (I - n n^T / |n|^2) = (sig1 - sig2) e1 e1^T. */
+    double e1[3], e2[3];
+    {
+        double s = sig2 / mb;
+        double C[9];
+        C[0] = D0[0] - sig2 + s * nb[0] * nb[0];
+        C[4] = D0[3] - sig2 + s * nb[1] * nb[1];
+        C[8] = D0[5] - sig2 + s * nb[2] * nb[2];
+        C[1] = C[3] = D0[1] + s * nb[0] * nb[1];
+        C[2] = C[6] = D0[2] + s * nb[0] * nb[2];
+        C[5] = C[7] = D0[4] + s * nb[1] * nb[2];
+        int k = 0;
+        if (C[4] > C[0])
+            k = 1;
+        if (C[8] > C[4 * k])
+            k = 2;
+        if (!(C[4 * k] > 0.0))
+            return 0;
+        double inv = 1.0 / sqrt(C[k] * C[k] + C[3 + k] * C[3 + k] + C[6 + k] * C[6 + k]);
+        e1[0] = C[k] * inv;
+        e1[1] = C[3 + k] * inv;
+        e1[2] = C[6 + k] * inv;
+        cross3(nb, e1, e2);
+        double ne = 1.0 / sqrt(mb * dot3(e1, e1));
+        e2[0] *= ne;
+        e2[1] *= ne;
+        e2[2] *= ne;
+    }
+    double sr = sqrt(-sig2 / sig1);
+    double asum = a12 + a13 + a23;
+
+    /* Orthonormal world frame (F1, F2, F3) of the triad; the camera frame of
+     * the same triad gives R = G F^T, a proper rotation by construction. */
+    double F1[3], F2[3], F3[3];
+    {
+        double i1 = 1.0 / sqrt(a12), i3 = 1.0 / sqrt(xn2);
+        for (int k = 0; k < 3; k++) {
+            F1[k] = X12[k] * i1;
+            F3[k] = Xn[k] * i3;
+        }
+        cross3(F3, F1, F2);
+    }
+
+    int nsol = 0;
+    for (int side = 0; side < 2; side++) {
+        double u[3];
+        double sg = side ? sr : -sr;
+        for (int k = 0; k < 3; k++)
+            u[k] = e1[k] + sg * e2[k];
+        /* Orthogonal basis v1, v2 of the plane u . lambda = 0. */
+        int kmin = 0;
+        double au0 = fabs(u[0]), au1 = fabs(u[1]), au2 = fabs(u[2]);
+        if (au1 < au0)
+            kmin = 1;
+        if (au2 < (kmin ? au1 : au0))
+            kmin = 2;
+        double ek[3] = {0.0, 0.0, 0.0};
+        ek[kmin] = 1.0;
+        double v1[3], v2[3];
+        cross3(u, ek, v1);
+        cross3(u, v1, v2);
+        /* Quadratic form of Dq restricted to the plane. */
+        double Dv1[3] = {Dq[0] * v1[0] + Dq[1] * v1[1] + Dq[2] * v1[2],
+                         Dq[1] * v1[0] + Dq[3] * v1[1] + Dq[4] * v1[2],
+                         Dq[2] * v1[0] + Dq[4] * v1[1] + Dq[5] * v1[2]};
+        double Dv2[3] = {Dq[0] * v2[0] + Dq[1] * v2[1] + Dq[2] * v2[2],
+                         Dq[1] * v2[0] + Dq[3] * v2[1] + Dq[4] * v2[2],
+                         Dq[2] * v2[0] + Dq[4] * v2[1] + Dq[5] * v2[2]};
+        double q11 = dot3(v1, Dv1), q12 = dot3(v1, Dv2), q22 = dot3(v2, Dv2);
+        double disc = q12 * q12 - q11 * q22;
+        if (disc < 0.0)
+            continue;
+        double rr = -q12 - copysign(sqrt(disc), q12);
+        double ab[2][2] = {{rr, q11}, {q22, rr}};
+        for (int r = 0; r < 2; r++) {
+            double al = ab[r][0], be = ab[r][1];
+            double l[3];
+            for (int k = 0; k < 3; k++)
+                l[k] = al * v1[k] + be * v2[k];
+            /* positive depths only (up to the common sign) */
+            if (l[0] < 0.0) {
+                l[0] = -l[0];
+                l[1] = -l[1];
+                l[2] = -l[2];
+            }
+            if (!(l[0] > 0.0 && l[1] > 0.0 && l[2] > 0.0))
+                continue;
+            double den = 2.0 * (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) -
+                         2.0 * (b12 * l[0] * l[1] + b13 * l[0] * l[2] + b23 * l[1] * l[2]);
+            if (!(den > 0.0))
+                continue;
+            double sc = sqrt(asum / den);
+            l[0] *= sc;
+            l[1] *= sc;
+            l[2] *= sc;
+            /* Gauss-Newton on the three depth equations. */
+            for (int it = 0; it < 5; it++) {
+                double f0 = l[0] * l[0] + l[1] * l[1] - 2.0 * b12 * l[0] * l[1] - a12;
+                double f1 = l[0] * l[0] + l[2] * l[2] - 2.0 * b13 * l[0] * l[2] - a13;
+                double f2 = l[1] * l[1] + l[2] * l[2] - 2.0 * b23 * l[1] * l[2] - a23;
+                if (fabs(f0) + fabs(f1) + fabs(f2) < 1e-15 * asum)
+                    break;
+                double j00 = l[0] - b12 * l[1], j01 = l[1] - b12 * l[0];
+                double j10 = l[0] - b13 * l[2], j12 = l[2] - b13 * l[0];
+                double j21 = l[1] - b23 * l[2], j22 = l[2] - b23 * l[1];
+                /* J = 2 [[j00 j01 0]; [j10 0 j12]; [0 j21 j22]] */
+                double det = j00 * (-j12 * j21) - j01 * (j10 * j22);
+                if (det == 0.0)
+                    break;
+                double id = 0.5 / det;
+                double d0 = (-j12 * j21 * f0 - j01 * j22 * f1 + j01 * j12 * f2) * id;
+                double d1 = (-j10 * j22 * f0 + j00 * j22 * f1 - j00 * j12 * f2) * id;
+                double d2 = (j10 * j21 * f0 - j00 * j21 * f1 - j01 * j10 * f2) * id;
+                l[0] -= d0;
+                l[1] -= d1;
+                l[2] -= d2;
+            }
+            if (!(l[0] > 0.0 && l[1] > 0.0 && l[2] > 0.0))
+                continue;
+            /* Camera triad [Y12 Y13 Yn] times the inverse world triad. */
+            double Y1[3], Y12[3], Y13[3], Yn[3];
+            for (int k = 0; k < 3; k++) {
+                Y1[k] = l[0] * y[0][k];
+                Y12[k] = Y1[k] - l[1] * y[1][k];
+                Y13[k] = Y1[k] - l[2] * y[2][k];
+            }
+            cross3(Y12, Y13, Yn);
+            double R[9];
+            {
+                double G1[3], G2[3], G3[3];
+                double i1 = 1.0 / sqrt(dot3(Y12, Y12)), i3 = 1.0 / sqrt(dot3(Yn, Yn));
+                for (int k = 0; k < 3; k++) {
+                    G1[k] = Y12[k] * i1;
+                    G3[k] = Yn[k] * i3;
+                }
+                cross3(G3, G1, G2);
+                for (int rw = 0; rw < 3; rw++)
+                    for (int c = 0; c < 3; c++)
+                        R[3 * rw + c] = G1[rw] * F1[c] + G2[rw] * F2[c] + G3[rw] * F3[c];
+            }
+            double t[3];
+            for (int rw = 0; rw < 3; rw++)
+                t[rw] = Y1[rw] - (R[3 * rw] * X[0] + R[3 * rw + 1] * X[1] + R[3 * rw + 2] * X[2]);
+            if (!all_finite(R, 9) || !all_finite(t, 3))
+                continue;
+            memcpy(poses[nsol].R, R, sizeof R);
+            memcpy(poses[nsol].t, t, sizeof t);
+            nsol++;
+        }
+    }
+    return nsol;
+}

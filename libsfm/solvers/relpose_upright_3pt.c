@@ -1,0 +1,382 @@
+/*
+ * Relative pose from three bearing pairs and one direction known in both
+ * frames (gravity, a vanishing direction): the "upright" 3-point problem.
+ *
+ * F. Fraundorfer, P. Tanskanen, M. Pollefeys, "A Minimal Case Solution to the
+ * Calibrated Relative Pose Problem for the Case of Two Known Orientation
+ * Angles", ECCV 2010; O. Naroditsky, X. S. Zhou, J. Gallier, S. Roumeliotis,
+ * K. Daniilidis, "Two efficient solutions for visual odometry using
+ * directional correspondence", PAMI 2012; M. Kalantari, A. Hashemi, F. Jung,
+ * J.-P. Guedon, "A new solution to the relative orientation problem using
+ * only 3 points and the vertical direction", JMIV 2011.
+ *
+ * Each frame is rotated so that its known direction becomes the y axis (Q1 d1
+ * = Q2 d2 = e_y, any direction allowed); the remaining rotation is Ry(theta)
+ * and R = Q2^T Ry(theta) Q1, t = Q2^T t'. With r_i(theta) = Ry(theta) x1'_i x
+ * x2'_i, the three epipolar constraints say t' is orthogonal to all r_i, so
+ * F(theta) = det[r_1; r_2; r_3] = 0. The rows are affine in (cos, sin), and
+ * the cubic part vanishes at (cos, sin) = (1, +-i), so on the unit circle F
+ * is a trigonometric polynomial of degree 2 (at most four roots): F = g0 +
+ * g1 cos + g2 sin + g3 cos 2theta + g4 sin 2theta. Its coefficients are read
+ * from F at five angles with exact cosines (0, 90, 180, 270, 45 degrees).
+ *
+ * The tangent half-angle form of Kalantari et al. has a pole at 180 degrees,
+ * where the quartic's leading coefficient F(180) vanishes. Here the pole is
+ * put at whichever of 0, 90, 180, 270 degrees has the largest |F|: the
+ * leading coefficient of the quartic equals F at the pole, so it is never
+ * small unless F is small everywhere; no angle is singular.
+ *
+ * Assumptions: d2 = R d1 exactly (a noisy direction gives the nearest
+ * consistent model). Bearings need not be unit. Stack: under 700 bytes.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_pose.h"
+
+/* Newton steps on the determinant per root; relative tolerance under which
+ * a negative discriminant is taken as zero. */
+#define NEWTON_STEPS 2
+#define QUAD_TOL 1e-10
+
+static int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+static inline void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* A rotation Q (rows u, d, w) with Q d = e_y, for unit d. */
+static void align_to_y(const double d[3], double Q[9])
+{
+    double ad0 = fabs(d[0]), ad1 = fabs(d[1]), ad2 = fabs(d[2]);
+    double u[3];
+    /* u = e_k x d for the axis k least aligned with d, normalized */
+    if (ad0 <= ad1 && ad0 <= ad2) {
+        u[0] = 0.0;
+        u[1] = -d[2];
+        u[2] = d[1];
+    } else if (ad1 <= ad2) {
+        u[0] = d[2];
+        u[1] = 0.0;
+        u[2] = -d[0];
+    } else {
+        u[0] = -d[1];
+        u[1] = d[0];
+        u[2] = 0.0;
+    }
+    double inv = 1.0 / sqrt(dot3(u, u));
+    u[0] *= inv;
+    u[1] *= inv;
+    u[2] *= inv;
+    double w[3];
+    cross3(u, d, w);
+    Q[0] = u[0];
+    Q[1] = u[1];
+    Q[2] = u[2];
+    Q[3] = d[0];
+    Q[4] = d[1];
+    Q[5] = d[2];
+    Q[6] = w[0];
+    Q[7] = w[1];
+    Q[8] = w[2];
+}
+
+/* Largest real root of the monic cubic x^3 + b x^2 + c x + d. */
+static double cubic_largest_root(double b, double c, double d)
+{
+    double p = c - b * b / 3.0;
+    double q = (2.0 * b * b * b - 9.0 * b * c) / 27.0 + d;
+    double disc = 0.25 * q * q + p * p * p / 27.0;
+    double x;
+    if (disc >= 0.0) {
+        double s = sqrt(disc);
+        x = cbrt(-0.5 * q + s) + cbrt(-0.5 * q - s) - b / 3.0;
+    } else {
+        double r = sqrt(-p / 3.0);
+        double arg = -0.5 * q / (r * r * r);
+        if (arg > 1.0)
+            arg = 1.0;
+        if (arg < -1.0)
+            arg = -1.0;
+        x = 2.0 * r * cos(acos(arg) / 3.0) - b / 3.0; /* the largest of three */
+    }
+    for (int it = 0; it < 2; it++) {
+        double f = ((x + b) * x + c) * x + d;
+        double df = (3.0 * x + 2.0 * b) * x + c;
+        if (df != 0.0)
+            x -= f / df;
+    }
+    return x;
+}
+
+/* Real roots of the monic x^2 + b x + c appended to r; returns the new count. */
+static int quad_roots(double b, double c, double *r, int n)
+{
+    /* monic x^2 + b x + c */
+    double disc = b * b - 4.0 * c;
+    /* A slightly negative discriminant is taken as a double root: close
+     * root pairs are common (far points make the true root nearly double)
+     * and the Newton steps on the determinant separate them again. */
+    if (disc < 0.0) {
+        if (disc < -QUAD_TOL * (b * b + fabs(c)))
+            return n;
+        disc = 0.0;
+    }
+    double s = sqrt(disc);
+    double q = -0.5 * (b + copysign(s, b));
+    if (q != 0.0) {
+        r[n++] = q;
+        r[n++] = c / q;
+    } else {
+        r[n++] = 0.0; /* b = c = 0 */
+    }
+    return n;
+}
+
+/* Real roots of the monic quartic x^4 + b x^3 + c x^2 + d x + e (Ferrari),
+ * each polished by Newton steps. Returns the count (0..4). */
+static int quartic_roots(double b, double c, double d, double e, double r[4])
+{
+    double b2 = b * b;
+    double p = c - 0.375 * b2;
+    double q = d - 0.5 * b * c + 0.125 * b2 * b;
+    double rr = e - 0.25 * b * d + 0.0625 * b2 * c - 0.01171875 * b2 * b2;
+    double y[4];
+    int n = 0;
+    /* resolvent: m^3 + p m^2 + (p^2/4 - r) m - q^2/8 = 0, largest root m >= 0 */
+    double m = cubic_largest_root(p, 0.25 * p * p - rr, -0.125 * q * q);
+    double scale = fabs(p) + sqrt(fabs(rr));
+    if (m > 1e-14 * scale && m > 0.0) {
+        double s = sqrt(2.0 * m);
+        double h = q / (2.0 * s);
+        n = quad_roots(-s, 0.5 * p + m + h, y, n);
+        n = quad_roots(s, 0.5 * p + m - h, y, n);
+    } else {
+        /* biquadratic (q = 0): z^2 + p z + r = 0, y = +-sqrt(z) */
+        double z[2];
+        int nz = quad_roots(p, rr, z, 0);
+        for (int i = 0; i < nz; i++) {
+            if (z[i] >= 0.0) {
+                double sz = sqrt(z[i]);
+                y[n++] = sz;
+                y[n++] = -sz;
+            }
+        }
+        if (n > 4)
+            n = 4;
+    }
+    for (int i = 0; i < n; i++) {
+        double x = y[i] - 0.25 * b;
+        for (int it = 0; it < 2; it++) {
+            double f = (((x + b) * x + c) * x + d) * x + e;
+            double df = ((4.0 * x + 3.0 * b) * x + 2.0 * c) * x + d;
+            if (df == 0.0)
+                break;
+            x -= f / df;
+        }
+        r[i] = x;
+    }
+    return n;
+}
+
+static inline double det_rows(const double a[3], const double b[3], const double c[3])
+{
+    double t[3];
+    cross3(b, c, t);
+    return dot3(a, t);
+}
+
+int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double d1[3],
+                            const double d2[3], sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS])
+{
+    if (!x1 || !x2 || !d1 || !d2 || !poses)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(x1, 9) || !all_finite(x2, 9) || !all_finite(d1, 3) || !all_finite(d2, 3))
+        return SFM_E_NONFINITE;
+    double n1 = dot3(d1, d1), n2 = dot3(d2, d2);
+    if (!(n1 > 0.0) || !(n2 > 0.0))
+        return SFM_E_ARGUMENT;
+
+    double Q1[9], Q2[9];
+    {
+        double i1 = 1.0 / sqrt(n1), i2 = 1.0 / sqrt(n2);
+        double u1[3] = {d1[0] * i1, d1[1] * i1, d1[2] * i1};
+        double u2[3] = {d2[0] * i2, d2[1] * i2, d2[2] * i2};
+        align_to_y(u1, Q1);
+        align_to_y(u2, Q2);
+    }
+
+    /* Aligned bearings and the affine pieces of r_i = c P_i + s Q_i + W_i. */
+    double P[3][3], S[3][3], W[3][3], a1s[3][3], a2[3][3];
+    double mag = 1.0;
+    for (int i = 0; i < 3; i++) {
+        const double *p1 = x1 + 3 * i, *p2 = x2 + 3 * i;
+        double *a1 = a1s[i];
+        for (int k = 0; k < 3; k++) {
+            a1[k] = Q1[3 * k] * p1[0] + Q1[3 * k + 1] * p1[1] + Q1[3 * k + 2] * p1[2];
+            a2[i][k] = Q2[3 * k] * p2[0] + Q2[3 * k + 1] * p2[1] + Q2[3 * k + 2] * p2[2];
+        }
+        double va[3] = {a1[0], 0.0, a1[2]}, vb[3] = {a1[2], 0.0, -a1[0]},
+               vc[3] = {0.0, a1[1], 0.0};
+        cross3(va, a2[i], P[i]);
+        cross3(vb, a2[i], S[i]);
+        cross3(vc, a2[i], W[i]);
+        mag *= dot3(a1, a1) * dot3(a2[i], a2[i]);
+    }
+    /* F at 0, 90, 180, 270 and 45 degrees */
+    double F[4], F45;
+    {
+        double r[3][3];
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                r[i][k] = P[i][k] + W[i][k];
+        F[0] = det_rows(r[0], r[1], r[2]);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                r[i][k] = S[i][k] + W[i][k];
+        F[1] = det_rows(r[0], r[1], r[2]);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                r[i][k] = W[i][k] - P[i][k];
+        F[2] = det_rows(r[0], r[1], r[2]);
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                r[i][k] = W[i][k] - S[i][k];
+        F[3] = det_rows(r[0], r[1], r[2]);
+        const double h = 0.70710678118654752440;
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                r[i][k] = h * (P[i][k] + S[i][k]) + W[i][k];
+        F45 = det_rows(r[0], r[1], r[2]);
+    }
+    double g0 = 0.25 * (F[0] + F[1] + F[2] + F[3]);
+    double g1 = 0.5 * (F[0] - F[2]);
+    double g2 = 0.5 * (F[1] - F[3]);
+    double g3 = 0.25 * (F[0] + F[2] - F[1] - F[3]);
+    double g4 = F45 - g0 - 0.70710678118654752440 * (g1 + g2);
+
+    /* Pole of the half-angle chart at the sample with the largest |F|. */
+    int kp = 0;
+    for (int k = 1; k < 4; k++)
+        if (fabs(F[k]) > fabs(F[kp]))
+            kp = k;
+    /* Degenerate sample (F identically zero, e.g. coincident points). */
+    if (!(fabs(F[kp]) > 1e-13 * sqrt(mag)))
+        return 0;
+    /* theta = theta' + theta0 with theta0 = pole - 180 degrees */
+    static const double C0t[4] = {-1.0, 0.0, 1.0, 0.0};
+    static const double S0t[4] = {0.0, -1.0, 0.0, 1.0};
+    static const double C2t[4] = {1.0, -1.0, 1.0, -1.0};
+    double C0 = C0t[kp], S0 = S0t[kp], C2 = C2t[kp];
+    double h1 = g1 * C0 + g2 * S0, h2 = -g1 * S0 + g2 * C0, h3 = g3 * C2, h4 = g4 * C2;
+    double A4 = g0 - h1 + h3;
+    double ia = 1.0 / A4;
+    double kr[4];
+    int nk = quartic_roots((2.0 * h2 - 4.0 * h4) * ia, (2.0 * g0 - 6.0 * h3) * ia,
+                           (2.0 * h2 + 4.0 * h4) * ia, (g0 + h1 + h3) * ia, kr);
+
+    int nsol = 0;
+    for (int j = 0; j < nk; j++) {
+        double k = kr[j];
+        double den = 1.0 / (1.0 + k * k);
+        double cp = (1.0 - k * k) * den, sp = 2.0 * k * den;
+        double c = C0 * cp - S0 * sp, s = S0 * cp + C0 * sp;
+        double r[3][3];
+        /* Newton steps in the angle on the determinant itself: near a root
+         * the rows are small (of the order of the parallax) and the
+         * interpolated polynomial loses digits the determinant keeps. */
+        for (int itn = 0; itn < NEWTON_STEPS; itn++) {
+            double dr[3][3];
+            for (int i = 0; i < 3; i++)
+                for (int m = 0; m < 3; m++) {
+                    r[i][m] = c * P[i][m] + s * S[i][m] + W[i][m];
+                    dr[i][m] = c * S[i][m] - s * P[i][m];
+                }
+            double f = det_rows(r[0], r[1], r[2]);
+            double df = det_rows(dr[0], r[1], r[2]) + det_rows(r[0], dr[1], r[2]) +
+                        det_rows(r[0], r[1], dr[2]);
+            if (df != 0.0) {
+                double dl = -f / df;
+                if (fabs(dl) < 0.1) {
+                    double cn = c - s * dl, sn = s + c * dl;
+                    double nn = 1.0 / sqrt(cn * cn + sn * sn);
+                    c = cn * nn;
+                    s = sn * nn;
+                }
+            }
+        }
+        for (int i = 0; i < 3; i++)
+            for (int m = 0; m < 3; m++)
+                r[i][m] = c * P[i][m] + s * S[i][m] + W[i][m];
+        double t01[3], t02[3], t12[3];
+        cross3(r[0], r[1], t01);
+        cross3(r[0], r[2], t02);
+        cross3(r[1], r[2], t12);
+        double m01 = dot3(t01, t01), m02 = dot3(t02, t02), m12 = dot3(t12, t12);
+        double *tp = t01, mt = m01;
+        if (m02 > mt) {
+            tp = t02;
+            mt = m02;
+        }
+        if (m12 > mt) {
+            tp = t12;
+            mt = m12;
+        }
+        if (!(mt > 0.0))
+            continue;
+        double it = 1.0 / sqrt(mt);
+        double tq[3] = {tp[0] * it, tp[1] * it, tp[2] * it};
+        /* Sign of t': depths of the three points in both frames. */
+        int vote = 0;
+        for (int i = 0; i < 3; i++) {
+            const double *q2 = a2[i];
+            /* With v = Ry(theta) x1' and r_i = v x x2', the depths have the
+             * signs of -(t' x x2').r_i (frame 1) and -(t' x v).r_i (frame 2). */
+            double tx2[3];
+            cross3(tq, q2, tx2);
+            double l1 = -dot3(tx2, r[i]);
+            const double *a1 = a1s[i];
+            double v[3] = {c * a1[0] + s * a1[2], a1[1], -s * a1[0] + c * a1[2]};
+            double tv[3];
+            cross3(tq, v, tv);
+            double l2 = -dot3(tv, r[i]);
+            vote += (l1 > 0.0) - (l1 < 0.0) + (l2 > 0.0) - (l2 < 0.0);
+        }
+        if (vote < 0) {
+            tq[0] = -tq[0];
+            tq[1] = -tq[1];
+            tq[2] = -tq[2];
+        }
+        /* R = Q2^T Ry Q1, t = Q2^T t' */
+        double M[9];
+        for (int m = 0; m < 3; m++) {
+            M[m] = c * Q1[m] + s * Q1[6 + m];
+            M[3 + m] = Q1[3 + m];
+            M[6 + m] = -s * Q1[m] + c * Q1[6 + m];
+        }
+        sfm_pose out, *ps = &out;
+        for (int rw = 0; rw < 3; rw++) {
+            for (int m = 0; m < 3; m++)
+                ps->R[3 * rw + m] = Q2[rw] * M[m] + Q2[3 + rw] * M[3 + m] + Q2[6 + rw] * M[6 + m];
+            ps->t[rw] = Q2[rw] * tq[0] + Q2[3 + rw] * tq[1] + Q2[6 + rw] * tq[2];
+        }
+        if (!all_finite(ps->R, 9) || !all_finite(ps->t, 3))
+            continue;
+        poses[nsol++] = out;
+    }
+    return nsol;
+}
