@@ -11,3 +11,5 @@ def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
 from . import frames  # noqa: F401,E402
+from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402
+                     estimate_relative_pose, estimate_relative_pose_upright)
