@@ -7,8 +7,15 @@
  * PAMI 2008) so that bad models are dropped after a few points, scores the
  * survivors with MSAC (truncated quadratic: sum of min(r^2, tau^2)), runs
  * local optimisation (LO-RANSAC: a few nonlinear refinement rounds on the
- * inliers) on every new best model, and stops at a confidence level, an
- * iteration cap or a time budget read from a caller-supplied clock.
+ * inliers, or on the points within wide_mult thresholds, kept while the MSAC
+ * cost drops) on every new best model, and stops at a confidence level, an
+ * iteration cap or a time budget read from a caller-supplied clock. With
+ * opt->wide_mult > 1 the winner is then polished: refine() on
+ * every point within wide_mult thresholds, under a robust loss of scale tau (with
+ * 1 px noise a 1 px threshold keeps only about half of the true inliers; the
+ * polish uses nearly all of them, while the loss keeps the few outliers in
+ * that band from pulling). The polished model is kept unless it loses more
+ * than 5 % of the inliers.
  *
  * Memory: the run call works in caller memory only. Its size comes from
  * sfm_ransac_workspace_size(dims) or, for a static buffer, from the macro
@@ -38,6 +45,9 @@ extern "C" {
 #define SFM_RANSAC_MAX_MODELS 64      /* models one solve may return */
 #define SFM_RANSAC_MAX_MODEL_SIZE 64  /* doubles per model */
 #define SFM_RANSAC_MAX_POINTS 16777216
+/* The estimators below run local optimisation and the final polish on the
+ * points within this many thresholds (under a robust loss of scale tau). */
+#define SFM_RANSAC_WIDE_MULT 3
 
 /* Why a run stopped (sfm_ransac_stats.stop_reason). */
 #define SFM_RANSAC_STOP_CONFIDENCE 0     /* adaptive count reached at opt->confidence */
@@ -60,8 +70,11 @@ extern "C" {
  *  residual(ctx, model, i): squared residual of point i, in the units of
  *      opt->threshold squared. Must be >= 0 (NaN counts as an outlier).
  *  refine(ctx, inliers, n_inliers, model): optional (may be NULL). A few
- *      nonlinear steps on the listed inliers, updating model in place; return
- *      >= 0 on success, < 0 to leave the model as it was.
+ *      nonlinear steps on the listed points, updating model in place; return
+ *      >= 0 on success, < 0 to leave the model as it was. With
+ *      opt->wide_mult > 1 the list reaches wide_mult thresholds and refine
+ *      should apply a robust loss of scale tau (the estimators below use
+ *      Cauchy weights 1 / (1 + r^2 / tau^2)).
  *  degenerate(ctx, sample): optional. Nonzero rejects the sample before solve.
  *  fix_best(ctx, sample, model, rng): optional. Called when a model becomes the
  *      best so far, before local optimisation (DEGENSAC's plane-and-parallax
@@ -92,6 +105,13 @@ typedef struct sfm_ransac_options {
     int max_iterations;    /* >= 1, >= min_iterations */
     uint64_t seed;         /* seeds the run's own sfm_rng */
     int lo_rounds;         /* local-optimisation rounds per new best (0: no LO) */
+    double wide_mult;      /* <= 1: LO refines on the inliers at tau, no polish;
+                              > 1: LO and the final polish refine on the points
+                              within wide_mult thresholds. 0 (default) lets the
+                              estimators below pick SFM_RANSAC_WIDE_MULT (their
+                              refits are robust); sfm_ransac_run reads 0 as 1 */
+    int polish_rounds;     /* final polish rounds on the winner (0: none; only
+                              with wide_mult > 1) */
     int use_sprt;          /* 1: SPRT early rejection; 0: full MSAC scoring */
     const double *quality; /* optional per-point quality (higher is better):
                               PROSAC sampling; NULL: uniform sampling */
@@ -105,6 +125,7 @@ typedef struct sfm_ransac_stats {
     int models;           /* models verified */
     int sprt_rejected;    /* models dropped by SPRT before full scoring */
     int lo_runs;          /* local optimisations run */
+    int polished;         /* 1 when the final polish was kept */
     int num_inliers;      /* inliers of the returned model (r^2 < tau^2) */
     double score;         /* MSAC cost of the returned model */
     uint64_t seed;        /* the seed used */
@@ -113,7 +134,8 @@ typedef struct sfm_ransac_stats {
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
- * SFM_RNG_DEFAULT_SEED, 3 LO rounds, SPRT on, no quality, no clock.
+ * SFM_RNG_DEFAULT_SEED, 3 LO rounds, wide_mult 0, 2 polish rounds, SPRT on,
+ * no quality, no clock.
  * Statuses: SFM_OK, SFM_E_ARGUMENT (opt NULL). */
 SFM_API int sfm_ransac_default_options(sfm_ransac_options *opt);
 
@@ -227,7 +249,7 @@ SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const s
  * and SFM_RANSAC_FLAG_DEGENSAC is raised when that model wins.
  * cam1, cam2 may be NULL (pixels used as given); otherwise pixels are first
  * undistorted to the cameras' ideal pinhole pixels (F then relates those).
- * F: p2h^T F p1h = 0, unit Frobenius norm.
+ * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (1).
  */
 SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);
 SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
@@ -240,7 +262,7 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
  * Homography from n >= 4 pixel pairs: 4-point samples, symmetric transfer
  * error in pixels (the larger of the two directions), LO by a normalized DLT
  * refit on the inliers. cam1, cam2 may be NULL, as for the fundamental
- * matrix. H: p2h ~ H p1h, unit Frobenius norm.
+ * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored (1).
  */
 SFM_API size_t sfm_ransac_homography_workspace_size(int n);
 SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,

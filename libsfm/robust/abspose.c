@@ -16,6 +16,7 @@
 typedef struct abs_ctx {
     const double *b; /* unit bearings n x 3 */
     const double *X; /* world points n x 3 */
+    double scale;    /* robust scale of the refit: the threshold (normalised) */
 } abs_ctx;
 
 static int solve_p3p(void *ctx, const int *s, double *models)
@@ -48,7 +49,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     const abs_ctx *c = ctx;
     if (n < 3)
         return -1;
-    return sfm_robust_reproj_lm(c->b, c->X, inl, n, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
+    return sfm_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
 }
 
 static void layout(sfm_arena *a, int n, size_t es, double **b, void **eng)
@@ -117,7 +118,9 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
         return st;
     const double f = 0.5 * (fabs(cam->fx) + fabs(cam->fy));
     eopt.threshold /= f;
-    abs_ctx c = {b, X};
+    if (eopt.wide_mult == 0.0)
+        eopt.wide_mult = SFM_RANSAC_WIDE_MULT;
+    abs_ctx c = {b, X, eopt.threshold};
     sfm_ransac_estimator est = {3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL, solve_p3p,
                                 residual, refine, NULL, NULL, &c};
     double model[SFM_RANSAC_ABSPOSE_MODEL];

@@ -70,6 +70,8 @@ static double residual(void *ctx, const double *m, int i)
     return sfm_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
+/* A linear refit, unweighted: it runs on the inliers at tau only (the
+ * estimator forces wide_mult 1: no wide band, no final polish). */
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     f_ctx *c = ctx;
@@ -278,6 +280,7 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
                                    FMODEL, ws, ws_size, &pp, &eopt);
     if (st < 0)
         return st;
+    eopt.wide_mult = 1.0;
     f_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2, pp.idx, n, eopt.threshold * eopt.threshold};
     sfm_ransac_estimator est = {7, SFM_RELPOSE_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
                                 refine, NULL, fix_best, &c};

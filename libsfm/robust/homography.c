@@ -82,6 +82,8 @@ static double residual(void *ctx, const double *m, int i)
     return f > b ? f : b;
 }
 
+/* A linear refit, unweighted: it runs on the inliers at tau only (the
+ * estimator forces wide_mult 1: no wide band, no final polish). */
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     h_ctx *c = ctx;
@@ -116,6 +118,7 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
                                    &eopt);
     if (st < 0)
         return st;
+    eopt.wide_mult = 1.0;
     h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2};
     sfm_ransac_estimator est = {4, 1, HMODEL, solve4, residual, refine, NULL, NULL, &c};
     double model[HMODEL];

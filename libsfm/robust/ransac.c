@@ -23,6 +23,7 @@ typedef struct engine {
     const sfm_ransac_estimator *est;
     int n, k, m, s;
     double tau2;
+    double wide; /* LO / polish band in thresholds, >= 1 */
     int *perm;    /* verification order: a seeded random permutation */
     int *order;   /* PROSAC ranking (points by decreasing quality) */
     int *inl;     /* inlier list scratch */
@@ -79,6 +80,8 @@ int sfm_ransac_default_options(sfm_ransac_options *opt)
     opt->max_iterations = 10000;
     opt->seed = SFM_RNG_DEFAULT_SEED;
     opt->lo_rounds = 3;
+    opt->wide_mult = 0.0;
+    opt->polish_rounds = 2;
     opt->use_sprt = 1;
     opt->quality = NULL;
     opt->clock = NULL;
@@ -104,18 +107,6 @@ static double score_full(const engine *e, const double *model, int *ninl)
     }
     *ninl = c;
     return s;
-}
-
-static int collect_inliers(const engine *e, const double *model, int *list)
-{
-    const sfm_ransac_estimator *est = e->est;
-    int c = 0;
-    for (int i = 0; i < e->n; i++) {
-        double r2 = est->residual(est->ctx, model, i);
-        if (r2 < e->tau2)
-            list[c++] = i;
-    }
-    return c;
 }
 
 #define EVAL_BETTER 0
@@ -156,14 +147,32 @@ static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *m
     return EVAL_BETTER;
 }
 
-/* LO-RANSAC: refine on the inliers, keep the result while the cost drops. */
+/* Points whose squared residual is below wide2 go to list; returns count. */
+static int collect_within(const engine *e, const double *model, double wide2, int *list)
+{
+    const sfm_ransac_estimator *est = e->est;
+    int c = 0;
+    for (int i = 0; i < e->n; i++)
+        if (est->residual(est->ctx, model, i) < wide2)
+            list[c++] = i;
+    return c;
+}
+
+/* LO-RANSAC: refine on the inliers, or with opt->wide_mult > 1 on the
+ * points within wide_mult thresholds (robust scale tau), keep the result
+ * while the MSAC cost at tau drops. The wider set follows the iterative
+ * least squares of Chum, Matas & Kittler (which start at a multiple of the
+ * threshold): with noise near the
+ * threshold, a model from a noisy sample sees only part of its inliers at
+ * tau and converges from the wider set. */
 static void local_optimise(const engine *e, int rounds, double *model, double *score, int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
     if (est->refine == NULL)
         return;
     for (int r = 0; r < rounds; r++) {
-        int c = collect_inliers(e, model, e->inl);
+        int c = collect_within(e, model, wide2, e->inl);
         if (c < e->k)
             return;
         memcpy(e->tmp, model, sizeof(double) * (size_t)e->s);
@@ -177,6 +186,30 @@ static void local_optimise(const engine *e, int rounds, double *model, double *s
         *score = s2;
         *ninl = c2;
     }
+}
+
+/* Final polish of e->best: refine on every point within wide_mult
+ * thresholds (robust scale tau) without asking the MSAC cost at tau (which
+ * prefers models fitted to the points inside tau only); kept when it loses
+ * at most 5 % of the inliers. Returns 1 when kept. */
+static int polish(const engine *e, int rounds, int best_inl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
+    memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
+    for (int r = 0; r < rounds; r++) {
+        int c = collect_within(e, e->spare, wide2, e->inl);
+        if (c < e->k)
+            break;
+        if (est->refine(est->ctx, e->inl, c, e->spare) < 0)
+            break;
+    }
+    int ci;
+    (void)score_full(e, e->spare, &ci);
+    if ((double)ci < 0.95 * (double)best_inl)
+        return 0;
+    memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
+    return 1;
 }
 
 /* Samples needed so that an all-inlier, SPRT-accepted sample has been drawn
@@ -212,12 +245,12 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     sfm_ransac_dims d = {n, est->sample_size, est->max_models, est->model_size};
     if (!dims_ok(&d) || n < est->sample_size)
         return SFM_E_ARGUMENT;
-    if (!isfinite(opt->threshold) || !isfinite(opt->confidence) ||
+    if (!isfinite(opt->threshold) || !isfinite(opt->confidence) || !isfinite(opt->wide_mult) ||
         (opt->clock != NULL && !isfinite(opt->time_budget)))
         return SFM_E_NONFINITE;
     if (!(opt->threshold > 0.0) || !(opt->confidence > 0.0 && opt->confidence < 1.0) ||
         opt->min_iterations < 0 || opt->max_iterations < 1 ||
-        opt->min_iterations > opt->max_iterations || opt->lo_rounds < 0)
+        opt->min_iterations > opt->max_iterations || opt->lo_rounds < 0 || opt->polish_rounds < 0)
         return SFM_E_ARGUMENT;
     if (opt->quality != NULL) {
         for (int i = 0; i < n; i++)
@@ -242,6 +275,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     e.m = est->max_models;
     e.s = est->model_size;
     e.tau2 = opt->threshold * opt->threshold;
+    e.wide = opt->wide_mult > 1.0 ? opt->wide_mult : 1.0;
 
     sfm_rng rng;
     sfm_rng_seed(&rng, opt->seed);
@@ -345,6 +379,9 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
 
     if (!have_best)
         return SFM_E_NO_CONVERGENCE;
+    int polished = 0;
+    if (opt->polish_rounds > 0 && est->refine != NULL && e.wide > 1.0)
+        polished = polish(&e, opt->polish_rounds, best_inl);
     int ninl;
     double final_score = score_full(&e, e.best, &ninl);
     if (ninl < 1)
@@ -362,6 +399,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         stats->models = models;
         stats->sprt_rejected = rejected;
         stats->lo_runs = lo_runs;
+        stats->polished = polished;
         stats->num_inliers = ninl;
         stats->score = final_score;
         stats->seed = opt->seed;

@@ -50,7 +50,7 @@ int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_ca
                                ws_size, &w, &eopt, &focal);
     if (st < 0)
         return st;
-    twoview_ctx c = {w.b1, w.b2, n, NULL, NULL};
+    twoview_ctx c = {w.b1, w.b2, n, NULL, NULL, eopt.threshold};
     sfm_ransac_estimator est = {5,
                                 SFM_RELPOSE_5PT_MAX_SOLUTIONS,
                                 SFM_RANSAC_RELPOSE_MODEL,

@@ -66,7 +66,7 @@ int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
                            ws_size, &w, &eopt, &focal);
     if (st < 0)
         return st;
-    twoview_ctx c = {w.b1, w.b2, n, u1, u2};
+    twoview_ctx c = {w.b1, w.b2, n, u1, u2, eopt.threshold};
     sfm_ransac_estimator est = {3,
                                 SFM_UPRIGHT_3PT_MAX_SOLUTIONS,
                                 SFM_RANSAC_RELPOSE_MODEL,

@@ -29,12 +29,13 @@ double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
 }
 
 static double cost(const double *b, const double *X, const int *idx, int n, const double *R,
-                   const double *t)
+                   const double *t, double s2)
 {
     double c = 0.0;
     for (int j = 0; j < n; j++) {
         double r2 = sfm_robust_reproj2(R, t, b + 3 * idx[j], X + 3 * idx[j]);
-        c += r2 < SFM_ROBUST_HUGE ? r2 : 0.0;
+        if (r2 < SFM_ROBUST_HUGE)
+            c += s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
     }
     return c;
 }
@@ -46,10 +47,11 @@ static void mul3(const double *A, const double *B, double *C)
             C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
 }
 
-int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, int iters,
-                         double R[9], double t[3])
+int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
+                         int iters, double R[9], double t[3])
 {
-    double cur = cost(b, X, idx, n, R, t);
+    const double s2 = scale > 0.0 ? scale * scale : 0.0;
+    double cur = cost(b, X, idx, n, R, t, s2);
     double lambda = 1e-4;
     int improved = 0;
     for (int it = 0; it < iters; it++) {
@@ -67,8 +69,10 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
             if (!(d > 0.0))
                 continue;
             sfm_tangent_basis(bb, e[0], e[1]);
+            double rr[2] = {sfm_dot3(e[0], Xc) / d, sfm_dot3(e[1], Xc) / d};
+            double w = s2 > 0.0 ? 1.0 / (1.0 + (rr[0] * rr[0] + rr[1] * rr[1]) / s2) : 1.0;
             for (int k = 0; k < 2; k++) {
-                double r = sfm_dot3(e[k], Xc) / d;
+                double r = rr[k];
                 double a[3]; /* d r / d Xc */
                 for (int c = 0; c < 3; c++)
                     a[c] = (e[k][c] - r * bb[c]) / d;
@@ -79,9 +83,9 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
                 J[4] = a[1];
                 J[5] = a[2];
                 for (int p = 0; p < 6; p++) {
-                    g[p] += J[p] * r;
+                    g[p] += w * J[p] * r;
                     for (int q = 0; q <= p; q++)
-                        H[p * 6 + q] += J[p] * J[q];
+                        H[p * 6 + q] += w * J[p] * J[q];
                 }
             }
         }
@@ -105,7 +109,7 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
             tn[0] = t[0] + x[3];
             tn[1] = t[1] + x[4];
             tn[2] = t[2] + x[5];
-            double cn = cost(b, X, idx, n, Rn, tn);
+            double cn = cost(b, X, idx, n, Rn, tn, s2);
             if (cn < cur) {
                 double rel = (cur - cn) / (cur > 0 ? cur : 1.0);
                 memcpy(R, Rn, sizeof Rn);

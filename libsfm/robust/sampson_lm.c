@@ -18,13 +18,20 @@
 
 #define MAXP 5
 
-static double cost(const double *b1, const double *b2, const int *idx, int n, const double *E)
+/* Cauchy loss of a squared residual (plain square when s2 <= 0). */
+static double loss(double r2, double s2)
+{
+    return s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
+}
+
+static double cost(const double *b1, const double *b2, const int *idx, int n, const double *E,
+                   double s2)
 {
     double c = 0.0;
     for (int j = 0; j < n; j++) {
         int i = idx[j];
         double r2 = sfm_sampson_bearing2(E, b1 + 3 * i, b2 + 3 * i);
-        c += r2 < SFM_ROBUST_HUGE ? r2 : 0.0;
+        c += r2 < SFM_ROBUST_HUGE ? loss(r2, s2) : 0.0;
     }
     return c;
 }
@@ -51,14 +58,14 @@ static void skew(const double *v, double *S)
 }
 
 int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
-                          const double *axis, int iters, double R[9], double t[3])
+                          const double *axis, double scale, int iters, double R[9], double t[3])
 {
+    const double s2 = scale > 0.0 ? scale * scale : 0.0;
     const int np = axis ? 3 : 5;
     const int nr = axis ? 1 : 3;
     double E[9];
     sfm_essential_from_pose(R, t, E);
-    double c0 = cost(b1, b2, idx, n, E);
-    double cur = c0;
+    double cur = cost(b1, b2, idx, n, E, s2);
     double lambda = 1e-4;
     int improved = 0;
     for (int it = 0; it < iters; it++) {
@@ -112,10 +119,11 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
                 double dD = 2.0 * sfm_dot3(Eb1, Mb1) + 2.0 * sfm_dot3(Etb2, Mtb2) - 4.0 * C * dC;
                 J[p] = dC / sD - 0.5 * C * dD / (D * sD);
             }
+            double w = s2 > 0.0 ? 1.0 / (1.0 + r * r / s2) : 1.0;
             for (int p = 0; p < np; p++) {
-                g[p] += J[p] * r;
+                g[p] += w * J[p] * r;
                 for (int q = 0; q <= p; q++)
-                    H[p * np + q] += J[p] * J[q];
+                    H[p * np + q] += w * J[p] * J[q];
             }
         }
         /* damped steps until one lowers the cost */
@@ -155,7 +163,7 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
             tn[2] /= l;
             double En[9];
             sfm_essential_from_pose(Rn, tn, En);
-            double cn = cost(b1, b2, idx, n, En);
+            double cn = cost(b1, b2, idx, n, En, s2);
             if (cn < cur) {
                 memcpy(R, Rn, sizeof Rn);
                 memcpy(t, tn, sizeof tn);

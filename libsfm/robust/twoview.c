@@ -95,6 +95,8 @@ int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_cam
     double f = 0.25 * (fabs(cam1->fx) + fabs(cam1->fy) + fabs(cam2->fx) + fabs(cam2->fy));
     *focal = f;
     eopt->threshold = eopt->threshold / f;
+    if (eopt->wide_mult == 0.0)
+        eopt->wide_mult = SFM_RANSAC_WIDE_MULT;
     return SFM_OK;
 }
 
@@ -149,8 +151,8 @@ int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *mod
         if (c->d2 != NULL)
             upright_sign(c, inliers, n_inliers, R, t);
     }
-    int st = sfm_robust_sampson_lm(c->b1, c->b2, inliers, n_inliers, c->d2, SFM_TWOVIEW_LM_STEPS,
-                                   R, t);
+    int st = sfm_robust_sampson_lm(c->b1, c->b2, inliers, n_inliers, c->d2, c->scale,
+                                   SFM_TWOVIEW_LM_STEPS, R, t);
     if (st < 0)
         return -1;
     sfm_twoview_set_pose(model, R, t);
@@ -174,7 +176,8 @@ int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model,
     } else if (sfm_robust_pose_from_essential(model + TV_E, c->b1, c->b2, w->idx, m, R, t) < 0) {
         return SFM_E_NO_CONVERGENCE;
     }
-    int flags = sfm_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, tau, w->p1, w->p2, w->sel);
+    int flags = sfm_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
+                                              w->p2, w->sel);
     /* outputs from here on: nothing can fail any more */
     memcpy(pose->R, R, sizeof R);
     memcpy(pose->t, t, sizeof t);

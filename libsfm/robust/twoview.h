@@ -20,6 +20,7 @@ typedef struct twoview_ctx {
     const double *b1, *b2; /* unit bearings, n x 3 */
     int n;
     const double *d1, *d2; /* upright: unit known directions; NULL otherwise */
+    double scale;          /* robust scale of the refit: the angular threshold */
 } twoview_ctx;
 
 typedef struct twoview_ws {

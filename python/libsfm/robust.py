@@ -11,6 +11,8 @@ k1, k2, p1, p2, k3), and returns a plain dict:
   models        models verified
   sprt_rejected models dropped early by SPRT
   lo_runs       local optimisations run
+  polished      the final polish (refit on points within 3 thresholds under a
+                Cauchy loss) was kept
   score         MSAC cost (pixels squared)
   seed          the seed used
   stop_reason   "confidence", "max_iterations" or "time"
@@ -46,7 +48,7 @@ def _camera(K, dist, name):
 
 
 def _options(threshold_px, seed, confidence, max_iterations, min_iterations, lo_rounds,
-             use_sprt, quality, n):
+             use_sprt, quality, n, polish_rounds=2):
     opt = ffi.new("sfm_ransac_options *")
     lib.sfm_ransac_default_options(opt)
     opt.threshold = float(threshold_px)
@@ -55,6 +57,7 @@ def _options(threshold_px, seed, confidence, max_iterations, min_iterations, lo_
     opt.max_iterations = int(max_iterations)
     opt.min_iterations = int(min_iterations)
     opt.lo_rounds = int(lo_rounds)
+    opt.polish_rounds = int(polish_rounds)
     opt.use_sprt = 1 if use_sprt else 0
     keep = None
     if quality is not None:
@@ -75,13 +78,21 @@ def _stats_dict(st, mask):
     return dict(inliers=mask.astype(bool), num_inliers=int(st.num_inliers),
                 iterations=int(st.iterations), models=int(st.models),
                 sprt_rejected=int(st.sprt_rejected), lo_runs=int(st.lo_runs),
+                polished=bool(st.polished),
                 score=float(st.score), seed=int(st.seed),
                 stop_reason=_STOP.get(int(st.stop_reason), str(int(st.stop_reason))),
                 flags=int(st.flags))
 
 
+_KW = ("seed", "confidence", "max_iterations", "min_iterations", "lo_rounds", "use_sprt",
+       "polish_rounds")
+
+
 def _common_kwargs(kw):
-    return dict(seed=kw.get("seed", 0), confidence=kw.get("confidence", 0.999),
+    bad = set(kw) - set(_KW)
+    if bad:
+        raise TypeError("unknown option(s): %s" % ", ".join(sorted(bad)))
+    return dict(polish_rounds=kw.get("polish_rounds", 2), seed=kw.get("seed", 0), confidence=kw.get("confidence", 0.999),
                 max_iterations=kw.get("max_iterations", 10000),
                 min_iterations=kw.get("min_iterations", 0), lo_rounds=kw.get("lo_rounds", 3),
                 use_sprt=kw.get("use_sprt", True))
@@ -89,7 +100,7 @@ def _common_kwargs(kw):
 
 def estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=0, confidence=0.999,
                            max_iterations=10000, min_iterations=0, lo_rounds=3, use_sprt=True,
-                           quality=None, dist1=None, dist2=None):
+                           quality=None, dist1=None, dist2=None, polish_rounds=2):
     """Relative pose from n >= 5 pixel pairs (5-point RANSAC).
 
     Returns the common entries plus R (3x3), t (3,), E (3x3, unit norm),
@@ -100,7 +111,7 @@ def estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=0, confidence=
     n = p1.shape[0]
     c1, c2 = _camera(K1, dist1, "K1"), _camera(K2, dist2, "K2")
     opt, keep = _options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                         lo_rounds, use_sprt, quality, n)
+                         lo_rounds, use_sprt, quality, n, polish_rounds)
     buf, ws, wsn = workspace(lib.sfm_ransac_relpose_workspace_size(n))
     pose = ffi.new("sfm_pose *")
     E = np.zeros((3, 3))
@@ -120,7 +131,7 @@ def estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=0, confidence=
 def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, threshold_px=1.0, seed=0,
                                    confidence=0.999, max_iterations=10000, min_iterations=0,
                                    lo_rounds=3, use_sprt=True, quality=None, dist1=None,
-                                   dist2=None):
+                                   dist2=None, polish_rounds=2):
     """Relative pose from n >= 3 pixel pairs and a direction known in both
     frames (d1 in camera 1, d2 = R d1 in camera 2, e.g. gravity).
 
@@ -131,7 +142,7 @@ def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, threshold_px=1.0, see
     d2 = as_array(d2, (3,), "d2")
     c1, c2 = _camera(K1, dist1, "K1"), _camera(K2, dist2, "K2")
     opt, keep = _options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                         lo_rounds, use_sprt, quality, n)
+                         lo_rounds, use_sprt, quality, n, polish_rounds)
     buf, ws, wsn = workspace(lib.sfm_ransac_relpose_upright_workspace_size(n))
     pose = ffi.new("sfm_pose *")
     E = np.zeros((3, 3))
@@ -151,7 +162,7 @@ def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, threshold_px=1.0, see
 
 def estimate_absolute_pose(p, X, K, threshold_px=1.0, seed=0, confidence=0.999,
                            max_iterations=10000, min_iterations=0, lo_rounds=3, use_sprt=True,
-                           quality=None, dist=None):
+                           quality=None, dist=None, polish_rounds=2):
     """Absolute pose from n >= 3 pixels (n x 2) and world points X (n x 3)
     (P3P RANSAC). Returns the common entries plus R (3x3), t (3,) with
     x_cam = R X + t."""
@@ -162,7 +173,7 @@ def estimate_absolute_pose(p, X, K, threshold_px=1.0, seed=0, confidence=0.999,
         raise ValueError("need at least 3 points, got %d" % n)
     cam = _camera(K, dist, "K")
     opt, keep = _options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                         lo_rounds, use_sprt, quality, n)
+                         lo_rounds, use_sprt, quality, n, polish_rounds)
     buf, ws, wsn = workspace(lib.sfm_ransac_abspose_workspace_size(n))
     pose = ffi.new("sfm_pose *")
     mask = np.zeros(n, dtype=np.uint8)

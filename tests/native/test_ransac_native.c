@@ -27,8 +27,10 @@ SFM_TEST(ransac_native_relpose_large_outlier_levels)
             scene_twoview(t, &cam, NB, ratios[r], 1.0, 0, p1, p2, truth, R, tr);
             sfm_ransac_options opt;
             sfm_ransac_default_options(&opt);
-            opt.threshold = 1.0;
-            opt.max_iterations = 1000;
+            /* 1 px noise: a 1.5 px threshold keeps ~70 % of the inliers; at
+             * 75 % outliers a good sample is then ~1 in 6000 */
+            opt.threshold = 1.5;
+            opt.max_iterations = 20000;
             opt.seed = 1000u + (uint64_t)k;
             sfm_pose a, b;
             int na = sfm_ransac_relpose(p1, p2, NB, &cam, &cam, &opt, &a, NULL, m1, NULL, ws, wsn);
@@ -40,7 +42,7 @@ SFM_TEST(ransac_native_relpose_large_outlier_levels)
             et[k] = na > 0 ? scene_dir_err_deg(a.t, tr) : 180;
         }
         double mr = scene_median(er, 10), mt = scene_median(et, 10);
-        SFM_TEST_LOG("N=%d outliers %.0f%% thr 1px: median rotation %.3f deg, translation %.3f deg",
+        SFM_TEST_LOG("N=%d outliers %.0f%% thr 1.5px: median rotation %.3f deg, translation %.3f deg",
                      NB, 100 * ratios[r], mr, mt);
         SFM_CHECK(mr < 0.3);
         SFM_CHECK(mt < 1.5);

@@ -30,7 +30,9 @@ SFM_TEST(relpose_outlier_levels_noise_floor)
             sfm_ransac_default_options(&opt);
             opt.threshold = 2.0;
             opt.seed = (uint64_t)k;
-            opt.max_iterations = 2000;
+            /* 75 % outliers, 200 points: ~40 inliers within 2 px, 1 good
+             * sample in ~2500; 0.999 confidence needs ~17000 */
+            opt.max_iterations = 20000;
             sfm_pose pose;
             double E[9];
             sfm_ransac_stats st;
@@ -394,6 +396,8 @@ SFM_TEST(homography_planar_scene)
             double v = (Hm[3] * x[0] + Hm[4] * x[1] + Hm[5]) / w - y[1];
             d[m++] = sqrt(u * u + v * v);
         }
-        SFM_CHECK(scene_median(d, m) < 0.5);
+        /* 1 px noise in both images, ~80 inliers: the fit itself is off by ~0.5 px */
+        double md = scene_median(d, m);
+        SFM_CHECK_MSG(md < 1.0, "median transfer error %g px, inliers %d", md, ni);
     }
 }
