@@ -25,6 +25,7 @@ typedef struct engine {
     double tau2;
     double wide; /* LO / polish band in thresholds, >= 1 */
     int *perm;    /* verification order: a seeded random permutation */
+    int *pos;     /* pos[perm[j]] = j */
     int *order;   /* PROSAC ranking (points by decreasing quality) */
     int *inl;     /* inlier list scratch */
     double *models;
@@ -48,6 +49,7 @@ static int dims_ok(const sfm_ransac_dims *d)
 static void carve(sfm_arena *a, const sfm_ransac_dims *d, engine *e)
 {
     e->perm = SFM_ARENA_ARRAY(a, int, d->n);
+    e->pos = SFM_ARENA_ARRAY(a, int, d->n);
     e->order = SFM_ARENA_ARRAY(a, int, d->n);
     e->inl = SFM_ARENA_ARRAY(a, int, d->n);
     e->models = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
@@ -115,29 +117,33 @@ static double score_full(const engine *e, const double *model, int *ninl)
 
 /* Verify a model in the permuted order: SPRT rejection and MSAC early exit
  * once the partial cost reaches the best cost (every term is >= 0, so the
- * model cannot win any more). */
+ * model cannot win any more). The sample's own points fit by construction
+ * and say nothing about the model: they count in the score but not in the
+ * likelihood ratio nor in the estimate of delta. own_pos holds their
+ * positions in the verification order, ascending, ending with n. */
 static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *model,
-                    double best_score, double *score, int *ninl)
+                    const int *own_pos, double best_score, double *score, int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
     const double tau2 = e->tau2;
     const int sprt_on = use_sprt && sp->active && isfinite(best_score);
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
-    int c = 0;
+    int c = 0, own = 0, own_c = 0;
     for (int j = 0; j < e->n; j++) {
         double r2 = est->residual(est->ctx, model, e->perm[j]);
-        if (r2 < tau2) {
-            s += r2;
-            c++;
-            lambda *= min_;
+        int in = r2 < tau2;
+        s += in ? r2 : tau2;
+        c += in;
+        if (j == own_pos[own]) {
+            own++;
+            own_c += in;
         } else {
-            s += tau2;
-            lambda *= mout;
-        }
-        if (sprt_on && lambda > A) {
-            sfm_sprt_record_rejection(sp, j + 1, c);
-            return EVAL_SPRT;
+            lambda *= in ? min_ : mout;
+            if (sprt_on && lambda > A) {
+                sfm_sprt_record_rejection(sp, j + 1 - own, c - own_c);
+                return EVAL_SPRT;
+            }
         }
         if (s >= best_score)
             return EVAL_WORSE;
@@ -288,6 +294,8 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         e.perm[i] = e.perm[j];
         e.perm[j] = tmp;
     }
+    for (int i = 0; i < n; i++)
+        e.pos[e.perm[i]] = i;
     sfm_prosac prosac;
     const int use_prosac = opt->quality != NULL;
     if (use_prosac) {
@@ -338,6 +346,17 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         }
         if (est->degenerate != NULL && est->degenerate(est->ctx, e.sample))
             continue;
+        /* positions of the sample in the verification order, ascending */
+        int own_pos[SFM_RANSAC_MAX_SAMPLE + 1];
+        for (int i = 0; i < e.k; i++) {
+            int p = e.pos[e.sample[i]], q = i;
+            while (q > 0 && own_pos[q - 1] > p) {
+                own_pos[q] = own_pos[q - 1];
+                q--;
+            }
+            own_pos[q] = p;
+        }
+        own_pos[e.k] = n;
         int nm = est->solve(est->ctx, e.sample, e.models);
         if (nm < 0)
             return nm;
@@ -349,7 +368,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             double sc;
             int ci;
             models++;
-            int r = evaluate(&e, &sprt, use_sprt, cand, best_score, &sc, &ci);
+            int r = evaluate(&e, &sprt, use_sprt, cand, own_pos, best_score, &sc, &ci);
             if (r == EVAL_SPRT)
                 rejected++;
             if (r != EVAL_BETTER)
