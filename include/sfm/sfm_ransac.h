@@ -260,9 +260,10 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
 
 /*
  * Homography from n >= 4 pixel pairs: 4-point samples, symmetric transfer
- * error in pixels (the larger of the two directions), LO by a normalized DLT
- * refit on the inliers. cam1, cam2 may be NULL, as for the fundamental
- * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored (1).
+ * error in pixels (the larger of the two directions), LO and final polish by
+ * a normalized DLT refit. cam1, cam2 may be NULL, as for the fundamental
+ * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored
+ * (2: LO and polish refit on the points within two thresholds).
  */
 SFM_API size_t sfm_ransac_homography_workspace_size(int n);
 SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,
