@@ -244,3 +244,38 @@ def test_herzjesu_relative_pose_beside_poselib():
           "libsfm %.3f / %.3f, poselib %.3f / %.3f" % (npairs, *ours, *theirs))
     assert ours[0] < 0.2 and ours[1] < 1.0
     assert ours[0] <= 1.5 * theirs[0] + 0.02 and ours[1] <= 1.5 * theirs[1] + 0.1
+
+
+def test_distorted_cameras_fundamental_and_relative_pose():
+    """Brown-distorted pixels: the estimators undistort through the camera
+    model (OpenCV's projectPoints makes the pixels)."""
+    rng = np.random.default_rng(31)
+    dist = np.array([-0.2, 0.05, 0.001, -0.001, 0.0])
+    n = 300
+    R = rotation(rng, 15)
+    t = rng.normal(size=3)
+    t /= np.linalg.norm(t)
+    X1 = np.column_stack([rng.uniform(-2, 2, n), rng.uniform(-1.5, 1.5, n), rng.uniform(4, 10, n)])
+    X2 = X1 @ R.T + t
+    q1 = cv2.projectPoints(X1, np.zeros(3), np.zeros(3), K, dist)[0].reshape(-1, 2)
+    q2 = cv2.projectPoints(X2, np.zeros(3), np.zeros(3), K, dist)[0].reshape(-1, 2)
+    ideal1 = (X1[:, :2] / X1[:, 2:3]) * 500 + K[:2, 2]
+    ideal2 = (X2[:, :2] / X2[:, 2:3]) * 500 + K[:2, 2]
+    p1 = q1 + rng.normal(scale=0.3, size=q1.shape)
+    p2 = q2 + rng.normal(scale=0.3, size=q2.shape)
+    out = rng.uniform(size=n) < 0.3
+    p2[out] = np.column_stack([rng.uniform(0, W, out.sum()), rng.uniform(0, H, out.sum())])
+    r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=1.0, dist1=dist, dist2=dist)
+    assert rot_err(r["R"], R) < 0.5 and dir_err(r["t"], t) < 3.0
+    f = libsfm.estimate_fundamental(p1, p2, K, K, threshold_px=1.0, dist1=dist, dist2=dist)
+    h1 = np.column_stack([ideal1, np.ones(n)])
+    h2 = np.column_stack([ideal2, np.ones(n)])
+    lines = h1 @ f["F"].T
+    d = np.abs(np.sum(lines * h2, axis=1)) / np.linalg.norm(lines[:, :2], axis=1)
+    assert np.median(d[~out]) < 0.5
+    with pytest.raises(ValueError):
+        libsfm.estimate_fundamental(p1, p2, K, None)
+    with pytest.raises(ValueError):
+        libsfm.estimate_relative_pose(p1, p2, K, K, dist1=[0.1, 0.2])
+    with pytest.raises(TypeError):
+        libsfm.estimate_homography(p1, p2, bogus=1)
