@@ -5,11 +5,14 @@ in C. Poses are world-to-camera, x_cam = R X + t. A negative C status raises
 SfmError carrying the code and its description.
 """
 from ._ffi import SfmError, ffi, lib  # noqa: F401
+from .features import associate_three_views, detect_and_describe, match  # noqa: F401
 
 
 def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
 from . import frames  # noqa: F401,E402
+from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
+from .trifocal import *  # noqa: F401,F403
 from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402
                      estimate_relative_pose, estimate_relative_pose_upright)
