@@ -10,6 +10,7 @@
 #include "core/arena.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
+#include "sfm/sfm_ransac.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_triangulate.h"
@@ -25,6 +26,9 @@ typedef struct tv_ws {
     size_t ransac_size;
     int *obs_cam, *obs_pt; /* 3n */
     double *obs_xy;        /* 3n x 2 */
+    double *pix[3];        /* n x 2 inlier ideal pixels per view, compacted */
+    void *rel_ws;
+    size_t rel_size;
     void *ba_ws;
     size_t ba_size;
 } tv_ws;
@@ -45,6 +49,10 @@ static void layout(sfm_arena *a, int n, tv_ws *w)
     sfm_ba_dims d = {3, n, 3 * n, SFM_BA_INTRINSICS_FIXED, 0};
     w->ba_size = sfm_ba_workspace_size(&d);
     w->ba_ws = sfm_arena_alloc(a, w->ba_size);
+    for (int v = 0; v < 3; v++)
+        w->pix[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->rel_size = sfm_ransac_relpose_workspace_size(n);
+    w->rel_ws = sfm_arena_alloc(a, w->rel_size);
 }
 
 size_t sfm_recon_three_view_pose_workspace_size(int n)
@@ -98,7 +106,7 @@ static int undistort(const sfm_camera *cam, const double *px, int n, double *ide
  * its essential matrices fit the noise; this step brings the estimate to the
  * calibrated maximum-likelihood answer. A Huber loss at 2 px guards against
  * inliers that are outliers of the calibrated model. */
-static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est[3])
+static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est[3], double *cost)
 {
     int st = sfm_triangulate_midpoint(3, est, m, w->bear, w->X, w->flags);
     if (st < 0)
@@ -144,7 +152,83 @@ static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est
         memcpy(est[v].R, &Rs[9 * v], 9 * sizeof(double));
         memcpy(est[v].t, &ts[3 * v], 3 * sizeof(double));
     }
+    *cost = res.final_cost;
     return SFM_OK;
+}
+
+/* Scale of t3 relative to |t2| = 1 from the inliers triangulated in views 1
+ * and 2 (midpoint): least squares on b3 x (R3 X + s t3) = 0; then polish.
+ * Keeps the result in best when its cost is the lowest so far. */
+static void try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sfm_pose *p2,
+                      const sfm_pose *p3, sfm_pose best[3], double *best_cost)
+{
+    sfm_pose est[3];
+    memset(&est[0], 0, sizeof est[0]);
+    est[0].R[0] = est[0].R[4] = est[0].R[8] = 1.0;
+    est[1] = *p2;
+    est[2] = *p3;
+    if (sfm_triangulate_midpoint(2, est, m, w->bear, w->X, w->flags) <= 0)
+        return;
+    const double *b3 = &w->bear[(size_t)2 * m * 3];
+    double num = 0, den = 0;
+    const double *R3 = p3->R, *t3 = p3->t;
+    for (int j = 0; j < m; j++) {
+        if (w->flags[j] != 0)
+            continue;
+        const double *X = &w->X[3 * j], *b = &b3[3 * j];
+        double y[3], ca[3], cc[3];
+        for (int r = 0; r < 3; r++)
+            y[r] = R3[r * 3] * X[0] + R3[r * 3 + 1] * X[1] + R3[r * 3 + 2] * X[2];
+        ca[0] = b[1] * t3[2] - b[2] * t3[1];
+        ca[1] = b[2] * t3[0] - b[0] * t3[2];
+        ca[2] = b[0] * t3[1] - b[1] * t3[0];
+        cc[0] = b[1] * y[2] - b[2] * y[1];
+        cc[1] = b[2] * y[0] - b[0] * y[2];
+        cc[2] = b[0] * y[1] - b[1] * y[0];
+        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
+        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    }
+    double s = num / den;
+    if (!(den > 0) || !isfinite(s))
+        return;
+    for (int r = 0; r < 3; r++)
+        est[2].t[r] = s * t3[r];
+    double cost;
+    if (polish(w, cams, m, est, &cost) == SFM_OK && cost < *best_cost) {
+        *best_cost = cost;
+        memcpy(best, est, sizeof est);
+    }
+}
+
+/* Bearings (z = 1) of the masked points, view-major with stride cnt. */
+static int gather(tv_ws *w, const sfm_camera *const cams[3], int n, int cnt)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (!w->mask[i])
+            continue;
+        for (int v = 0; v < 3; v++) {
+            double *b = &w->bear[((size_t)v * cnt + m) * 3];
+            b[0] = (w->ideal[v][2 * i] - cams[v]->cx) / cams[v]->fx;
+            b[1] = (w->ideal[v][2 * i + 1] - cams[v]->cy) / cams[v]->fy;
+            b[2] = 1.0;
+        }
+        m++;
+    }
+    return m;
+}
+
+/* P = K [R | t] */
+static void metric_camera(const sfm_camera *c, const sfm_pose *p, double P[12])
+{
+    const double K[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
+    for (int r = 0; r < 3; r++)
+        for (int col = 0; col < 4; col++) {
+            double s = 0;
+            for (int k = 0; k < 3; k++)
+                s += K[r * 3 + k] * (col < 3 ? p->R[k * 3 + col] : p->t[k]);
+            P[r * 4 + col] = s;
+        }
 }
 
 static int finite_all(const double *v, int n)
@@ -190,19 +274,12 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     if (cnt < 0)
         return cnt;
 
-    /* Inlier bearings, view-major, from the ideal pixels. */
-    int m = 0;
-    for (int i = 0; i < n; i++) {
-        if (!w.mask[i])
-            continue;
-        for (int v = 0; v < 3; v++) {
-            double *b = &w.bear[((size_t)v * cnt + m) * 3];
-            b[0] = (w.ideal[v][2 * i] - cams[v]->cx) / cams[v]->fx;
-            b[1] = (w.ideal[v][2 * i + 1] - cams[v]->cy) / cams[v]->fy;
-            b[2] = 1.0;
-        }
-        m++;
-    }
+    int m = gather(&w, cams, n, cnt);
+    /* Candidate starts: (a) the essential matrices of the tensor's
+     * fundamental matrices; (b) calibrated 5-point RANSAC on the inlier pairs
+     * (1, 2) and (1, 3), which stays correct on near-planar scenes where the
+     * projective fundamental matrices are poorly determined. Each is scaled,
+     * polished, and the lower final cost wins. */
     double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];
     int st = sfm_trifocal_fundamentals(T, F21, F31, NULL);
     if (st < 0)
@@ -212,55 +289,63 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     K_of(cam3, K3);
     essential(F21, K1, K2, E21);
     essential(F31, K1, K3, E31);
-    sfm_pose c2[4], c3[4];
     const double *b1 = w.bear, *b2 = &w.bear[(size_t)cnt * 3], *b3 = &w.bear[(size_t)2 * cnt * 3];
-    if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) != 4 ||
-        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) != 4)
-        return SFM_E_SINGULAR;
-
-    /* Points from views 1 and 2 (midpoint), then the scale of t3 by least
-     * squares on b3 x (R3 X + s t3) = 0. */
-    sfm_pose two[2];
-    memset(&two[0], 0, sizeof two[0]);
-    two[0].R[0] = two[0].R[4] = two[0].R[8] = 1.0;
-    two[1] = c2[0];
-    st = sfm_triangulate_midpoint(2, two, m, w.bear, w.X, w.flags);
-    if (st < 0)
-        return st;
-    double num = 0, den = 0;
-    const double *R3 = c3[0].R, *t3 = c3[0].t;
-    for (int j = 0; j < m; j++) {
-        if (w.flags[j] != 0)
-            continue;
-        const double *X = &w.X[3 * j], *b = &b3[3 * j];
-        double y[3], ca[3], cc[3];
-        for (int r = 0; r < 3; r++)
-            y[r] = R3[r * 3] * X[0] + R3[r * 3 + 1] * X[1] + R3[r * 3 + 2] * X[2];
-        ca[0] = b[1] * t3[2] - b[2] * t3[1];
-        ca[1] = b[2] * t3[0] - b[0] * t3[2];
-        ca[2] = b[0] * t3[1] - b[1] * t3[0];
-        cc[0] = b[1] * y[2] - b[2] * y[1];
-        cc[1] = b[2] * y[0] - b[0] * y[2];
-        cc[2] = b[0] * y[1] - b[1] * y[0];
-        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
-        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    sfm_pose best[3];
+    double best_cost = INFINITY;
+    sfm_pose c2[4], c3[4];
+    if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) == 4 &&
+        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) == 4)
+        try_start(&w, cams, m, &c2[0], &c3[0], best, &best_cost);
+    for (int j = 0; j < m; j++)
+        for (int v = 0; v < 3; v++) {
+            const double *b = &w.bear[((size_t)v * m + j) * 3];
+            w.pix[v][2 * j] = cams[v]->fx * b[0] + cams[v]->cx;
+            w.pix[v][2 * j + 1] = cams[v]->fy * b[1] + cams[v]->cy;
+        }
+    sfm_camera pin[3];
+    for (int v = 0; v < 3; v++) {
+        pin[v] = *cams[v];
+        pin[v].model = SFM_CAMERA_PINHOLE;
     }
-    if (!(den > 0) || st == 0)
+    sfm_ransac_options ro;
+    if (opt != NULL)
+        ro = *opt;
+    else
+        sfm_ransac_default_options(&ro);
+    sfm_pose p12, p13;
+    if (sfm_ransac_relpose(w.pix[0], w.pix[1], m, &pin[0], &pin[1], &ro, &p12, NULL, NULL, NULL,
+                           w.rel_ws, w.rel_size) > 0 &&
+        sfm_ransac_relpose(w.pix[0], w.pix[2], m, &pin[0], &pin[2], &ro, &p13, NULL, NULL, NULL,
+                           w.rel_ws, w.rel_size) > 0)
+        try_start(&w, cams, m, &p12, &p13, best, &best_cost);
+    if (!isfinite(best_cost))
         return SFM_E_SINGULAR;
-    double s = num / den;
-    if (!isfinite(s))
-        return SFM_E_SINGULAR;
-
-    sfm_pose est[3];
-    est[0] = two[0];
-    est[1] = c2[0];
-    est[2] = c3[0];
-    for (int r = 0; r < 3; r++)
-        est[2].t[r] = s * t3[r];
-    st = polish(&w, cams, m, est);
-    if (st < 0)
-        return st;
-    memcpy(poses, est, sizeof est);
+    /* The calibrated model is tighter than the projective one: re-collect
+     * the inliers under the metric cameras (same per-view threshold on the
+     * optimally triangulated three-view error) and polish once more. */
+    double tau = opt != NULL ? opt->threshold : ro.threshold;
+    double Pm[3][12];
+    for (int v = 0; v < 3; v++)
+        metric_camera(cams[v], &best[v], Pm[v]);
+    int cnt2 = 0;
+    for (int i = 0; i < n; i++) {
+        double e;
+        int in = sfm_trifocal_point_error(Pm[0], Pm[1], Pm[2], &w.ideal[0][2 * i], &w.ideal[1][2 * i],
+                                          &w.ideal[2][2 * i], &e, NULL) == SFM_OK &&
+                 e / 3.0 < tau * tau;
+        w.mask[i] = (uint8_t)in;
+        cnt2 += in;
+    }
+    if (cnt2 >= SFM_TRIFOCAL_MIN_POINTS) {
+        m = gather(&w, cams, n, cnt2);
+        sfm_pose again[3];
+        memcpy(again, best, sizeof again);
+        double cost;
+        if (polish(&w, cams, m, again, &cost) == SFM_OK)
+            memcpy(best, again, sizeof again);
+        cnt = cnt2;
+    }
+    memcpy(poses, best, 3 * sizeof(sfm_pose));
     if (inlier_mask != NULL)
         memcpy(inlier_mask, w.mask, (size_t)n);
     if (stats != NULL)

@@ -43,23 +43,38 @@ def triplets():
     return out
 
 
+def pairwise_pose(p1, p2, K1, K2):
+    """The pairwise baseline: calibrated 5-point RANSAC on one view pair."""
+    return libsfm.estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=1,
+                                         max_iterations=2000)
+
+
 @pytest.mark.skipif(not triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
 def test_three_view_pose_herzjesu():
-    errs = []
+    errs, base, failed = [], [], []
     for a, b, c in triplets():
         x = np.loadtxt(os.path.join(DATA, "triplets", "triplet_%s_%s_%s.txt" % (a, b, c)))
         cams = [load_camera(s) for s in (a, b, c)]
-        r = libsfm.estimate_three_view_pose(x[:, 0:2], x[:, 2:4], x[:, 4:6], cams[0][0], cams[1][0],
-                                            cams[2][0], threshold_px=1.0, seed=1)
+        try:
+            r = libsfm.estimate_three_view_pose(x[:, 0:2], x[:, 2:4], x[:, 4:6], cams[0][0], cams[1][0],
+                                                cams[2][0], threshold_px=1.0, seed=1, max_iterations=2000)
+        except libsfm.SfmError as e:
+            failed.append(((a, b, c), len(x), str(e)))
+            continue
         R1, t1 = cams[0][1], cams[0][2]
         for v in (1, 2):
             Rv, tv = cams[v][1], cams[v][2]
             Rrel = Rv @ R1.T
             trel = tv - Rrel @ t1
             errs.append((rot_err_deg(r["R"][v], Rrel), dir_err_deg(r["t"][v], trel)))
-    errs = np.array(errs)
+            p = pairwise_pose(x[:, 0:2], x[:, 2 * v:2 * v + 2], cams[0][0], cams[v][0])
+            base.append((rot_err_deg(p["R"], Rrel), dir_err_deg(p["t"], trel)))
+    errs, base = np.array(errs), np.array(base)
     med_r, med_t = np.median(errs, axis=0)
-    print("\nHerz-Jesu-P8, %d triplets: median rotation error %.4f deg, translation direction %.4f deg"
-          % (len(errs) // 2, med_r, med_t))
+    bas_r, bas_t = np.median(base, axis=0)
+    print("\nHerz-Jesu-P8, %d of %d triplets solved: median rotation error %.4f deg, translation "
+          "direction %.4f deg; pairwise 5-point RANSAC on the same pairs: %.4f deg, %.4f deg; failed: %s"
+          % (len(errs) // 2, len(triplets()), med_r, med_t, bas_r, bas_t, failed))
+    assert len(failed) <= 2
     assert med_r < 0.1
-    assert med_t < 0.5
+    assert med_t < 0.2
