@@ -10,5 +10,8 @@
 #include "sfm/sfm_camera.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
+#include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_trifocal.h"
+#include "sfm/sfm_ransac_trifocal.h"
 
 #endif

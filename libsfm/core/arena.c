@@ -23,14 +23,17 @@ void sfm_arena_init(sfm_arena *a, void *buf, size_t size)
     size_t pad = (size_t)((SFM_WS_ALIGN - (p & (SFM_WS_ALIGN - 1))) & (SFM_WS_ALIGN - 1));
     a->used = 0;
     a->failed = 0;
-    if (buf == NULL || size < pad) {
+    /* The full alignment slack is reserved whatever the pointer's actual
+     * alignment, so the size a measuring arena reports is exactly the
+     * smallest that works: one byte less fails on every buffer. */
+    if (buf == NULL || size < SFM_WS_ALIGN - 1) {
         a->base = NULL;
         a->cap = 0;
         a->failed = 1;
         return;
     }
     a->base = (unsigned char *)buf + pad;
-    a->cap = size - pad;
+    a->cap = size - (SFM_WS_ALIGN - 1);
 }
 
 void *sfm_arena_alloc(sfm_arena *a, size_t bytes)

@@ -11,3 +11,5 @@ def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
 from . import frames  # noqa: F401,E402
+from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
+from .trifocal import *  # noqa: F401,F403

@@ -43,6 +43,12 @@ SFM_TEST(arena_measure_matches_carve)
         SFM_CHECK(p1 && p2 && p3);
         SFM_CHECK(((uintptr_t)p2 % SFM_WS_ALIGN) == 0);
         SFM_CHECK(p3 + 1 <= buf + off + need);
+        /* one byte short fails at every alignment */
+        sfm_arena_init(&a, buf + off, need - 1);
+        (void)sfm_arena_alloc(&a, 3);
+        (void)SFM_ARENA_ARRAY(&a, double, 17);
+        (void)sfm_arena_alloc(&a, 1);
+        SFM_CHECK(!sfm_arena_ok(&a));
     }
 }
 

@@ -481,3 +481,150 @@ SFM_TEST(upright_3pt_contract)
     }
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
 }
+
+/* ---- Essential matrix to poses ------------------------------------------ */
+
+static void essential_problem(sfm_test_ctx *t, int n, double R[9], double tr[3], double E[9],
+                              double *x1, double *x2)
+{
+    sfm_test_random_rotation(t, R);
+    sfm_test_random_unit(t, tr);
+    /* E = [t]x R, random scale and sign */
+    double S[9] = {0, -tr[2], tr[1], tr[2], 0, -tr[0], -tr[1], tr[0], 0};
+    mat_mul(S, R, E);
+    double sc = sfm_test_uniform(t, 0.1, 10.0) * (sfm_test_uniform(t, -1, 1) < 0 ? -1.0 : 1.0);
+    for (int i = 0; i < 9; i++)
+        E[i] *= sc;
+    for (int i = 0; i < n; i++) {
+        double X[3], Xc[3];
+        double d = sfm_test_uniform(t, 2.0, 20.0);
+        X[0] = sfm_test_uniform(t, -0.8, 0.8) * d;
+        X[1] = sfm_test_uniform(t, -0.8, 0.8) * d;
+        X[2] = d;
+        mat_vec(R, X, Xc);
+        for (int k = 0; k < 3; k++)
+            Xc[k] += tr[k];
+        normalize3(X);
+        normalize3(Xc);
+        memcpy(x1 + 3 * i, X, sizeof X);
+        memcpy(x2 + 3 * i, Xc, sizeof Xc);
+    }
+}
+
+SFM_TEST(essential_to_poses_recovers_truth)
+{
+    enum { N = 20 };
+    const int iters = SFM_TEST_ITERS(20000);
+    int found = 0, chosen = 0, bad = 0;
+    for (int it = 0; it < iters; it++) {
+        double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
+        essential_problem(t, N, R, tr, E, x1, x2);
+        sfm_pose poses[4];
+        int cnt[4];
+        int n = sfm_essential_to_poses(E, x1, x2, N, poses, cnt);
+        if (n != 4) {
+            bad++;
+            continue;
+        }
+        int ok = 0;
+        for (int s = 0; s < 4; s++) {
+            if (!pose_finite(&poses[s]))
+                bad++;
+            if (pose_dist(&poses[s], R, tr) < 1e-9)
+                ok = 1;
+        }
+        found += ok;
+        if (pose_dist(&poses[0], R, tr) < 1e-9 && cnt[0] == N && cnt[1] < N)
+            chosen++;
+        for (int s = 1; s < 4; s++)
+            if (cnt[s] > cnt[s - 1])
+                bad++;
+    }
+    SFM_TEST_LOG("essential: truth among the four %.5f, chosen %.5f", (double)found / iters,
+                 (double)chosen / iters);
+    SFM_CHECK_EQ_INT(bad, 0);
+    SFM_CHECK(found == iters);
+    SFM_CHECK((double)chosen / iters >= 0.999);
+}
+
+SFM_TEST(essential_to_poses_noisy_and_degenerate)
+{
+    enum { N = 30 };
+    int chosen = 0;
+    const int iters = SFM_TEST_ITERS(2000);
+    for (int it = 0; it < iters; it++) {
+        double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
+        essential_problem(t, N, R, tr, E, x1, x2);
+        double En[9], mx = 0.0;
+        for (int i = 0; i < 9; i++)
+            mx = fmax(mx, fabs(E[i]));
+        for (int i = 0; i < 9; i++)
+            En[i] = E[i] + sfm_test_normal(t, 1e-4 * mx);
+        sfm_pose poses[4];
+        int cnt[4];
+        SFM_CHECK_EQ_INT(sfm_essential_to_poses(En, x1, x2, N, poses, cnt), 4);
+        /* every R is a rotation even for a noisy E */
+        for (int s = 0; s < 4; s++) {
+            double Rt[9], RtR[9];
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    Rt[3 * r + c] = poses[s].R[3 * c + r];
+            mat_mul(Rt, poses[s].R, RtR);
+            for (int i = 0; i < 9; i++)
+                SFM_CHECK(fabs(RtR[i] - (i % 4 == 0)) < 1e-12);
+        }
+        if (pose_dist(&poses[0], R, tr) < 1e-2)
+            chosen++;
+    }
+    SFM_CHECK((double)chosen / iters >= 0.99);
+    /* no points: fixed order, zero counts, no point arrays needed */
+    double R[9], tr[3], E[9];
+    essential_problem(t, 0, R, tr, E, NULL, NULL);
+    sfm_pose poses[4];
+    int cnt[4] = {7, 7, 7, 7};
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, NULL, 0, poses, cnt), 4);
+    SFM_CHECK(cnt[0] == 0 && cnt[3] == 0);
+    for (int k = 0; k < 3; k++) {
+        SFM_CHECK_NEAR(poses[0].t[k], -poses[1].t[k], 0.0);
+        SFM_CHECK_NEAR(poses[2].t[k], poses[0].t[k], 0.0);
+    }
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, NULL, 0, poses, NULL), 4);
+    /* zero and rank-1 E: 0, nothing written */
+    double Z[9] = {0};
+    sfm_test_fill_canary(poses, sizeof poses);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(Z, NULL, NULL, 0, poses, NULL), 0);
+    double a[3] = {1, 2, 3}, b[3] = {-1, 0.5, 2};
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            Z[3 * r + c] = a[r] * b[c];
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(Z, NULL, NULL, 0, poses, NULL), 0);
+    SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
+}
+
+SFM_TEST(essential_to_poses_contract)
+{
+    enum { N = 5 };
+    double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
+    essential_problem(t, N, R, tr, E, x1, x2);
+    sfm_pose poses[4];
+    int cnt[4];
+    sfm_test_fill_canary(poses, sizeof poses);
+    sfm_test_fill_canary(cnt, sizeof cnt);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(NULL, x1, x2, N, poses, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, x2, N, NULL, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, x2, N, poses, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, NULL, N, poses, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, x2, -1, poses, cnt), SFM_E_ARGUMENT);
+    double b[9];
+    memcpy(b, E, sizeof b);
+    b[4] = NAN;
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
+    b[4] = INFINITY;
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
+    double xb[3 * N];
+    memcpy(xb, x2, sizeof xb);
+    xb[3 * N - 1] = NAN;
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, xb, N, poses, cnt), SFM_E_NONFINITE);
+    SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
+    SFM_CHECK(sfm_test_canary_intact(cnt, sizeof cnt));
+}

@@ -1,0 +1,43 @@
+/*
+ * Trifocal RANSAC: the trifocal tensor and three consistent projective
+ * cameras from pixel triplets with outliers, on the engine of sfm_ransac.h.
+ *
+ * Samples of 7 triplets are fitted by sfm_trifocal_7pt; each triplet is
+ * scored by its three-view reprojection error after optimal triangulation
+ * (sfm_trifocal_point_error), as the mean over the three views of the squared
+ * pixel error, so opt->threshold is a per-view pixel distance. Local
+ * optimisation is the gold-standard refinement of P2, P3 and the points on
+ * the inliers (Levenberg-Marquardt with the points eliminated by the Schur
+ * complement). Pixels are n x 2 row-major; cameras 3x4, P1 = [I | 0].
+ */
+#ifndef SFM_RANSAC_TRIFOCAL_H
+#define SFM_RANSAC_TRIFOCAL_H
+
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_ransac.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Workspace bytes for n triplets; 0 when n is out of range. */
+SFM_API size_t sfm_ransac_trifocal_workspace_size(int n);
+
+/*
+ * On success returns the inlier count (>= 7) and writes T (27, unit norm,
+ * T[i*9 + j*3 + k] = T_i^{jk}), P (3 cameras, 36 doubles, P1 = [I | 0], may
+ * be NULL), inlier_mask (n bytes, may be NULL) and stats (may be NULL).
+ * opt may be NULL (defaults, threshold 1 px).
+ * Statuses: SFM_E_ARGUMENT (NULL inputs or T, n < 7), SFM_E_NONFINITE,
+ * SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no model found). Nothing is written
+ * on failure.
+ */
+SFM_API int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
+                                const sfm_ransac_options *opt, double T[27], double *P,
+                                uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                                size_t ws_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,139 @@
+/*
+ * Linear (DLT) triangulation from n views (Hartley & Zisserman, section
+ * 12.2), with a streaming QR so that any number of views fits a fixed stack,
+ * and the shared pieces used by the optimal two-view method.
+ * Stack: the 4x4 factor plus the SVD workspace of a 4x4 (under 1 KiB).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "refine/triangulate_internal.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_triangulate.h"
+
+void sfm_tri_acc_init(sfm_tri_acc *acc)
+{
+    memset(acc->R, 0, sizeof acc->R);
+}
+
+void sfm_tri_acc_add(sfm_tri_acc *acc, const double a_in[4])
+{
+    double n = sqrt(a_in[0] * a_in[0] + a_in[1] * a_in[1] + a_in[2] * a_in[2] + a_in[3] * a_in[3]);
+    if (!(n > 0.0))
+        return;
+    double a[4] = {a_in[0] / n, a_in[1] / n, a_in[2] / n, a_in[3] / n};
+    double *R = acc->R;
+    for (int k = 0; k < 4; k++) {
+        if (a[k] == 0.0)
+            continue;
+        double r = hypot(R[5 * k], a[k]);
+        double c = R[5 * k] / r, s = a[k] / r;
+        for (int j = k; j < 4; j++) {
+            double rj = R[4 * k + j], aj = a[j];
+            R[4 * k + j] = c * rj + s * aj;
+            a[j] = -s * rj + c * aj;
+        }
+    }
+}
+
+void sfm_tri_acc_add_obs(sfm_tri_acc *acc, const double P[12], double u, double v)
+{
+    double a[4], b[4];
+    for (int k = 0; k < 4; k++) {
+        a[k] = u * P[8 + k] - P[k];
+        b[k] = v * P[8 + k] - P[4 + k];
+    }
+    sfm_tri_acc_add(acc, a);
+    sfm_tri_acc_add(acc, b);
+}
+
+int sfm_tri_acc_solve(const sfm_tri_acc *acc, double Xh[4])
+{
+    double ws[160]; /* 1280 bytes; sfm_svd_workspace_size(4, 4) is checked */
+    double S[4], V[16];
+    size_t need = sfm_svd_workspace_size(4, 4);
+    if (need > sizeof ws)
+        return SFM_E_UNSUPPORTED;
+    int st = sfm_svd(acc->R, 4, 4, NULL, S, V, ws, sizeof ws);
+    if (st < 0)
+        return st;
+    for (int k = 0; k < 4; k++)
+        Xh[k] = V[4 * k + 3];
+    return SFM_OK;
+}
+
+static double det3_of_P(const double P[12])
+{
+    return P[0] * (P[5] * P[10] - P[6] * P[9]) - P[1] * (P[4] * P[10] - P[6] * P[8]) +
+           P[2] * (P[4] * P[9] - P[5] * P[8]);
+}
+
+int sfm_tri_finish_h(const double Xh_in[4], int nviews, const double *P, double X[3])
+{
+    double Xh[4] = {Xh_in[0], Xh_in[1], Xh_in[2], Xh_in[3]};
+    double d3 = sqrt(Xh[0] * Xh[0] + Xh[1] * Xh[1] + Xh[2] * Xh[2]);
+    int flags = 0;
+    if (fabs(Xh[3]) <= 1e-12 * d3) {
+        /* at infinity: orient the direction to the majority of the cameras */
+        int vote = 0;
+        for (int v = 0; v < nviews; v++) {
+            const double *Pv = P + 12 * v;
+            double z = (Pv[8] * Xh[0] + Pv[9] * Xh[1] + Pv[10] * Xh[2]) * det3_of_P(Pv);
+            vote += (z > 0.0) - (z < 0.0);
+        }
+        double s = (vote < 0 ? -1.0 : 1.0) / (d3 > 0.0 ? d3 : 1.0);
+        for (int k = 0; k < 3; k++)
+            X[k] = Xh[k] * s;
+        for (int v = 0; v < nviews; v++) {
+            const double *Pv = P + 12 * v;
+            double z = (Pv[8] * X[0] + Pv[9] * X[1] + Pv[10] * X[2]) * det3_of_P(Pv);
+            if (!(z > 0.0))
+                flags |= SFM_TRI_BEHIND;
+        }
+        return flags | SFM_TRI_INFINITY;
+    }
+    for (int k = 0; k < 3; k++)
+        X[k] = Xh[k] / Xh[3];
+    for (int v = 0; v < nviews; v++) {
+        const double *Pv = P + 12 * v;
+        double z = (Pv[8] * X[0] + Pv[9] * X[1] + Pv[10] * X[2] + Pv[11]) * det3_of_P(Pv);
+        if (!(z > 0.0))
+            flags |= SFM_TRI_BEHIND;
+    }
+    return flags;
+}
+
+static int all_finite(const double *v, long n)
+{
+    for (long i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+int sfm_triangulate_dlt(int nviews, const double *P, int npoints, const double *x, double *X,
+                        int *flags)
+{
+    if (!P || !X || nviews < 2 || npoints < 0 || (npoints > 0 && !x))
+        return SFM_E_ARGUMENT;
+    if (!all_finite(P, 12L * nviews) || !all_finite(x, 2L * nviews * npoints))
+        return SFM_E_NONFINITE;
+    int good = 0;
+    for (int j = 0; j < npoints; j++) {
+        sfm_tri_acc acc;
+        sfm_tri_acc_init(&acc);
+        for (int v = 0; v < nviews; v++) {
+            const double *o = x + 2 * ((long)v * npoints + j);
+            sfm_tri_acc_add_obs(&acc, P + 12 * v, o[0], o[1]);
+        }
+        double Xh[4];
+        int st = sfm_tri_acc_solve(&acc, Xh);
+        if (st < 0)
+            return st;
+        int fl = sfm_tri_finish_h(Xh, nviews, P, X + 3 * j);
+        if (flags)
+            flags[j] = fl;
+        good += fl == 0;
+    }
+    return good;
+}

@@ -1,0 +1,30 @@
+/* Internal: gold-standard refinement of three projective cameras. */
+#ifndef SFM_ROBUST_TRIFOCAL_REFINE_H
+#define SFM_ROBUST_TRIFOCAL_REFINE_H
+
+#include <stddef.h>
+
+#include "core/arena.h"
+
+typedef struct sfm_tf_refine_ws {
+    double *X;    /* 4n: current homogeneous points */
+    double *Xold; /* 4n: points before the step */
+    int cap;      /* n the buffers hold */
+} sfm_tf_refine_ws;
+
+/* Carves buffers for up to n points (measuring or real arena). */
+void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
+
+/*
+ * Levenberg-Marquardt on the reprojection error of the listed triplets over
+ * P2, P3 (P1 = [I | 0] fixed) and the points (homogeneous, updated in their
+ * tangent space), with the points eliminated by the Schur complement: the
+ * reduced 24x24 camera system is solved by Cholesky. H&Z alg. 16.2's gold
+ * standard step. P2, P3 are updated in place (unit Frobenius norm) only when
+ * the cost decreased. Returns the final cost (sum of squared pixel errors)
+ * or a negative status.
+ */
+double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
+                     double P2[12], double P3[12], int max_iters, sfm_tf_refine_ws *w, int *status);
+
+#endif

@@ -1,0 +1,345 @@
+/*
+ * Trifocal tensor algebra: from cameras, epipoles, fundamental matrices,
+ * compatible cameras, point and line transfer.
+ * Hartley & Zisserman, Multiple View Geometry, 2nd ed.: eq. 17.12 (tensor from
+ * general cameras), alg. 15.1 (epipoles, fundamental matrices), sec. 15.1.4
+ * (cameras), sec. 16.3 (point transfer via a line perpendicular to the
+ * epipolar line). Storage T[i*9 + j*3 + k] = T_i^{jk}.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_trifocal.h"
+#include "solvers/trifocal_internal.h"
+
+static int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+/* det of the 4x4 matrix with rows r0..r3. */
+static double det4(const double *r0, const double *r1, const double *r2, const double *r3)
+{
+    const double *m[4] = {r0, r1, r2, r3};
+    /* Laplace expansion along the first two rows (2x2 minors). */
+    double s0 = m[0][0] * m[1][1] - m[1][0] * m[0][1];
+    double s1 = m[0][0] * m[1][2] - m[1][0] * m[0][2];
+    double s2 = m[0][0] * m[1][3] - m[1][0] * m[0][3];
+    double s3 = m[0][1] * m[1][2] - m[1][1] * m[0][2];
+    double s4 = m[0][1] * m[1][3] - m[1][1] * m[0][3];
+    double s5 = m[0][2] * m[1][3] - m[1][2] * m[0][3];
+    double c5 = m[2][2] * m[3][3] - m[3][2] * m[2][3];
+    double c4 = m[2][1] * m[3][3] - m[3][1] * m[2][3];
+    double c3 = m[2][1] * m[3][2] - m[3][1] * m[2][2];
+    double c2 = m[2][0] * m[3][3] - m[3][0] * m[2][3];
+    double c1 = m[2][0] * m[3][2] - m[3][0] * m[2][2];
+    double c0 = m[2][0] * m[3][1] - m[3][0] * m[2][1];
+    return s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
+}
+
+int sfm_trifocal_normalize(double *v, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++)
+        s += v[i] * v[i];
+    s = sqrt(s);
+    if (!(s > 0) || !isfinite(s))
+        return SFM_E_SINGULAR;
+    for (int i = 0; i < n; i++)
+        v[i] /= s;
+    return SFM_OK;
+}
+
+int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const double P3[12],
+                              double T[27])
+{
+    if (P1 == NULL || P2 == NULL || P3 == NULL || T == NULL)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(P1, 12) || !all_finite(P2, 12) || !all_finite(P3, 12))
+        return SFM_E_NONFINITE;
+    double out[27];
+    for (int i = 0; i < 3; i++) {
+        /* ~a^i: P1 without row i; the sign (-1)^(i+1) in 1-based indexing. */
+        const double *ra = &P1[((i + 1) % 3) * 4];
+        const double *rb = &P1[((i + 2) % 3) * 4];
+        /* Rows in cyclic order (i+1, i+2) absorb the sign: for i = 1 (0-based)
+         * the pair (2, 0) is the swapped (0, 2) with the factor -1 built in. */
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                out[i * 9 + j * 3 + k] = det4(ra, rb, &P2[j * 4], &P3[k * 4]);
+    }
+    if (sfm_trifocal_normalize(out, 27) != SFM_OK)
+        return SFM_E_SINGULAR;
+    memcpy(T, out, sizeof out);
+    return SFM_OK;
+}
+
+/* Unit null vector (right singular vector of the smallest singular value) of
+ * a 3x3 matrix, or of its transpose when left != 0. */
+static int null3(const double M[9], int left, double v[3])
+{
+    double A[9], V[9], S[3];
+    unsigned char ws[2048];
+    if (sfm_svd_workspace_size(3, 3) > sizeof ws)
+        return SFM_E_WORKSPACE;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            A[r * 3 + c] = left ? M[c * 3 + r] : M[r * 3 + c];
+    int st = sfm_svd(A, 3, 3, NULL, S, V, ws, sizeof ws);
+    if (st < 0)
+        return st;
+    for (int r = 0; r < 3; r++)
+        v[r] = V[r * 3 + 2];
+    return SFM_OK;
+}
+
+static void fix_sign(double v[3])
+{
+    int m = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(v[i]) > fabs(v[m]))
+            m = i;
+    if (v[m] < 0)
+        for (int i = 0; i < 3; i++)
+            v[i] = -v[i];
+}
+
+int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
+{
+    if (T == NULL || e2 == NULL || e3 == NULL)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(T, 27))
+        return SFM_E_NONFINITE;
+    double U[9], V[9], a[3], b[3];
+    for (int i = 0; i < 3; i++) {
+        /* u_i^T T_i = 0 and T_i v_i = 0; e' is orthogonal to every u_i, e''
+         * to every v_i. Rows of U and V hold u_i and v_i. */
+        int st = null3(&T[i * 9], 1, &U[i * 3]);
+        if (st < 0)
+            return st;
+        st = null3(&T[i * 9], 0, &V[i * 3]);
+        if (st < 0)
+            return st;
+    }
+    int st = null3(U, 0, a);
+    if (st < 0)
+        return st;
+    st = null3(V, 0, b);
+    if (st < 0)
+        return st;
+    if (sfm_trifocal_normalize(a, 3) != SFM_OK || sfm_trifocal_normalize(b, 3) != SFM_OK)
+        return SFM_E_SINGULAR;
+    fix_sign(a);
+    fix_sign(b);
+    memcpy(e2, a, sizeof a);
+    memcpy(e3, b, sizeof b);
+    return SFM_OK;
+}
+
+static void skew(const double v[3], double S[9])
+{
+    S[0] = 0;     S[1] = -v[2]; S[2] = v[1];
+    S[3] = v[2];  S[4] = 0;     S[5] = -v[0];
+    S[6] = -v[1]; S[7] = v[0];  S[8] = 0;
+}
+
+static void mul33(const double A[9], const double B[9], double C[9])
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[r * 3 + c] = A[r * 3] * B[c] + A[r * 3 + 1] * B[3 + c] + A[r * 3 + 2] * B[6 + c];
+}
+
+/* Cameras from T and its epipoles (both unit norm). */
+static void cameras_from(const double T[27], const double e2[3], const double e3[3], double P2[12],
+                         double P3[12])
+{
+    for (int i = 0; i < 3; i++) {
+        const double *Ti = &T[i * 9];
+        double c2[3], tte[3];
+        for (int r = 0; r < 3; r++) {
+            c2[r] = Ti[r * 3] * e3[0] + Ti[r * 3 + 1] * e3[1] + Ti[r * 3 + 2] * e3[2];
+            tte[r] = Ti[r] * e2[0] + Ti[3 + r] * e2[1] + Ti[6 + r] * e2[2]; /* T_i^T e' */
+        }
+        double d = e3[0] * tte[0] + e3[1] * tte[1] + e3[2] * tte[2];
+        for (int r = 0; r < 3; r++) {
+            P2[r * 4 + i] = c2[r];
+            P3[r * 4 + i] = e3[r] * d - tte[r]; /* (e'' e''^T - I) T_i^T e' */
+        }
+    }
+    for (int r = 0; r < 3; r++) {
+        P2[r * 4 + 3] = e2[r];
+        P3[r * 4 + 3] = e3[r];
+    }
+}
+
+int sfm_trifocal_cameras(const double T[27], double P2[12], double P3[12])
+{
+    if (T == NULL || P2 == NULL || P3 == NULL)
+        return SFM_E_ARGUMENT;
+    double e2[3], e3[3], A[12], B[12];
+    int st = sfm_trifocal_epipoles(T, e2, e3);
+    if (st < 0)
+        return st;
+    cameras_from(T, e2, e3, A, B);
+    memcpy(P2, A, sizeof A);
+    memcpy(P3, B, sizeof B);
+    return SFM_OK;
+}
+
+/* F = [e]_x P' P^+ for cameras P (3x4, full rank) and P' with e = P' C. */
+static int fundamental_from_cameras(const double P[12], const double Pp[12], double F[9])
+{
+    double C[4], A[12], V[16], S[3];
+    unsigned char ws[4096];
+    if (sfm_svd_workspace_size(3, 4) > sizeof ws)
+        return SFM_E_WORKSPACE;
+    memcpy(A, P, sizeof A);
+    int st = sfm_svd(A, 3, 4, NULL, S, V, ws, sizeof ws);
+    if (st < 0)
+        return st;
+    for (int r = 0; r < 4; r++)
+        C[r] = V[r * 4 + 3];
+    /* P^+ = P^T (P P^T)^-1 */
+    double PPt[9], inv[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += P[r * 4 + k] * P[c * 4 + k];
+            PPt[r * 3 + c] = s;
+        }
+    double det = PPt[0] * (PPt[4] * PPt[8] - PPt[5] * PPt[7]) -
+                 PPt[1] * (PPt[3] * PPt[8] - PPt[5] * PPt[6]) +
+                 PPt[2] * (PPt[3] * PPt[7] - PPt[4] * PPt[6]);
+    if (!(fabs(det) > 0))
+        return SFM_E_SINGULAR;
+    inv[0] = (PPt[4] * PPt[8] - PPt[5] * PPt[7]) / det;
+    inv[1] = (PPt[2] * PPt[7] - PPt[1] * PPt[8]) / det;
+    inv[2] = (PPt[1] * PPt[5] - PPt[2] * PPt[4]) / det;
+    inv[3] = (PPt[5] * PPt[6] - PPt[3] * PPt[8]) / det;
+    inv[4] = (PPt[0] * PPt[8] - PPt[2] * PPt[6]) / det;
+    inv[5] = (PPt[2] * PPt[3] - PPt[0] * PPt[5]) / det;
+    inv[6] = (PPt[3] * PPt[7] - PPt[4] * PPt[6]) / det;
+    inv[7] = (PPt[1] * PPt[6] - PPt[0] * PPt[7]) / det;
+    inv[8] = (PPt[0] * PPt[4] - PPt[1] * PPt[3]) / det;
+    double Pplus[12]; /* 4x3 */
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 3; c++)
+            Pplus[r * 3 + c] = P[r] * inv[c] + P[4 + r] * inv[3 + c] + P[8 + r] * inv[6 + c];
+    double e[3], M[9], Ex[9];
+    for (int r = 0; r < 3; r++) {
+        e[r] = 0;
+        for (int k = 0; k < 4; k++)
+            e[r] += Pp[r * 4 + k] * C[k];
+        for (int c = 0; c < 3; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += Pp[r * 4 + k] * Pplus[k * 3 + c];
+            M[r * 3 + c] = s;
+        }
+    }
+    skew(e, Ex);
+    mul33(Ex, M, F);
+    return sfm_trifocal_normalize(F, 9);
+}
+
+int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], double F32[9])
+{
+    if (T == NULL)
+        return SFM_E_ARGUMENT;
+    double e2[3], e3[3], a[9], b[9], c[9];
+    int st = sfm_trifocal_epipoles(T, e2, e3);
+    if (st < 0)
+        return st;
+    double M2[9], M3[9], Ex[9];
+    for (int i = 0; i < 3; i++) {
+        const double *Ti = &T[i * 9];
+        for (int r = 0; r < 3; r++) {
+            M2[r * 3 + i] = Ti[r * 3] * e3[0] + Ti[r * 3 + 1] * e3[1] + Ti[r * 3 + 2] * e3[2];
+            M3[r * 3 + i] = Ti[r] * e2[0] + Ti[3 + r] * e2[1] + Ti[6 + r] * e2[2];
+        }
+    }
+    skew(e2, Ex);
+    mul33(Ex, M2, a);
+    skew(e3, Ex);
+    mul33(Ex, M3, b);
+    if (sfm_trifocal_normalize(a, 9) != SFM_OK || sfm_trifocal_normalize(b, 9) != SFM_OK)
+        return SFM_E_SINGULAR;
+    if (F32 != NULL) {
+        double P2[12], P3[12];
+        cameras_from(T, e2, e3, P2, P3);
+        st = fundamental_from_cameras(P2, P3, c);
+        if (st < 0)
+            return st;
+    }
+    if (F21 != NULL)
+        memcpy(F21, a, sizeof a);
+    if (F31 != NULL)
+        memcpy(F31, b, sizeof b);
+    if (F32 != NULL)
+        memcpy(F32, c, sizeof c);
+    return SFM_OK;
+}
+
+int sfm_trifocal_transfer(const double T[27], const double F21[9], const double x1[2],
+                          const double x2[2], double x3[2])
+{
+    if (T == NULL || x1 == NULL || x2 == NULL || x3 == NULL)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(T, 27) || !all_finite(x1, 2) || !all_finite(x2, 2) ||
+        (F21 != NULL && !all_finite(F21, 9)))
+        return SFM_E_NONFINITE;
+    double F[9];
+    if (F21 != NULL) {
+        memcpy(F, F21, sizeof F);
+    } else {
+        int st = sfm_trifocal_fundamentals(T, F, NULL, NULL);
+        if (st < 0)
+            return st;
+    }
+    const double p[3] = {x1[0], x1[1], 1.0};
+    double le[3];
+    for (int r = 0; r < 3; r++)
+        le[r] = F[r * 3] * p[0] + F[r * 3 + 1] * p[1] + F[r * 3 + 2] * p[2];
+    /* The line through x2 perpendicular to the epipolar line le. */
+    double l2[3] = {le[1], -le[0], -x2[0] * le[1] + x2[1] * le[0]};
+    if (!(l2[0] * l2[0] + l2[1] * l2[1] > 0))
+        return SFM_E_SINGULAR;
+    double y[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double w = p[i] * l2[j];
+            for (int k = 0; k < 3; k++)
+                y[k] += w * T[i * 9 + j * 3 + k];
+        }
+    double scale = fabs(y[0]) + fabs(y[1]) + fabs(y[2]);
+    if (!(fabs(y[2]) > 1e-12 * scale))
+        return SFM_E_SINGULAR;
+    x3[0] = y[0] / y[2];
+    x3[1] = y[1] / y[2];
+    return SFM_OK;
+}
+
+int sfm_trifocal_transfer_line(const double T[27], const double l2[3], const double l3[3],
+                               double l1[3])
+{
+    if (T == NULL || l2 == NULL || l3 == NULL || l1 == NULL)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(T, 27) || !all_finite(l2, 3) || !all_finite(l3, 3))
+        return SFM_E_NONFINITE;
+    double out[3];
+    for (int i = 0; i < 3; i++) {
+        double s = 0;
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                s += l2[j] * l3[k] * T[i * 9 + j * 3 + k];
+        out[i] = s;
+    }
+    memcpy(l1, out, sizeof out);
+    return SFM_OK;
+}

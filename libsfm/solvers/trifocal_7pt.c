@@ -1,0 +1,275 @@
+/*
+ * Trifocal tensor from n >= 7 point triplets: Hartley & Zisserman, 2nd ed.,
+ * alg. 16.2 (normalized linear solution, then algebraic minimization with
+ * fixed epipoles). Each triplet gives the four equations
+ *   sum_{i,q,r} x^i [x']_x[s][q] [x'']_x[r][t] T_i^{qr} = 0,   s, t in {0, 1}
+ * (rows 0 and 1 of a skew matrix of a point with third coordinate 1 are
+ * independent). The 4n x 27 design matrix is never stored: blocks of rows are
+ * folded into a 27x27 triangular factor by Householder QR, which has the same
+ * singular values and right singular vectors.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_trifocal.h"
+#include "solvers/trifocal_internal.h"
+
+enum { NU = 27, BLOCK = 16, ROWS = NU + 4 * BLOCK, ALG_ITERS = 3 };
+
+typedef struct tf_ws {
+    double *buf;  /* ROWS x 27: running R on top, new rows below */
+    double *tau;  /* 27 */
+    double *R;    /* 27 x 27 reduced design matrix */
+    double *E;    /* 27 x 18 */
+    double *U;    /* 27 x 27 */
+    double *V;    /* 27 x 27 */
+    double *S;    /* 27 */
+    double *M;    /* 27 x 27 */
+    void *svd;    /* SVD scratch for up to 27 x 27 */
+    size_t svd_size;
+} tf_ws;
+
+static void tf_layout(sfm_arena *a, tf_ws *w)
+{
+    w->buf = SFM_ARENA_ARRAY(a, double, ROWS * NU);
+    w->tau = SFM_ARENA_ARRAY(a, double, NU);
+    w->R = SFM_ARENA_ARRAY(a, double, NU * NU);
+    w->E = SFM_ARENA_ARRAY(a, double, NU * 18);
+    w->U = SFM_ARENA_ARRAY(a, double, NU * NU);
+    w->V = SFM_ARENA_ARRAY(a, double, NU * NU);
+    w->S = SFM_ARENA_ARRAY(a, double, NU);
+    w->M = SFM_ARENA_ARRAY(a, double, NU * NU);
+    w->svd_size = sfm_svd_workspace_size(NU, NU);
+    size_t s2 = sfm_svd_workspace_size(NU, 18);
+    if (s2 > w->svd_size)
+        w->svd_size = s2;
+    w->svd = sfm_arena_alloc(a, w->svd_size);
+}
+
+size_t sfm_trifocal_7pt_workspace_size(void)
+{
+    sfm_arena a;
+    tf_ws w;
+    sfm_arena_measure(&a);
+    tf_layout(&a, &w);
+    return sfm_arena_required(&a);
+}
+
+/* Similarity H = [s 0 -s cx; 0 s -s cy; 0 0 1] moving the centroid to the
+ * origin and the mean distance to sqrt(2) (Hartley normalization). */
+static int normalizer(const double *x, int n, double H[9])
+{
+    double cx = 0, cy = 0, d = 0;
+    for (int i = 0; i < n; i++) {
+        cx += x[2 * i];
+        cy += x[2 * i + 1];
+    }
+    cx /= n;
+    cy /= n;
+    for (int i = 0; i < n; i++)
+        d += hypot(x[2 * i] - cx, x[2 * i + 1] - cy);
+    d /= n;
+    if (!(d > 0) || !isfinite(d))
+        return SFM_E_SINGULAR;
+    double s = sqrt(2.0) / d;
+    const double h[9] = {s, 0, -s * cx, 0, s, -s * cy, 0, 0, 1};
+    memcpy(H, h, sizeof h);
+    return SFM_OK;
+}
+
+static void apply(const double H[9], const double *x, double p[3])
+{
+    p[0] = H[0] * x[0] + H[2];
+    p[1] = H[4] * x[1] + H[5];
+    p[2] = 1.0;
+}
+
+static void skew(const double v[3], double S[9])
+{
+    S[0] = 0;     S[1] = -v[2]; S[2] = v[1];
+    S[3] = v[2];  S[4] = 0;     S[5] = -v[0];
+    S[6] = -v[1]; S[7] = v[0];  S[8] = 0;
+}
+
+/* Folds the rows buf[NU .. rows) into the triangular factor held in the
+ * first NU rows; returns the new row count (NU). */
+static int fold(tf_ws *w, int rows)
+{
+    sfm_qr_factor(w->buf, rows, NU, w->tau);
+    for (int r = 0; r < NU; r++)
+        for (int c = 0; c < r; c++)
+            w->buf[r * NU + c] = 0.0;
+    return NU;
+}
+
+/* Right singular vector of the smallest singular value of A (m x n). */
+static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
+{
+    int st = sfm_svd(A, m, n, NULL, w->S, w->V, w->svd, w->svd_size);
+    if (st < 0)
+        return st;
+    for (int r = 0; r < n; r++)
+        v[r] = w->V[r * n + (n - 1)];
+    return SFM_OK;
+}
+
+/* Algebraic minimization with the epipoles of t held fixed: t = E a with
+ * T_i^{jk} = a_i^j e''^k - e'^j b_i^k, minimize |R E a| subject to |E a| = 1.
+ * t is replaced by the minimizer. */
+static int algebraic_step(tf_ws *w, double t[NU])
+{
+    double e2[3], e3[3];
+    int st = sfm_trifocal_epipoles(t, e2, e3);
+    if (st < 0)
+        return st;
+    memset(w->E, 0, sizeof(double) * NU * 18);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) {
+                int row = i * 9 + j * 3 + k;
+                w->E[row * 18 + i * 3 + j] = e3[k];       /* a_i^j */
+                w->E[row * 18 + 9 + i * 3 + k] = -e2[j];  /* b_i^k */
+            }
+    st = sfm_svd(w->E, NU, 18, w->U, w->S, NULL, w->svd, w->svd_size);
+    if (st < 0)
+        return st;
+    int r = 0;
+    while (r < 18 && w->S[r] > 1e-10 * w->S[0])
+        r++;
+    if (r == 0)
+        return SFM_E_SINGULAR;
+    /* M = R U' (27 x r), U' the first r columns of U. */
+    for (int a = 0; a < NU; a++)
+        for (int c = 0; c < r; c++) {
+            double s = 0;
+            for (int k = a; k < NU; k++) /* R is upper triangular */
+                s += w->R[a * NU + k] * w->U[k * NU + c];
+            w->M[a * r + c] = s;
+        }
+    double y[NU];
+    st = smallest_right(w, w->M, NU, r, y);
+    if (st < 0)
+        return st;
+    for (int a = 0; a < NU; a++) {
+        double s = 0;
+        for (int c = 0; c < r; c++)
+            s += w->U[a * NU + c] * y[c];
+        t[a] = s;
+    }
+    return sfm_trifocal_normalize(t, NU);
+}
+
+static int all_finite(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
+                     void *ws, size_t ws_size)
+{
+    if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL ||
+        n < SFM_TRIFOCAL_MIN_POINTS)
+        return SFM_E_ARGUMENT;
+    if (!all_finite(x1, 2 * n) || !all_finite(x2, 2 * n) || !all_finite(x3, 2 * n))
+        return SFM_E_NONFINITE;
+    sfm_arena a;
+    tf_ws w;
+    sfm_arena_init(&a, ws, ws_size);
+    tf_layout(&a, &w);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+
+    double H1[9], H2[9], H3[9];
+    if (normalizer(x1, n, H1) < 0 || normalizer(x2, n, H2) < 0 || normalizer(x3, n, H3) < 0)
+        return SFM_E_SINGULAR;
+
+    int rows = 0;
+    for (int p = 0; p < n; p++) {
+        double u[3], v[3], q[3], Sv[9], Sq[9];
+        apply(H1, &x1[2 * p], u);
+        apply(H2, &x2[2 * p], v);
+        apply(H3, &x3[2 * p], q);
+        skew(v, Sv);
+        skew(q, Sq);
+        if (rows + 4 > ROWS)
+            rows = fold(&w, rows);
+        for (int s = 0; s < 2; s++)
+            for (int tt = 0; tt < 2; tt++) {
+                double *row = &w.buf[rows * NU];
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++)
+                        for (int k = 0; k < 3; k++)
+                            row[i * 9 + j * 3 + k] = u[i] * Sv[s * 3 + j] * Sq[k * 3 + tt];
+                rows++;
+            }
+    }
+    if (rows < NU) /* cannot happen for n >= 7 (28 rows); kept as invariant */
+        return SFM_E_SINGULAR;
+    fold(&w, rows);
+    for (int r = 0; r < NU; r++)
+        for (int c = 0; c < NU; c++)
+            w.R[r * NU + c] = w.buf[r * NU + c];
+
+    double t[NU];
+    int st = smallest_right(&w, w.R, NU, NU, t);
+    if (st < 0)
+        return st;
+    for (int it = 0; it < ALG_ITERS; it++) {
+        double prev[NU];
+        memcpy(prev, t, sizeof t);
+        st = algebraic_step(&w, t);
+        if (st < 0)
+            return st;
+        double dp = 0, dm = 0;
+        for (int k = 0; k < NU; k++) {
+            dp += (t[k] - prev[k]) * (t[k] - prev[k]);
+            dm += (t[k] + prev[k]) * (t[k] + prev[k]);
+        }
+        if ((dp < dm ? dp : dm) < 1e-24)
+            break;
+    }
+
+    /* Denormalize: T_i^{jk} = H1[r][i] H2^-1[j][s] H3^-1[k][t] That_r^{st}. */
+    double H2i[9] = {1 / H2[0], 0, -H2[2] / H2[0], 0, 1 / H2[4], -H2[5] / H2[4], 0, 0, 1};
+    double H3i[9] = {1 / H3[0], 0, -H3[2] / H3[0], 0, 1 / H3[4], -H3[5] / H3[4], 0, 0, 1};
+    double tmp1[NU], tmp2[NU], out[NU];
+    for (int r = 0; r < 3; r++) /* contract k with H3^-1 */
+        for (int s = 0; s < 3; s++)
+            for (int k = 0; k < 3; k++) {
+                double acc = 0;
+                for (int q = 0; q < 3; q++)
+                    acc += H3i[k * 3 + q] * t[r * 9 + s * 3 + q];
+                tmp1[r * 9 + s * 3 + k] = acc;
+            }
+    for (int r = 0; r < 3; r++) /* contract j with H2^-1 */
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) {
+                double acc = 0;
+                for (int s = 0; s < 3; s++)
+                    acc += H2i[j * 3 + s] * tmp1[r * 9 + s * 3 + k];
+                tmp2[r * 9 + j * 3 + k] = acc;
+            }
+    for (int i = 0; i < 3; i++) /* contract i with H1 */
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) {
+                double acc = 0;
+                for (int r = 0; r < 3; r++)
+                    acc += H1[r * 3 + i] * tmp2[r * 9 + j * 3 + k];
+                out[i * 9 + j * 3 + k] = acc;
+            }
+    if (sfm_trifocal_normalize(out, NU) != SFM_OK || !all_finite(out, NU))
+        return SFM_E_SINGULAR;
+    int m = 0;
+    for (int k = 1; k < NU; k++)
+        if (fabs(out[k]) > fabs(out[m]))
+            m = k;
+    double sgn = out[m] < 0 ? -1.0 : 1.0;
+    for (int k = 0; k < NU; k++)
+        T[k] = sgn * out[k];
+    return SFM_OK;
+}

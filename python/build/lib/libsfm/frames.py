@@ -1,0 +1,260 @@
+"""Frames from a recording or a camera, as numpy images with timestamps.
+
+    from libsfm import frames
+    for f in frames.open_replay("run1"):
+        f.image          # (height, width) uint8, a copy
+        f.timestamp_ns   # int
+        f.sequence       # int
+
+Sources are the C capture library (libsfm_capture.so, built by
+`make capture`), loaded on first use with its own cdef
+(build/sfm_capture_cdef.h); `frames.Recorder` writes such a recording.
+"""
+import collections
+import os
+
+import numpy as np
+from cffi import FFI
+
+from . import _ffi
+from ._ffi import SfmError
+
+Frame = collections.namedtuple("Frame", "image timestamp_ns sequence")
+
+_cap = {}
+
+_IMAGE_FORMATS = {"pgm": 0, "png": 1, "jpg": 2, "jpeg": 2}
+_PIXFMT = {None: 0, "grey": 1, "gray": 1, "yuyv": 2, "nv12": 3, "mjpeg": 4}
+
+
+def _load():
+    """(ffi, lib) of libsfm_capture.so, loaded once."""
+    if "lib" not in _cap:
+        env = os.environ.get("LIBSFM_CAPTURE_LIBRARY")
+        base = os.path.dirname(_ffi._libpath)
+        candidates = ([env] if env else []) + [
+            os.path.join(base, "libsfm_capture.so"),
+            os.path.join(_ffi._ROOT, "build", "libsfm_capture.so"),
+        ]
+        path = next((p for p in candidates if p and os.path.exists(p)), None)
+        if path is None:
+            raise OSError("libsfm_capture.so not found: run `make capture` or set LIBSFM_CAPTURE_LIBRARY")
+        cdef = os.path.join(os.path.dirname(path), "sfm_capture_cdef.h")
+        if not os.path.exists(cdef):
+            raise OSError("sfm_capture_cdef.h not found beside %s: run `make capture`" % path)
+        ffi = FFI()
+        with open(cdef) as f:
+            ffi.cdef(f.read())
+        _cap["ffi"] = ffi
+        _cap["lib"] = ffi.dlopen(path)
+    return _cap["ffi"], _cap["lib"]
+
+
+def _check(status, where):
+    if status < 0:
+        raise SfmError(status, where)
+    return status
+
+
+class Source:
+    """A frame source: iterate for Frame tuples; close() (or `with`) when done.
+
+    Each frame's image is copied out of the source's buffer, so it stays
+    valid after the next frame arrives.
+    """
+
+    def __init__(self, handle, timeout_ms):
+        self._ffi, self._lib = _load()
+        self._c = handle
+        self.timeout_ms = int(timeout_ms)
+
+    @property
+    def info(self):
+        ffi, lib = self._ffi, self._lib
+        i = ffi.new("sfm_capture_info *")
+        _check(lib.sfm_capture_get_info(self._c, i), "info")
+        return {
+            "width": i.width, "height": i.height,
+            "source_format": ffi.string(lib.sfm_pixfmt_name(i.source_format)).decode(),
+            "fourcc": i.fourcc, "buffers": i.buffers,
+            "fps": (i.fps_num / i.fps_den) if i.fps_den else None,
+            "driver": ffi.string(i.driver).decode(errors="replace"),
+            "card": ffi.string(i.card).decode(errors="replace"),
+        }
+
+    @property
+    def stats(self):
+        s = self._ffi.new("sfm_capture_stats *")
+        _check(self._lib.sfm_capture_get_stats(self._c, s), "stats")
+        return {"frames": s.frames, "drops": s.drops, "errors": s.errors}
+
+    def read(self, timeout_ms=None):
+        """The next Frame, or None at the end of a recording. Raises SfmError
+        on timeout, a lost device or an unreadable frame."""
+        if self._c is None:
+            raise ValueError("source is closed")
+        ffi, lib = self._ffi, self._lib
+        f = ffi.new("sfm_frame *")
+        t = self.timeout_ms if timeout_ms is None else int(timeout_ms)
+        rc = _check(lib.sfm_capture_acquire(self._c, t, f), "acquire")
+        if rc == 0:
+            return None
+        try:
+            h, w, stride = f.height, f.width, f.stride
+            buf = ffi.buffer(f.data, stride * (h - 1) + w)
+            rows = np.frombuffer(buf, dtype=np.uint8, count=stride * (h - 1) + w)
+            img = np.lib.stride_tricks.as_strided(rows, shape=(h, w), strides=(stride, 1)).copy()
+            return Frame(img, int(f.timestamp_ns), int(f.sequence))
+        finally:
+            _check(lib.sfm_capture_release(self._c, f), "release")
+
+    def __iter__(self):
+        return self
+
+    def __next__(self):
+        fr = self.read()
+        if fr is None:
+            raise StopIteration
+        return fr
+
+    def close(self):
+        if self._c is not None:
+            self._lib.sfm_capture_close(self._c)
+            self._c = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+def open_replay(directory, rate="max", speed=1.0, loop=False, timeout_ms=-1):
+    """A recording (manifest.csv or data.csv plus images) as a Source.
+
+    rate: "max" (as fast as read), "recorded" (at the recorded pace, `speed`
+    times faster) or a number of frames per second.
+    """
+    ffi, lib = _load()
+    o = ffi.new("sfm_replay_options *")
+    if rate == "max":
+        o.rate = 0
+    elif rate == "recorded":
+        o.rate = 1
+    elif isinstance(rate, (int, float)) and not isinstance(rate, bool) and rate > 0:
+        o.rate, o.fixed_fps = 2, float(rate)
+    else:
+        raise ValueError("rate must be 'max', 'recorded' or a positive number, got %r" % (rate,))
+    if not float(speed) > 0:
+        raise ValueError("speed must be positive")
+    o.speed = float(speed)
+    o.loop = 1 if loop else 0
+    out = ffi.new("sfm_capture **")
+    _check(lib.sfm_capture_open_replay(os.fsencode(directory), o, out), "open_replay(%s)" % directory)
+    return Source(out[0], timeout_ms)
+
+
+def open_device(device="/dev/video0", width=0, height=0, pixel_format=None, fps=0,
+                buffers=0, timeout_ms=2000):
+    """A V4L2 camera as a Source (frames delivered as 8-bit gray).
+
+    pixel_format: None (first offered of grey, nv12, yuyv, mjpeg) or one of
+    those names.
+    """
+    if pixel_format not in _PIXFMT:
+        raise ValueError("pixel_format must be one of grey, yuyv, nv12, mjpeg or None")
+    ffi, lib = _load()
+    o = ffi.new("sfm_v4l2_options *")
+    o.width, o.height, o.format, o.fps, o.buffers = int(width), int(height), _PIXFMT[pixel_format], int(fps), int(buffers)
+    out = ffi.new("sfm_capture **")
+    _check(lib.sfm_capture_open_v4l2(os.fsencode(device), o, out), "open_device(%s)" % device)
+    return Source(out[0], timeout_ms)
+
+
+def open_libcamera(camera_id=None, width=0, height=0, buffers=0, timeout_ms=2000):
+    """A libcamera camera (e.g. a Raspberry Pi camera) as a Source."""
+    ffi, lib = _load()
+    o = ffi.new("sfm_libcamera_options *")
+    o.width, o.height, o.buffers = int(width), int(height), int(buffers)
+    out = ffi.new("sfm_capture **")
+    cid = ffi.NULL if camera_id is None else os.fsencode(camera_id)
+    _check(lib.sfm_capture_open_libcamera(cid, o, out), "open_libcamera")
+    return Source(out[0], timeout_ms)
+
+
+def list_libcamera():
+    """Camera ids libcamera reports (raises SfmError when unavailable)."""
+    ffi, lib = _load()
+    n = _check(lib.sfm_libcamera_list(ffi.NULL, 0, 0), "list_libcamera")
+    if n == 0:
+        return []
+    ids = ffi.new("char[]", n * 256)
+    n = _check(lib.sfm_libcamera_list(ids, n, 256), "list_libcamera")
+    return [ffi.string(ids + 256 * k).decode() for k in range(n)]
+
+
+class Recorder:
+    """Writes frames to a replay directory (created; must not hold a manifest).
+
+    image_format: "pgm" (default, lossless), "png" (lossless) or "jpg".
+    """
+
+    def __init__(self, directory, image_format="pgm"):
+        if image_format not in _IMAGE_FORMATS:
+            raise ValueError("image_format must be pgm, png or jpg")
+        self._ffi, self._lib = _load()
+        out = self._ffi.new("sfm_recorder **")
+        _check(self._lib.sfm_recorder_open(os.fsencode(directory), _IMAGE_FORMATS[image_format], out),
+               "Recorder(%s)" % directory)
+        self._r = out[0]
+        self._next_seq = 0
+
+    def write(self, image, timestamp_ns, sequence=None):
+        """image: (h, w) or (h, w, 3) uint8. sequence defaults to one more
+        than the last."""
+        if self._r is None:
+            raise ValueError("recorder is closed")
+        img = np.asarray(image)
+        if img.dtype != np.uint8 or not (img.ndim == 2 or (img.ndim == 3 and img.shape[2] == 3)):
+            raise ValueError("image must be uint8 of shape (h, w) or (h, w, 3), got %s %s" % (img.dtype, img.shape))
+        if img.shape[0] < 1 or img.shape[1] < 1:
+            raise ValueError("image must not be empty")
+        img = np.ascontiguousarray(img)
+        seq = self._next_seq if sequence is None else int(sequence)
+        ffi = self._ffi
+        f = ffi.new("sfm_frame *")
+        f.data = ffi.cast("const uint8_t *", ffi.from_buffer(img))
+        f.height, f.width = img.shape[0], img.shape[1]
+        f.stride = img.strides[0]
+        f.format = 1 if img.ndim == 2 else 5
+        f.timestamp_ns = int(timestamp_ns)
+        f.sequence = seq
+        _check(self._lib.sfm_recorder_write(self._r, f), "Recorder.write")
+        self._next_seq = seq + 1
+
+    @property
+    def count(self):
+        return _check(self._lib.sfm_recorder_count(self._r), "count") if self._r is not None else 0
+
+    def close(self):
+        if self._r is not None:
+            r, self._r = self._r, None
+            _check(self._lib.sfm_recorder_close(r), "Recorder.close")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass

@@ -1,0 +1,122 @@
+"""Minimal pose solvers and triangulation (sfm_pose.h, sfm_triangulate.h).
+
+Poses are world-to-camera, x_cam = R X + t; for relative poses frame 1 is the
+world: x_cam2 = R x_cam1 + t. Bearings are (n, 3) arrays, image points (n, 2).
+"""
+import numpy as np
+
+from ._ffi import as_array, check, dptr, ffi, iptr, lib
+
+_TRI_METHODS = ("dlt", "midpoint", "optimal")
+
+BEHIND = lib.SFM_TRI_BEHIND
+INFINITY = lib.SFM_TRI_INFINITY
+
+
+def _poses_to_list(poses, n):
+    out = []
+    for k in range(n):
+        R = np.array(list(poses[k].R), dtype=np.float64).reshape(3, 3)
+        t = np.array(list(poses[k].t), dtype=np.float64)
+        out.append((R, t))
+    return out
+
+
+def p3p(x, X):
+    """Absolute pose from 3 bearings x (3,3) and world points X (3,3).
+
+    Returns a list of up to 4 (R (3,3), t (3,)) with x_cam = R X + t."""
+    x = as_array(x, (3, 3), "x")
+    X = as_array(X, (3, 3), "X")
+    poses = ffi.new("sfm_pose[4]")
+    n = check(lib.sfm_p3p(dptr(x), dptr(X), poses), "sfm_p3p")
+    return _poses_to_list(poses, n)
+
+
+def relpose_upright_3pt(x1, x2, d1, d2):
+    """Relative pose from 3 bearing pairs (3,3) and a direction d1 (frame 1),
+    d2 = R d1 (frame 2). Returns up to 4 (R, t), x2 ~ R x1 + t, |t| = 1."""
+    x1 = as_array(x1, (3, 3), "x1")
+    x2 = as_array(x2, (3, 3), "x2")
+    d1 = as_array(d1, (3,), "d1")
+    d2 = as_array(d2, (3,), "d2")
+    poses = ffi.new("sfm_pose[4]")
+    n = check(lib.sfm_relpose_upright_3pt(dptr(x1), dptr(x2), dptr(d1), dptr(d2), poses),
+              "sfm_relpose_upright_3pt")
+    return _poses_to_list(poses, n)
+
+
+def essential_to_poses(E, x1=None, x2=None):
+    """The four decompositions (R, t) of E = [t]x R, best first.
+
+    With bearing pairs x1, x2 (n,3) the poses are ordered by the number of
+    points in front of both cameras. Returns (list of 4 (R, t), counts (4,)
+    int array); an empty list and zero counts when E has rank below 2."""
+    E = as_array(E, (3, 3), "E")
+    if (x1 is None) != (x2 is None):
+        raise ValueError("give both x1 and x2, or neither")
+    poses = ffi.new("sfm_pose[4]")
+    counts = np.zeros(4, dtype=np.int32)
+    if x1 is None:
+        n = check(lib.sfm_essential_to_poses(dptr(E), ffi.NULL, ffi.NULL, 0, poses, iptr(counts)),
+                  "sfm_essential_to_poses")
+    else:
+        x1 = as_array(x1, (None, 3), "x1")
+        x2 = as_array(x2, (x1.shape[0], 3), "x2")
+        n = check(lib.sfm_essential_to_poses(dptr(E), dptr(x1), dptr(x2), x1.shape[0], poses,
+                                             iptr(counts)), "sfm_essential_to_poses")
+    return _poses_to_list(poses, n), counts
+
+
+def triangulate(P_list, x_list, method="dlt"):
+    """Triangulate m points seen in v >= 2 views.
+
+    P_list: v projection matrices (3,4) (K [R|t] for pixels, [R|t] for
+    normalized coordinates); x_list: v arrays (m,2) of observations.
+    method: "dlt" (any v), "optimal" (Lindstrom niter2, v = 2) or "midpoint"
+    (P must be [R|t]; observations (m,2) normalized or (m,3) bearings).
+    Returns (X (m,3), flags (m,) int32): flags has BEHIND (1) and INFINITY (2)
+    bits; for INFINITY points X is a unit direction."""
+    if method not in _TRI_METHODS:
+        raise ValueError("method must be one of %s" % (_TRI_METHODS,))
+    P_list = list(P_list)
+    x_list = list(x_list)
+    if len(P_list) < 2 or len(P_list) != len(x_list):
+        raise ValueError("need at least 2 views and one observation array per view")
+    if method == "optimal" and len(P_list) != 2:
+        raise ValueError("the optimal method takes exactly 2 views")
+    P = np.ascontiguousarray(np.stack([as_array(p, (3, 4), "P") for p in P_list]))
+    first = np.asarray(x_list[0])
+    if first.ndim != 2:
+        raise ValueError("observations must be (m,2) arrays")
+    m = first.shape[0]
+    v = len(P_list)
+    X = np.zeros((m, 3), dtype=np.float64)
+    flags = np.zeros(m, dtype=np.int32)
+    if method == "midpoint":
+        obs = []
+        for o in x_list:
+            o = np.asarray(o, dtype=np.float64)
+            if o.ndim == 2 and o.shape == (m, 2):
+                o = np.hstack([o, np.ones((m, 1))])
+            obs.append(as_array(o, (m, 3), "x"))
+        f = np.ascontiguousarray(np.stack(obs))
+        poses = ffi.new("sfm_pose[]", v)
+        for k in range(v):
+            poses[k].R = list(P[k, :, :3].ravel())
+            poses[k].t = list(P[k, :, 3])
+        check(lib.sfm_triangulate_midpoint(v, poses, m, dptr(f), dptr(X), iptr(flags)),
+              "sfm_triangulate_midpoint")
+        return X, flags
+    x = np.ascontiguousarray(np.stack([as_array(o, (m, 2), "x") for o in x_list]))
+    if method == "dlt":
+        check(lib.sfm_triangulate_dlt(v, dptr(P), m, dptr(x), dptr(X), iptr(flags)),
+              "sfm_triangulate_dlt")
+    else:
+        x1 = np.ascontiguousarray(x[0])
+        x2 = np.ascontiguousarray(x[1])
+        P1 = np.ascontiguousarray(P[0])
+        P2 = np.ascontiguousarray(P[1])
+        check(lib.sfm_triangulate_optimal2(dptr(P1), dptr(P2), m, dptr(x1), dptr(x2), dptr(X),
+                                           iptr(flags)), "sfm_triangulate_optimal2")
+    return X, flags
