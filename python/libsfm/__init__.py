@@ -13,3 +13,4 @@ def version():
 from . import frames  # noqa: F401,E402
 from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
 from .trifocal import *  # noqa: F401,F403
+from . import linalg  # noqa: F401,E402
