@@ -23,7 +23,7 @@ CAPTURE_LDLIBS := $(if $(HAVE_LIBJPEG),-ljpeg) $(if $(HAVE_LIBPNG),$(shell pkg-c
     $(if $(HAVE_LIBCAMERA),$(shell pkg-config --libs libcamera)) \
     $(if $(CAPTURE_CXX_SRCS),-lstdc++) -lm
 CAPTURE_CXXFLAGS := -std=c++17 $(OPT) -Wall -Wextra -Werror -Wshadow -fPIC -fvisibility=hidden \
-    $(if $(HAVE_LIBCAMERA),$(shell pkg-config --cflags libcamera))
+    $(if $(HAVE_LIBCAMERA),$(patsubst -I%,-isystem %,$(shell pkg-config --cflags libcamera)))
 
 CAPTURE_OBJS := $(patsubst libsfm/capture/%.c,$(CAP_DIR)/obj/%.o,$(CAPTURE_C_SRCS)) \
     $(patsubst libsfm/capture/%.cpp,$(CAP_DIR)/obj/%.o,$(CAPTURE_CXX_SRCS))
@@ -62,6 +62,17 @@ $(BUILD)/bin/sfm-%: firmware_examples/linux/sfm_%.c include/sfm/sfm_capture.h $(
 	cc $(native_CFLAGS) -Iinclude -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
 
 capture: $(BUILD)/libsfm_capture.a $(BUILD)/libsfm_capture.so $(BUILD)/sfm_capture_cdef.h $(CAPTURE_TOOLS)
+
+# make install-capture PREFIX=...: the capture library beside the core's
+# (after `make install`), its header, cdef and tools.
+install-capture: capture
+	install -d $(DESTDIR)$(PREFIX)/include/sfm $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/bin \
+	  $(DESTDIR)$(PREFIX)/share/sfm
+	install -m 644 include/sfm/sfm_capture.h $(DESTDIR)$(PREFIX)/include/sfm/
+	install -m 644 $(BUILD)/libsfm_capture.a $(DESTDIR)$(PREFIX)/lib/
+	install -m 755 $(BUILD)/libsfm_capture.so $(DESTDIR)$(PREFIX)/lib/
+	install -m 644 $(BUILD)/sfm_capture_cdef.h $(DESTDIR)$(PREFIX)/share/sfm/
+	install -m 755 $(CAPTURE_TOOLS) $(DESTDIR)$(PREFIX)/bin/
 
 # Tests: tests/capture/*.c with the common harness. The allocation counters
 # of the tests wrap malloc and friends for the library's objects.
@@ -102,4 +113,37 @@ test-capture-asan: $(BUILD)/asan/tests/capture_tests $(CAPTURE_TOOLS)
 test-python: capture
 
 TEST_STEPS += test-capture test-capture-asan
-.PHONY: capture test-capture test-capture-asan
+.PHONY: capture install-capture test-capture test-capture-asan
+
+# ---------------------------------------------------------------------------
+# Fuzz targets (libFuzzer, clang): the PGM/PPM parser, the manifest parser
+# and each pixel-format converter. `make test` replays the committed seed
+# corpus (tests/fuzz/corpus/<target>/) once per input; `make fuzz` fuzzes
+# each target for FUZZ_SECONDS, growing build/fuzz/corpus/<target>/ (the
+# committed seeds stay as they are) and leaving any crash in
+# build/fuzz/artifacts/.
+FUZZ_SECONDS ?= 60
+FUZZ_CC ?= clang
+FUZZ_CFLAGS := -std=c11 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer,address,undefined \
+    -fno-sanitize-recover=all $(WARN) $(CPPFLAGS_LIB) $(CAPTURE_DEFS)
+FUZZ_LIB_SRCS := libsfm/capture/pnm.c libsfm/capture/manifest.c libsfm/capture/convert.c \
+    libsfm/capture/jpeg_io.c
+FUZZ_LDLIBS := $(if $(HAVE_LIBJPEG),-ljpeg)
+FUZZ_TARGETS := pnm manifest convert_gray8 convert_yuyv convert_nv12 convert_rgb24 convert_mjpeg
+FUZZ_BINS := $(addprefix $(BUILD)/fuzz/fuzz_,$(FUZZ_TARGETS))
+
+$(BUILD)/fuzz/fuzz_pnm $(BUILD)/fuzz/fuzz_manifest: $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_LIB_SRCS) $(CAPTURE_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $< $(FUZZ_LIB_SRCS) $(FUZZ_LDLIBS)
+$(BUILD)/fuzz/fuzz_convert_%: tests/fuzz/fuzz_convert.c $(FUZZ_LIB_SRCS) $(CAPTURE_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -DFUZZ_FORMAT=SFM_PIX_$$(echo $* | tr a-z A-Z) -o $@ $< $(FUZZ_LIB_SRCS) $(FUZZ_LDLIBS)
+
+test-fuzz: $(FUZZ_BINS)
+	sh tools/run_fuzz_corpus.sh $(BUILD)/fuzz tests/fuzz/corpus $(FUZZ_TARGETS)
+
+fuzz: $(FUZZ_BINS)
+	sh tools/run_fuzz.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+TEST_STEPS += test-fuzz
+.PHONY: fuzz test-fuzz

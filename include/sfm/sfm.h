@@ -13,5 +13,6 @@
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "sfm/sfm_ransac_trifocal.h"
+#include "sfm/sfm_features.h"
 
 #endif

@@ -83,6 +83,8 @@ typedef struct sfm_capture_info {
     int fps_num, fps_den;  /* frame interval den/num seconds; 0/0 unknown */
     char driver[32];       /* "replay", "v4l2:<driver>", "libcamera" */
     char card[64];         /* device or camera name, or the directory */
+    int adjusted;          /* 1 when the device changed what was asked (V4L2
+                              S_FMT, libcamera validate() "Adjusted") */
 } sfm_capture_info;
 
 typedef struct sfm_capture sfm_capture;

@@ -48,8 +48,9 @@ SFM_API int sfm_p3p(const double x[9], const double X[9],
  * d2 = R d1 in camera 2 (gravity from an IMU, a vanishing direction). Any
  * direction, not only a coordinate axis; d1 and d2 need not be unit.
  * Writes up to 4 poses x_cam2 = R x_cam1 + t with |t| = 1. The sign of t is
- * chosen so that most of the three points lie in front of both cameras;
- * solutions are not discarded on cheirality.
+ * the one that puts most of the three points in front of camera 1; a
+ * solution that then leaves any of the three points behind either camera
+ * (negative depth) is not returned.
  * Method: rotate each frame so that its direction becomes the y axis; the
  * remaining rotation about y and the translation satisfy the three epipolar
  * constraints, whose determinant is a trigonometric polynomial of degree 2 in

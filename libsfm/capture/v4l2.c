@@ -346,6 +346,8 @@ static int v4l2_setup(v4l2src *s, const char *device, const sfm_v4l2_options *o,
         return errno == EINVAL ? SFM_E_UNSUPPORTED : status_of(errno);
     s->fourcc = fmt.fmt.pix.pixelformat;
     s->format = pixfmt_of(s->fourcc);
+    info->adjusted = s->fourcc != want || (o->width > 0 && fmt.fmt.pix.width != (uint32_t)o->width) ||
+                     (o->height > 0 && fmt.fmt.pix.height != (uint32_t)o->height);
     if (s->format == 0)
         return SFM_E_UNSUPPORTED;
     if (fmt.fmt.pix.width == 0 || fmt.fmt.pix.height == 0 ||

@@ -24,12 +24,12 @@
 
 #include "sfm/sfm_pose.h"
 
-static int all_finite(const double *v, int n)
+/* 1 when all nine values are finite: x * 0 is NaN exactly for NaN, +-Inf. */
+static inline int all_finite9(const double *v)
 {
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
+    return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
+               ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
+           0.0;
 }
 
 static inline void cross3(const double a[3], const double b[3], double c[3])
@@ -44,26 +44,30 @@ static inline double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* One real root of the monic cubic x^3 + b x^2 + c x + d (Cardano for one
- * real root, the trigonometric form for three, then two Newton steps). */
+/* One real root of the monic cubic x^3 + b x^2 + c x + d: Cardano with a
+ * single cube root when one root is real (u v = -p/3, u taken on the side
+ * without cancellation), the trigonometric form for three; then two Newton
+ * steps. */
 static double cubic_one_root(double b, double c, double d)
 {
-    double p = c - b * b / 3.0;
-    double q = (2.0 * b * b * b - 9.0 * b * c) / 27.0 + d;
-    double disc = 0.25 * q * q + p * p * p / 27.0;
+    double b3 = b * (1.0 / 3.0);
+    double p = c - b * b3;
+    double q = (2.0 * b3 * b3 - c) * b3 + d;
+    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
     double x;
     if (disc >= 0.0) {
         double s = sqrt(disc);
-        x = cbrt(-0.5 * q + s) + cbrt(-0.5 * q - s) - b / 3.0;
+        double u = cbrt(-0.5 * q - copysign(s, q));
+        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
     } else {
         /* p < 0 here */
-        double r = sqrt(-p / 3.0);
+        double r = sqrt(-p * (1.0 / 3.0));
         double arg = -0.5 * q / (r * r * r);
         if (arg > 1.0)
             arg = 1.0;
         if (arg < -1.0)
             arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) / 3.0) - b / 3.0;
+        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3;
     }
     for (int it = 0; it < 2; it++) {
         double f = ((x + b) * x + c) * x + d;
@@ -95,7 +99,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
 {
     if (!x || !X || !poses)
         return SFM_E_ARGUMENT;
-    if (!all_finite(x, 9) || !all_finite(X, 9))
+    if (!(all_finite9(x) && all_finite9(X)))
         return SFM_E_NONFINITE;
 
     double y[3][3];
@@ -109,12 +113,9 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
         y[i][2] = x[3 * i + 2] * inv;
     }
 
-    double X12[3], X13[3], X23[3];
-    for (int k = 0; k < 3; k++) {
-        X12[k] = X[k] - X[3 + k];
-        X13[k] = X[k] - X[6 + k];
-        X23[k] = X[3 + k] - X[6 + k];
-    }
+    double X12[3] = {X[0] - X[3], X[1] - X[4], X[2] - X[5]};
+    double X13[3] = {X[0] - X[6], X[1] - X[7], X[2] - X[8]};
+    double X23[3] = {X[3] - X[6], X[4] - X[7], X[5] - X[8]};
     double a12 = dot3(X12, X12), a13 = dot3(X13, X13), a23 = dot3(X23, X23);
     double Xn[3];
     cross3(X12, X13, Xn);
@@ -136,40 +137,47 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
 
     /* det(D1 + g D2) = c3 g^3 + c2 g^2 + c1 g + c0. Solve in g, or in the
      * reciprocal when that has the larger leading coefficient. */
-    double D0[6], Dq[6]; /* degenerate conic; the other conic used to cut it */
+    double D0[6];
+    const double *Dq; /* the other conic, used to cut the pair of planes */
     if (fabs(c3) >= fabs(c0)) {
         if (c3 == 0.0)
             return 0;
-        double g = cubic_one_root(c2 / c3, c1 / c3, c0 / c3);
+        double ic = 1.0 / c3;
+        double g = cubic_one_root(c2 * ic, c1 * ic, c0 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = D1[k] + g * D2[k];
-        memcpy(Dq, fabs(g) >= 1.0 ? D1 : D2, sizeof Dq);
+        Dq = fabs(g) >= 1.0 ? D1 : D2;
     } else {
-        double g = cubic_one_root(c1 / c0, c2 / c0, c3 / c0);
+        double ic = 1.0 / c0;
+        double g = cubic_one_root(c1 * ic, c2 * ic, c3 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = g * D1[k] + D2[k];
-        memcpy(Dq, fabs(g) >= 1.0 ? D2 : D1, sizeof Dq);
+        Dq = fabs(g) >= 1.0 ? D2 : D1;
     }
 
-    /* Eigen-decomposition of the rank-2 D0: null vector from the rows. */
+    /* Eigen-decomposition of the rank-2 D0: the null vector is the cross
+     * product of two rows (the best pair when the first is poor). */
     double r0[3] = {D0[0], D0[1], D0[2]}, r1[3] = {D0[1], D0[3], D0[4]},
            r2[3] = {D0[2], D0[4], D0[5]};
-    double n01[3], n02[3], n12[3];
-    cross3(r0, r1, n01);
-    cross3(r0, r2, n02);
-    cross3(r1, r2, n12);
-    double m01 = dot3(n01, n01), m02 = dot3(n02, n02), m12 = dot3(n12, n12);
-    double *nb = n01, mb = m01;
-    if (m02 > mb) {
-        nb = n02;
-        mb = m02;
+    double nb[3];
+    cross3(r0, r1, nb);
+    double mb = dot3(nb, nb);
+    if (!(mb > 1e-4 * dot3(r0, r0) * dot3(r1, r1))) {
+        double n02[3], n12[3];
+        cross3(r0, r2, n02);
+        cross3(r1, r2, n12);
+        double m02 = dot3(n02, n02), m12 = dot3(n12, n12);
+        if (m02 > mb) {
+            memcpy(nb, n02, sizeof nb);
+            mb = m02;
+        }
+        if (m12 > mb) {
+            memcpy(nb, n12, sizeof nb);
+            mb = m12;
+        }
+        if (!(mb > 0.0))
+            return 0;
     }
-    if (m12 > mb) {
-        nb = n12;
-        mb = m12;
-    }
-    if (!(mb > 0.0))
-        return 0;
     double tr = D0[0] + D0[3] + D0[5];
     double mi = (D0[0] * D0[3] - D0[1] * D0[1]) + (D0[0] * D0[5] - D0[2] * D0[2]) +
                 (D0[3] * D0[5] - D0[4] * D0[4]);
@@ -181,27 +189,32 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     /* e1: largest column of D0 - sig2 (I - n n^T / |n|^2) = (sig1 - sig2) e1 e1^T. */
     double e1[3], e2[3];
     {
-        double s = sig2 / mb;
-        double C[9];
-        C[0] = D0[0] - sig2 + s * nb[0] * nb[0];
-        C[4] = D0[3] - sig2 + s * nb[1] * nb[1];
-        C[8] = D0[5] - sig2 + s * nb[2] * nb[2];
-        C[1] = C[3] = D0[1] + s * nb[0] * nb[1];
-        C[2] = C[6] = D0[2] + s * nb[0] * nb[2];
-        C[5] = C[7] = D0[4] + s * nb[1] * nb[2];
-        int k = 0;
-        if (C[4] > C[0])
-            k = 1;
-        if (C[8] > C[4 * k])
-            k = 2;
-        if (!(C[4 * k] > 0.0))
+        double sn = sig2 / mb;
+        double d0 = D0[0] - sig2 + sn * nb[0] * nb[0];
+        double d1 = D0[3] - sig2 + sn * nb[1] * nb[1];
+        double d2 = D0[5] - sig2 + sn * nb[2] * nb[2];
+        if (d0 >= d1 && d0 >= d2) {
+            e1[0] = d0;
+            e1[1] = D0[1] + sn * nb[0] * nb[1];
+            e1[2] = D0[2] + sn * nb[0] * nb[2];
+        } else if (d1 >= d2) {
+            e1[0] = D0[1] + sn * nb[0] * nb[1];
+            e1[1] = d1;
+            e1[2] = D0[4] + sn * nb[1] * nb[2];
+        } else {
+            e1[0] = D0[2] + sn * nb[0] * nb[2];
+            e1[1] = D0[4] + sn * nb[1] * nb[2];
+            e1[2] = d2;
+        }
+        double m1 = dot3(e1, e1);
+        if (!(m1 > 0.0))
             return 0;
-        double inv = 1.0 / sqrt(C[k] * C[k] + C[3 + k] * C[3 + k] + C[6 + k] * C[6 + k]);
-        e1[0] = C[k] * inv;
-        e1[1] = C[3 + k] * inv;
-        e1[2] = C[6 + k] * inv;
+        double inv = 1.0 / sqrt(m1);
+        e1[0] *= inv;
+        e1[1] *= inv;
+        e1[2] *= inv;
         cross3(nb, e1, e2);
-        double ne = 1.0 / sqrt(mb * dot3(e1, e1));
+        double ne = 1.0 / sqrt(mb);
         e2[0] *= ne;
         e2[1] *= ne;
         e2[2] *= ne;
@@ -210,43 +223,38 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double asum = a12 + a13 + a23;
 
     /* Orthonormal world frame (F1, F2, F3) of the triad; the camera frame of
-     * the same triad gives R = G F^T, a proper rotation by construction. */
-    double F1[3], F2[3], F3[3];
-    {
-        double i1 = 1.0 / sqrt(a12), i3 = 1.0 / sqrt(xn2);
-        for (int k = 0; k < 3; k++) {
-            F1[k] = X12[k] * i1;
-            F3[k] = Xn[k] * i3;
-        }
-        cross3(F3, F1, F2);
-    }
+     * the same triad gives R = G F^T, a proper rotation by construction. For
+     * the exact depths |Y12| = |X12| and |Y12 x Y13| = |X12 x X13|, so the
+     * world norms serve both frames. */
+    double i1 = 1.0 / sqrt(a12), i3 = 1.0 / sqrt(xn2);
+    double F1[3] = {X12[0] * i1, X12[1] * i1, X12[2] * i1};
+    double F3[3] = {Xn[0] * i3, Xn[1] * i3, Xn[2] * i3};
+    double F2[3];
+    cross3(F3, F1, F2);
 
+    /* Full symmetric Dq for indexed access. */
+    const double Dm[9] = {Dq[0], Dq[1], Dq[2], Dq[1], Dq[3], Dq[4], Dq[2], Dq[4], Dq[5]};
     int nsol = 0;
     for (int side = 0; side < 2; side++) {
-        double u[3];
         double sg = side ? sr : -sr;
-        for (int k = 0; k < 3; k++)
-            u[k] = e1[k] + sg * e2[k];
-        /* Orthogonal basis v1, v2 of the plane u . lambda = 0. */
-        int kmin = 0;
+        double u[3] = {e1[0] + sg * e2[0], e1[1] + sg * e2[1], e1[2] + sg * e2[2]};
+        /* Plane u . lambda = 0: eliminate the component k with the largest
+         * |u_k|: lambda = al v1 + be v2, v1 = e_i - (u_i/u_k) e_k,
+         * v2 = e_j - (u_j/u_k) e_k. */
+        int k = 0;
         double au0 = fabs(u[0]), au1 = fabs(u[1]), au2 = fabs(u[2]);
-        if (au1 < au0)
-            kmin = 1;
-        if (au2 < (kmin ? au1 : au0))
-            kmin = 2;
-        double ek[3] = {0.0, 0.0, 0.0};
-        ek[kmin] = 1.0;
-        double v1[3], v2[3];
-        cross3(u, ek, v1);
-        cross3(u, v1, v2);
-        /* Quadratic form of Dq restricted to the plane. */
-        double Dv1[3] = {Dq[0] * v1[0] + Dq[1] * v1[1] + Dq[2] * v1[2],
-                         Dq[1] * v1[0] + Dq[3] * v1[1] + Dq[4] * v1[2],
-                         Dq[2] * v1[0] + Dq[4] * v1[1] + Dq[5] * v1[2]};
-        double Dv2[3] = {Dq[0] * v2[0] + Dq[1] * v2[1] + Dq[2] * v2[2],
-                         Dq[1] * v2[0] + Dq[3] * v2[1] + Dq[4] * v2[2],
-                         Dq[2] * v2[0] + Dq[4] * v2[1] + Dq[5] * v2[2]};
-        double q11 = dot3(v1, Dv1), q12 = dot3(v1, Dv2), q22 = dot3(v2, Dv2);
+        if (au1 > au0)
+            k = 1;
+        if (au2 > (k ? au1 : au0))
+            k = 2;
+        int i = k == 0 ? 1 : 0, j = k == 2 ? 1 : 2;
+        double iu = 1.0 / u[k];
+        double wa = -u[i] * iu, wb = -u[j] * iu;
+        double Dii = Dm[4 * i], Djj = Dm[4 * j], Dkk = Dm[4 * k];
+        double Dij = Dm[3 * i + j], Dik = Dm[3 * i + k], Djk = Dm[3 * j + k];
+        double q11 = Dii + wa * (2.0 * Dik + wa * Dkk);
+        double q22 = Djj + wb * (2.0 * Djk + wb * Dkk);
+        double q12 = Dij + wa * Djk + wb * Dik + wa * wb * Dkk;
         double disc = q12 * q12 - q11 * q22;
         if (disc < 0.0)
             continue;
@@ -255,8 +263,9 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
         for (int r = 0; r < 2; r++) {
             double al = ab[r][0], be = ab[r][1];
             double l[3];
-            for (int k = 0; k < 3; k++)
-                l[k] = al * v1[k] + be * v2[k];
+            l[i] = al;
+            l[j] = be;
+            l[k] = wa * al + wb * be;
             /* positive depths only (up to the common sign) */
             if (l[0] < 0.0) {
                 l[0] = -l[0];
@@ -265,11 +274,9 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             }
             if (!(l[0] > 0.0 && l[1] > 0.0 && l[2] > 0.0))
                 continue;
-            double den = 2.0 * (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) -
-                         2.0 * (b12 * l[0] * l[1] + b13 * l[0] * l[2] + b23 * l[1] * l[2]);
-            if (!(den > 0.0))
-                continue;
-            double sc = sqrt(asum / den);
+            double den = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) -
+                         (b12 * l[0] * l[1] + b13 * l[0] * l[2] + b23 * l[1] * l[2]);
+            double sc = sqrt(0.5 * asum / den);
             l[0] *= sc;
             l[1] *= sc;
             l[2] *= sc;
@@ -295,36 +302,32 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
                 l[1] -= d1;
                 l[2] -= d2;
             }
-            if (!(l[0] > 0.0 && l[1] > 0.0 && l[2] > 0.0))
+            /* also rejects NaN (den <= 0 gives NaN or Inf above) */
+            if (!(l[0] > 0.0 && l[1] > 0.0 && l[2] > 0.0 && l[0] < HUGE_VAL &&
+                  l[1] < HUGE_VAL && l[2] < HUGE_VAL))
                 continue;
-            /* Camera triad [Y12 Y13 Yn] times the inverse world triad. */
-            double Y1[3], Y12[3], Y13[3], Yn[3];
-            for (int k = 0; k < 3; k++) {
-                Y1[k] = l[0] * y[0][k];
-                Y12[k] = Y1[k] - l[1] * y[1][k];
-                Y13[k] = Y1[k] - l[2] * y[2][k];
-            }
-            cross3(Y12, Y13, Yn);
-            double R[9];
-            {
-                double G1[3], G2[3], G3[3];
-                double i1 = 1.0 / sqrt(dot3(Y12, Y12)), i3 = 1.0 / sqrt(dot3(Yn, Yn));
-                for (int k = 0; k < 3; k++) {
-                    G1[k] = Y12[k] * i1;
-                    G3[k] = Yn[k] * i3;
-                }
-                cross3(G3, G1, G2);
-                for (int rw = 0; rw < 3; rw++)
-                    for (int c = 0; c < 3; c++)
-                        R[3 * rw + c] = G1[rw] * F1[c] + G2[rw] * F2[c] + G3[rw] * F3[c];
-            }
-            double t[3];
-            for (int rw = 0; rw < 3; rw++)
-                t[rw] = Y1[rw] - (R[3 * rw] * X[0] + R[3 * rw + 1] * X[1] + R[3 * rw + 2] * X[2]);
-            if (!all_finite(R, 9) || !all_finite(t, 3))
-                continue;
-            memcpy(poses[nsol].R, R, sizeof R);
-            memcpy(poses[nsol].t, t, sizeof t);
+            double Y1[3] = {l[0] * y[0][0], l[0] * y[0][1], l[0] * y[0][2]};
+            double G1[3] = {(Y1[0] - l[1] * y[1][0]) * i1, (Y1[1] - l[1] * y[1][1]) * i1,
+                            (Y1[2] - l[1] * y[1][2]) * i1};
+            double Y13[3] = {Y1[0] - l[2] * y[2][0], Y1[1] - l[2] * y[2][1],
+                             Y1[2] - l[2] * y[2][2]};
+            double G3[3], G2[3];
+            cross3(G1, Y13, G3);
+            double s3 = i3 / i1;
+            G3[0] *= s3;
+            G3[1] *= s3;
+            G3[2] *= s3;
+            cross3(G3, G1, G2);
+            double *R = poses[nsol].R, *t = poses[nsol].t;
+#define P3P_RROW(rw)                                                           \
+    R[3 * (rw)] = G1[rw] * F1[0] + G2[rw] * F2[0] + G3[rw] * F3[0];            \
+    R[3 * (rw) + 1] = G1[rw] * F1[1] + G2[rw] * F2[1] + G3[rw] * F3[1];        \
+    R[3 * (rw) + 2] = G1[rw] * F1[2] + G2[rw] * F2[2] + G3[rw] * F3[2];        \
+    t[rw] = Y1[rw] - (R[3 * (rw)] * X[0] + R[3 * (rw) + 1] * X[1] + R[3 * (rw) + 2] * X[2]);
+            P3P_RROW(0)
+            P3P_RROW(1)
+            P3P_RROW(2)
+#undef P3P_RROW
             nsol++;
         }
     }

@@ -38,13 +38,24 @@
  * a negative discriminant is taken as zero. */
 #define NEWTON_STEPS 2
 #define QUAD_TOL 1e-10
+#ifndef QUARTIC_NEWTON
+#define QUARTIC_NEWTON 1
+#endif
+#ifndef NEWTON_SKIP
+#define NEWTON_SKIP 1e-13
+#endif
 
-static int all_finite(const double *v, int n)
+/* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
+static inline int all_finite3(const double *v)
 {
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
+    return (v[0] * 0.0 + v[1] * 0.0) + v[2] * 0.0 == 0.0;
+}
+
+static inline int all_finite9(const double *v)
+{
+    return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
+               ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
+           0.0;
 }
 
 static inline void cross3(const double a[3], const double b[3], double c[3])
@@ -95,24 +106,28 @@ static void align_to_y(const double d[3], double Q[9])
     Q[8] = w[2];
 }
 
-/* Largest real root of the monic cubic x^3 + b x^2 + c x + d. */
+/* Largest real root of the monic cubic x^3 + b x^2 + c x + d: Cardano with
+ * one cube root (u v = -p/3, u on the side without cancellation) when one
+ * root is real, else the largest of the trigonometric form; two Newton steps. */
 static double cubic_largest_root(double b, double c, double d)
 {
-    double p = c - b * b / 3.0;
-    double q = (2.0 * b * b * b - 9.0 * b * c) / 27.0 + d;
-    double disc = 0.25 * q * q + p * p * p / 27.0;
+    double b3 = b * (1.0 / 3.0);
+    double p = c - b * b3;
+    double q = (2.0 * b3 * b3 - c) * b3 + d;
+    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
     double x;
     if (disc >= 0.0) {
         double s = sqrt(disc);
-        x = cbrt(-0.5 * q + s) + cbrt(-0.5 * q - s) - b / 3.0;
+        double u = cbrt(-0.5 * q - copysign(s, q));
+        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
     } else {
-        double r = sqrt(-p / 3.0);
+        double r = sqrt(-p * (1.0 / 3.0));
         double arg = -0.5 * q / (r * r * r);
         if (arg > 1.0)
             arg = 1.0;
         if (arg < -1.0)
             arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) / 3.0) - b / 3.0; /* the largest of three */
+        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3; /* the largest of three */
     }
     for (int it = 0; it < 2; it++) {
         double f = ((x + b) * x + c) * x + d;
@@ -181,7 +196,7 @@ static int quartic_roots(double b, double c, double d, double e, double r[4])
     }
     for (int i = 0; i < n; i++) {
         double x = y[i] - 0.25 * b;
-        for (int it = 0; it < 2; it++) {
+        for (int it = 0; it < QUARTIC_NEWTON; it++) {
             double f = (((x + b) * x + c) * x + d) * x + e;
             double df = ((4.0 * x + 3.0 * b) * x + 2.0 * c) * x + d;
             if (df == 0.0)
@@ -205,7 +220,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
 {
     if (!x1 || !x2 || !d1 || !d2 || !poses)
         return SFM_E_ARGUMENT;
-    if (!all_finite(x1, 9) || !all_finite(x2, 9) || !all_finite(d1, 3) || !all_finite(d2, 3))
+    if (!(all_finite9(x1) && all_finite9(x2) && all_finite3(d1) && all_finite3(d2)))
         return SFM_E_NONFINITE;
     double n1 = dot3(d1, d1), n2 = dot3(d2, d2);
     if (!(n1 > 0.0) || !(n2 > 0.0))
@@ -220,47 +235,53 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         align_to_y(u2, Q2);
     }
 
-    /* Aligned bearings and the affine pieces of r_i = c P_i + s Q_i + W_i. */
-    double P[3][3], S[3][3], W[3][3], a1s[3][3], a2[3][3];
+    /* Aligned bearings a (frame 1), b (frame 2) and the affine pieces of
+     * r_i = Ry(theta) a_i x b_i = c P_i + s S_i + W_i. With
+     * Ry a = (c a0 + s a2, a1, c a2 - s a0):
+     *   P = (a0, 0, a2) x b = (-a2 b1, a2 b0 - a0 b2, a0 b1),
+     *   S = (a2, 0, -a0) x b = (P2, -(a0 b0 + a2 b2), -P0),
+     *   W = (0, a1, 0) x b = (a1 b2, 0, -a1 b0). */
+    double P[3][3], S1[3], W0[3], W2[3], A[3][3], B[3][3];
     double mag = 1.0;
     for (int i = 0; i < 3; i++) {
         const double *p1 = x1 + 3 * i, *p2 = x2 + 3 * i;
-        double *a1 = a1s[i];
-        for (int k = 0; k < 3; k++) {
-            a1[k] = Q1[3 * k] * p1[0] + Q1[3 * k + 1] * p1[1] + Q1[3 * k + 2] * p1[2];
-            a2[i][k] = Q2[3 * k] * p2[0] + Q2[3 * k + 1] * p2[1] + Q2[3 * k + 2] * p2[2];
-        }
-        double va[3] = {a1[0], 0.0, a1[2]}, vb[3] = {a1[2], 0.0, -a1[0]},
-               vc[3] = {0.0, a1[1], 0.0};
-        cross3(va, a2[i], P[i]);
-        cross3(vb, a2[i], S[i]);
-        cross3(vc, a2[i], W[i]);
-        mag *= dot3(a1, a1) * dot3(a2[i], a2[i]);
+        double *a = A[i], *b = B[i];
+        a[0] = Q1[0] * p1[0] + Q1[1] * p1[1] + Q1[2] * p1[2];
+        a[1] = Q1[3] * p1[0] + Q1[4] * p1[1] + Q1[5] * p1[2];
+        a[2] = Q1[6] * p1[0] + Q1[7] * p1[1] + Q1[8] * p1[2];
+        b[0] = Q2[0] * p2[0] + Q2[1] * p2[1] + Q2[2] * p2[2];
+        b[1] = Q2[3] * p2[0] + Q2[4] * p2[1] + Q2[5] * p2[2];
+        b[2] = Q2[6] * p2[0] + Q2[7] * p2[1] + Q2[8] * p2[2];
+        P[i][0] = -a[2] * b[1];
+        P[i][1] = a[2] * b[0] - a[0] * b[2];
+        P[i][2] = a[0] * b[1];
+        S1[i] = -(a[0] * b[0] + a[2] * b[2]);
+        W0[i] = a[1] * b[2];
+        W2[i] = -a[1] * b[0];
+        mag *= dot3(a, a) * dot3(b, b);
     }
+#define UP_ROW(r, c, s, i_)                                                    \
+    (r)[i_][0] = (c) * P[i_][0] + (s) * P[i_][2] + W0[i_];                     \
+    (r)[i_][1] = (c) * P[i_][1] + (s) * S1[i_];                                \
+    (r)[i_][2] = (c) * P[i_][2] - (s) * P[i_][0] + W2[i_];
+#define UP_ROWS(r, c, s)                                                       \
+    do {                                                                       \
+        UP_ROW(r, c, s, 0) UP_ROW(r, c, s, 1) UP_ROW(r, c, s, 2)               \
+    } while (0)
     /* F at 0, 90, 180, 270 and 45 degrees */
     double F[4], F45;
     {
-        double r[3][3];
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                r[i][k] = P[i][k] + W[i][k];
-        F[0] = det_rows(r[0], r[1], r[2]);
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                r[i][k] = S[i][k] + W[i][k];
-        F[1] = det_rows(r[0], r[1], r[2]);
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                r[i][k] = W[i][k] - P[i][k];
-        F[2] = det_rows(r[0], r[1], r[2]);
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                r[i][k] = W[i][k] - S[i][k];
-        F[3] = det_rows(r[0], r[1], r[2]);
         const double h = 0.70710678118654752440;
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                r[i][k] = h * (P[i][k] + S[i][k]) + W[i][k];
+        double r[3][3];
+        UP_ROWS(r, 1.0, 0.0);
+        F[0] = det_rows(r[0], r[1], r[2]);
+        UP_ROWS(r, 0.0, 1.0);
+        F[1] = det_rows(r[0], r[1], r[2]);
+        UP_ROWS(r, -1.0, 0.0);
+        F[2] = det_rows(r[0], r[1], r[2]);
+        UP_ROWS(r, 0.0, -1.0);
+        F[3] = det_rows(r[0], r[1], r[2]);
+        UP_ROWS(r, h, h);
         F45 = det_rows(r[0], r[1], r[2]);
     }
     double g0 = 0.25 * (F[0] + F[1] + F[2] + F[3]);
@@ -283,8 +304,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
     static const double C2t[4] = {1.0, -1.0, 1.0, -1.0};
     double C0 = C0t[kp], S0 = S0t[kp], C2 = C2t[kp];
     double h1 = g1 * C0 + g2 * S0, h2 = -g1 * S0 + g2 * C0, h3 = g3 * C2, h4 = g4 * C2;
-    double A4 = g0 - h1 + h3;
-    double ia = 1.0 / A4;
+    double ia = 1.0 / (g0 - h1 + h3);
     double kr[4];
     int nk = quartic_roots((2.0 * h2 - 4.0 * h4) * ia, (2.0 * g0 - 6.0 * h3) * ia,
                            (2.0 * h2 + 4.0 * h4) * ia, (g0 + h1 + h3) * ia, kr);
@@ -296,87 +316,93 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         double cp = (1.0 - k * k) * den, sp = 2.0 * k * den;
         double c = C0 * cp - S0 * sp, s = S0 * cp + C0 * sp;
         double r[3][3];
-        /* Newton steps in the angle on the determinant itself: near a root
-         * the rows are small (of the order of the parallax) and the
-         * interpolated polynomial loses digits the determinant keeps. */
+        UP_ROWS(r, c, s);
+        /* Newton steps in the angle on the determinant itself (the slope from
+         * the trigonometric polynomial): near a root the rows are small, of
+         * the order of the parallax, and the determinant keeps the digits
+         * that the interpolated polynomial loses for far points. */
         for (int itn = 0; itn < NEWTON_STEPS; itn++) {
-            double dr[3][3];
-            for (int i = 0; i < 3; i++)
-                for (int m = 0; m < 3; m++) {
-                    r[i][m] = c * P[i][m] + s * S[i][m] + W[i][m];
-                    dr[i][m] = c * S[i][m] - s * P[i][m];
-                }
             double f = det_rows(r[0], r[1], r[2]);
-            double df = det_rows(dr[0], r[1], r[2]) + det_rows(r[0], dr[1], r[2]) +
-                        det_rows(r[0], r[1], dr[2]);
-            if (df != 0.0) {
-                double dl = -f / df;
-                if (fabs(dl) < 0.1) {
-                    double cn = c - s * dl, sn = s + c * dl;
-                    double nn = 1.0 / sqrt(cn * cn + sn * sn);
-                    c = cn * nn;
-                    s = sn * nn;
-                }
+            double df = -g1 * s + g2 * c - 4.0 * g3 * s * c + 2.0 * g4 * (c * c - s * s);
+            double dl = -f / df;
+            if (!(fabs(dl) < 0.1) || fabs(dl) < NEWTON_SKIP)
+                break;
+            double cn = c - s * dl, sn = s + c * dl;
+            double nn = 1.0 / sqrt(cn * cn + sn * sn);
+            c = cn * nn;
+            s = sn * nn;
+            UP_ROWS(r, c, s);
+        }
+        /* t' is orthogonal to the three rows */
+        double tq[3];
+        cross3(r[0], r[1], tq);
+        double mt = dot3(tq, tq);
+        if (!(mt > 1e-6 * dot3(r[0], r[0]) * dot3(r[1], r[1]))) {
+            double t02[3], t12[3];
+            cross3(r[0], r[2], t02);
+            cross3(r[1], r[2], t12);
+            double m02 = dot3(t02, t02), m12 = dot3(t12, t12);
+            if (m02 > mt) {
+                memcpy(tq, t02, sizeof tq);
+                mt = m02;
             }
+            if (m12 > mt) {
+                memcpy(tq, t12, sizeof tq);
+                mt = m12;
+            }
+            if (!(mt > 0.0))
+                continue;
         }
-        for (int i = 0; i < 3; i++)
-            for (int m = 0; m < 3; m++)
-                r[i][m] = c * P[i][m] + s * S[i][m] + W[i][m];
-        double t01[3], t02[3], t12[3];
-        cross3(r[0], r[1], t01);
-        cross3(r[0], r[2], t02);
-        cross3(r[1], r[2], t12);
-        double m01 = dot3(t01, t01), m02 = dot3(t02, t02), m12 = dot3(t12, t12);
-        double *tp = t01, mt = m01;
-        if (m02 > mt) {
-            tp = t02;
-            mt = m02;
-        }
-        if (m12 > mt) {
-            tp = t12;
-            mt = m12;
-        }
-        if (!(mt > 0.0))
-            continue;
-        double it = 1.0 / sqrt(mt);
-        double tq[3] = {tp[0] * it, tp[1] * it, tp[2] * it};
-        /* Sign of t': depths of the three points in both frames. */
+        /* Sign of t' and cheirality. With v_i = Ry a_i and r_i = v_i x b_i,
+         * the depths along a_i (frame 1) and b_i (frame 2) have the signs of
+         * -(t' x b_i).r_i and -(t' x v_i).r_i. The sign of t' follows the
+         * majority of the frame-1 depths; a solution that then leaves a point
+         * behind either camera is not a physical one and is dropped. */
+        double s1[3];
         int vote = 0;
         for (int i = 0; i < 3; i++) {
-            const double *q2 = a2[i];
-            /* With v = Ry(theta) x1' and r_i = v x x2', the depths have the
-             * signs of -(t' x x2').r_i (frame 1) and -(t' x v).r_i (frame 2). */
-            double tx2[3];
-            cross3(tq, q2, tx2);
-            double l1 = -dot3(tx2, r[i]);
-            const double *a1 = a1s[i];
-            double v[3] = {c * a1[0] + s * a1[2], a1[1], -s * a1[0] + c * a1[2]};
-            double tv[3];
-            cross3(tq, v, tv);
-            double l2 = -dot3(tv, r[i]);
-            vote += (l1 > 0.0) - (l1 < 0.0) + (l2 > 0.0) - (l2 < 0.0);
+            double tb[3];
+            cross3(tq, B[i], tb);
+            s1[i] = -dot3(tb, r[i]);
+            vote += (s1[i] > 0.0) - (s1[i] < 0.0);
         }
-        if (vote < 0) {
-            tq[0] = -tq[0];
-            tq[1] = -tq[1];
-            tq[2] = -tq[2];
-        }
-        /* R = Q2^T Ry Q1, t = Q2^T t' */
-        double M[9];
-        for (int m = 0; m < 3; m++) {
-            M[m] = c * Q1[m] + s * Q1[6 + m];
-            M[3 + m] = Q1[3 + m];
-            M[6 + m] = -s * Q1[m] + c * Q1[6 + m];
-        }
-        sfm_pose out, *ps = &out;
-        for (int rw = 0; rw < 3; rw++) {
-            for (int m = 0; m < 3; m++)
-                ps->R[3 * rw + m] = Q2[rw] * M[m] + Q2[3 + rw] * M[3 + m] + Q2[6 + rw] * M[6 + m];
-            ps->t[rw] = Q2[rw] * tq[0] + Q2[3 + rw] * tq[1] + Q2[6 + rw] * tq[2];
-        }
-        if (!all_finite(ps->R, 9) || !all_finite(ps->t, 3))
+        double sg = vote < 0 ? -1.0 : 1.0;
+        if (sg * s1[0] < 0.0 || sg * s1[1] < 0.0 || sg * s1[2] < 0.0)
             continue;
-        poses[nsol++] = out;
+        int behind = 0;
+        for (int i = 0; i < 3; i++) {
+            const double *a = A[i];
+            double v[3] = {c * a[0] + s * a[2], a[1], c * a[2] - s * a[0]}, tv[3];
+            cross3(tq, v, tv);
+            behind |= sg * dot3(tv, r[i]) > 0.0;
+        }
+        if (behind)
+            continue;
+        double it = sg / sqrt(mt);
+        tq[0] *= it;
+        tq[1] *= it;
+        tq[2] *= it;
+        /* c, s and t' are finite whenever the root is: one check */
+        if ((c + s + tq[0] + tq[1] + tq[2]) * 0.0 != 0.0)
+            continue;
+        /* R = Q2^T Ry Q1 = Q2^T M, t = Q2^T t' (written out: loops here are
+         * not unrolled at -O2) */
+        double M0 = c * Q1[0] + s * Q1[6], M1 = c * Q1[1] + s * Q1[7], M2 = c * Q1[2] + s * Q1[8];
+        double M6 = c * Q1[6] - s * Q1[0], M7 = c * Q1[7] - s * Q1[1], M8 = c * Q1[8] - s * Q1[2];
+        double M3 = Q1[3], M4 = Q1[4], M5 = Q1[5];
+        double *Ro = poses[nsol].R, *to = poses[nsol].t;
+#define UP_RROW(rw)                                                            \
+    Ro[3 * (rw)] = Q2[(rw)] * M0 + Q2[3 + (rw)] * M3 + Q2[6 + (rw)] * M6;       \
+    Ro[3 * (rw) + 1] = Q2[(rw)] * M1 + Q2[3 + (rw)] * M4 + Q2[6 + (rw)] * M7;   \
+    Ro[3 * (rw) + 2] = Q2[(rw)] * M2 + Q2[3 + (rw)] * M5 + Q2[6 + (rw)] * M8;   \
+    to[(rw)] = Q2[(rw)] * tq[0] + Q2[3 + (rw)] * tq[1] + Q2[6 + (rw)] * tq[2];
+        UP_RROW(0)
+        UP_RROW(1)
+        UP_RROW(2)
+#undef UP_RROW
+        nsol++;
     }
+#undef UP_ROWS
+#undef UP_ROW
     return nsol;
 }

@@ -5,6 +5,7 @@ in C. Poses are world-to-camera, x_cam = R X + t. A negative C status raises
 SfmError carrying the code and its description.
 """
 from ._ffi import SfmError, ffi, lib  # noqa: F401
+from .features import associate_three_views, detect_and_describe, match  # noqa: F401
 
 
 def version():

@@ -39,8 +39,11 @@ def _load():
         path = next((p for p in candidates if p and os.path.exists(p)), None)
         if path is None:
             raise OSError("libsfm_capture.so not found: run `make capture` or set LIBSFM_CAPTURE_LIBRARY")
-        cdef = os.path.join(os.path.dirname(path), "sfm_capture_cdef.h")
-        if not os.path.exists(cdef):
+        cdefs = [os.environ.get("LIBSFM_CAPTURE_CDEF"),
+                 os.path.join(os.path.dirname(path), "sfm_capture_cdef.h"),
+                 os.path.join(os.path.dirname(path), "..", "share", "sfm", "sfm_capture_cdef.h")]
+        cdef = next((c for c in cdefs if c and os.path.exists(c)), None)
+        if cdef is None:
             raise OSError("sfm_capture_cdef.h not found beside %s: run `make capture`" % path)
         ffi = FFI()
         with open(cdef) as f:

@@ -13,37 +13,56 @@ BEHIND = lib.SFM_TRI_BEHIND
 INFINITY = lib.SFM_TRI_INFINITY
 
 
-def _poses_to_list(poses, n):
-    out = []
-    for k in range(n):
-        R = np.array(list(poses[k].R), dtype=np.float64).reshape(3, 3)
-        t = np.array(list(poses[k].t), dtype=np.float64)
-        out.append((R, t))
-    return out
+def _in(a, shape, name):
+    """as_array with a fast path for arrays that already fit (the solvers
+    are called per RANSAC sample, where conversion would dominate)."""
+    if (type(a) is np.ndarray and a.dtype == np.float64 and a.shape == shape
+            and a.flags.c_contiguous):
+        return a
+    return as_array(a, shape, name)
+
+
+def _dp(arr):
+    return ffi.from_buffer("double[]", arr)
+
+
+def _pose_buffer(k):
+    """A (k, 12) float64 array laid out as sfm_pose[k], and its pointer."""
+    buf = np.empty((k, 12), dtype=np.float64)
+    return buf, ffi.cast("sfm_pose *", ffi.from_buffer(buf))
+
+
+def _poses_to_list(buf, n):
+    """(R, t) pairs (views into a fresh buffer) from the first n poses."""
+    return [(buf[k, :9].reshape(3, 3), buf[k, 9:]) for k in range(n)]
 
 
 def p3p(x, X):
     """Absolute pose from 3 bearings x (3,3) and world points X (3,3).
 
     Returns a list of up to 4 (R (3,3), t (3,)) with x_cam = R X + t."""
-    x = as_array(x, (3, 3), "x")
-    X = as_array(X, (3, 3), "X")
-    poses = ffi.new("sfm_pose[4]")
-    n = check(lib.sfm_p3p(dptr(x), dptr(X), poses), "sfm_p3p")
-    return _poses_to_list(poses, n)
+    x = _in(x, (3, 3), "x")
+    X = _in(X, (3, 3), "X")
+    buf, poses = _pose_buffer(4)
+    n = lib.sfm_p3p(_dp(x), _dp(X), poses)
+    if n < 0:
+        check(n, "sfm_p3p")
+    return _poses_to_list(buf, n)
 
 
 def relpose_upright_3pt(x1, x2, d1, d2):
     """Relative pose from 3 bearing pairs (3,3) and a direction d1 (frame 1),
-    d2 = R d1 (frame 2). Returns up to 4 (R, t), x2 ~ R x1 + t, |t| = 1."""
-    x1 = as_array(x1, (3, 3), "x1")
-    x2 = as_array(x2, (3, 3), "x2")
-    d1 = as_array(d1, (3,), "d1")
-    d2 = as_array(d2, (3,), "d2")
-    poses = ffi.new("sfm_pose[4]")
-    n = check(lib.sfm_relpose_upright_3pt(dptr(x1), dptr(x2), dptr(d1), dptr(d2), poses),
-              "sfm_relpose_upright_3pt")
-    return _poses_to_list(poses, n)
+    d2 = R d1 (frame 2). Returns up to 4 (R, t), x2 ~ R x1 + t, |t| = 1;
+    solutions leaving a point behind a camera are not returned."""
+    x1 = _in(x1, (3, 3), "x1")
+    x2 = _in(x2, (3, 3), "x2")
+    d1 = _in(d1, (3,), "d1")
+    d2 = _in(d2, (3,), "d2")
+    buf, poses = _pose_buffer(4)
+    n = lib.sfm_relpose_upright_3pt(_dp(x1), _dp(x2), _dp(d1), _dp(d2), poses)
+    if n < 0:
+        check(n, "sfm_relpose_upright_3pt")
+    return _poses_to_list(buf, n)
 
 
 def essential_to_poses(E, x1=None, x2=None):
@@ -55,7 +74,7 @@ def essential_to_poses(E, x1=None, x2=None):
     E = as_array(E, (3, 3), "E")
     if (x1 is None) != (x2 is None):
         raise ValueError("give both x1 and x2, or neither")
-    poses = ffi.new("sfm_pose[4]")
+    buf, poses = _pose_buffer(4)
     counts = np.zeros(4, dtype=np.int32)
     if x1 is None:
         n = check(lib.sfm_essential_to_poses(dptr(E), ffi.NULL, ffi.NULL, 0, poses, iptr(counts)),
@@ -65,7 +84,7 @@ def essential_to_poses(E, x1=None, x2=None):
         x2 = as_array(x2, (x1.shape[0], 3), "x2")
         n = check(lib.sfm_essential_to_poses(dptr(E), dptr(x1), dptr(x2), x1.shape[0], poses,
                                              iptr(counts)), "sfm_essential_to_poses")
-    return _poses_to_list(poses, n), counts
+    return _poses_to_list(buf, n), counts
 
 
 def triangulate(P_list, x_list, method="dlt"):

@@ -398,6 +398,7 @@ static void stream_format(sfm_test_ctx *t, uint32_t fourcc, int fmt, int pad)
     SFM_CHECK_EQ_INT(info.width, 64);
     SFM_CHECK_EQ_INT(info.height, 48);
     SFM_CHECK_EQ_INT(info.buffers, 3);
+    SFM_CHECK_EQ_INT(info.adjusted, 0);
     SFM_CHECK_EQ_INT(info.fourcc, fourcc);
     SFM_CHECK_EQ_INT(info.fps_num, 30);
     SFM_CHECK_EQ_INT(info.fps_den, 1);
@@ -523,6 +524,7 @@ SFM_TEST(v4l2_auto_format_and_driver_adjustments_are_reported)
     SFM_CHECK_EQ_INT(info.height, 60);
     SFM_CHECK_EQ_INT(info.source_stride, 160);
     SFM_CHECK_EQ_INT(info.buffers, 4); /* the default */
+    SFM_CHECK_EQ_INT(info.adjusted, 1);
     sfm_frame f;
     SFM_CHECK_EQ_INT(sfm_capture_acquire(c, 100, &f), 1);
     SFM_CHECK_EQ_INT(f.width, 80);

@@ -79,6 +79,7 @@ def test_relpose_upright_matches_poselib_y_up_and_rotated():
     rng = np.random.default_rng(2)
     n = 2000
     rates_y, rates_g = [], []
+    found = found_pl = 0
     ey = np.array([0.0, 1.0, 0.0])
     for _ in range(n):
         R = rot_y(rng.uniform(-np.pi, np.pi))
@@ -90,15 +91,23 @@ def test_relpose_upright_matches_poselib_y_up_and_rotated():
         x2n = perturb_bearings(x2, rng, 1e-3)
         theirs = [(p.R, p.t) for p in poselib.relpose_upright_3pt(x1n, x2n)]
         ours = libsfm.relpose_upright_3pt(x1n, x2n, ey, ey)
-        rates_y.append(match(theirs, ours, 1e-6, t_up_to_sign=True))
+        # libsfm drops solutions that put a point behind a camera; each one
+        # it keeps is one of PoseLib's.
+        rates_y.append(match(ours, theirs, 1e-6, t_up_to_sign=True))
         # The same problem seen through arbitrary frame rotations A, B: the
         # known direction is then a general vector in each frame.
         A, B = rand_rot(rng), rand_rot(rng)
         ours_g = libsfm.relpose_upright_3pt(x1n @ A.T, x2n @ B.T, A @ ey, B @ ey)
         back = [(B.T @ Rg @ A, B.T @ tg) for Rg, tg in ours_g]
-        rates_g.append(match(theirs, back, 1e-6, t_up_to_sign=True))
+        rates_g.append(match(back, theirs, 1e-6, t_up_to_sign=True))
+        # and the noise-free truth-like solution PoseLib finds, libsfm finds
+        near_pl = [(Rt, tt) for Rt, tt in theirs if np.abs(Rt - R).max() < 1e-2]
+        if near_pl:
+            found_pl += 1
+            found += match(near_pl, ours, 1e-6, t_up_to_sign=True) == 1.0
     assert np.mean(rates_y) > 0.995
     assert np.mean(rates_g) > 0.995
+    assert found >= 0.99 * found_pl
 
 
 def test_relpose_upright_noise_free_truth():

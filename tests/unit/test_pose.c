@@ -380,7 +380,7 @@ SFM_TEST(upright_3pt_recovers_truth)
 SFM_TEST(upright_3pt_solutions_are_consistent)
 {
     /* Every solution: R proper rotation, R d1 = d2, |t| = 1, epipolar
-     * constraints hold on the three pairs. */
+     * constraints hold on the three pairs, the points lie in front. */
     const int iters = SFM_TEST_ITERS(2000);
     int bad = 0;
     for (int it = 0; it < iters; it++) {
@@ -409,6 +409,18 @@ SFM_TEST(upright_3pt_solutions_are_consistent)
                 w[2] = p->t[0] * v[1] - p->t[1] * v[0];
                 double e = x2[3 * i] * w[0] + x2[3 * i + 1] * w[1] + x2[3 * i + 2] * w[2];
                 if (fabs(e) > 1e-9)
+                    bad++;
+                /* in front of both cameras: l2 x2 = l1 R x1 + t with l1, l2 >= 0,
+                 * from the 2x2 normal equations of [R x1, -x2] l = -t */
+                double a11 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+                double a12 = -(v[0] * x2[3 * i] + v[1] * x2[3 * i + 1] + v[2] * x2[3 * i + 2]);
+                double a22 = x2[3 * i] * x2[3 * i] + x2[3 * i + 1] * x2[3 * i + 1] +
+                             x2[3 * i + 2] * x2[3 * i + 2];
+                double r1 = -(v[0] * p->t[0] + v[1] * p->t[1] + v[2] * p->t[2]);
+                double r2 = x2[3 * i] * p->t[0] + x2[3 * i + 1] * p->t[1] + x2[3 * i + 2] * p->t[2];
+                double dd = a11 * a22 - a12 * a12;
+                double l1 = (r1 * a22 - a12 * r2) / dd, l2 = (a11 * r2 - a12 * r1) / dd;
+                if (l1 < -1e-9 || l2 < -1e-9)
                     bad++;
             }
         }

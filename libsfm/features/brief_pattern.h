@@ -1,0 +1,11 @@
+/* Internal: the BRIEF sampling pattern (generated, see tools/gen_brief_pattern.py). */
+#ifndef SFM_FEATURES_BRIEF_PATTERN_H
+#define SFM_FEATURES_BRIEF_PATTERN_H
+
+#define SFM_BRIEF_PAIRS 256
+/* Every point of the pattern lies within this radius of the patch centre. */
+#define SFM_BRIEF_RADIUS 15
+
+extern const signed char sfm_brief_pattern[SFM_BRIEF_PAIRS][4];
+
+#endif

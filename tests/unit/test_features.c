@@ -1,0 +1,479 @@
+/*
+ * Features: detector, descriptor, matcher and three-view association on
+ * synthetic images built here with known geometry (160x120, static buffers).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "features/brief_pattern.h"
+#include "sfm/sfm.h"
+#include "sfm_test.h"
+
+#define W 160
+#define H 120
+#define MAXF 300
+#define WS_BYTES (256 * 1024)
+
+static uint8_t img_a[W * H], img_b[W * H];
+static unsigned char ws_buf[WS_BYTES + 64];
+static sfm_keypoint kp_a[MAXF], kp_b[MAXF];
+static uint8_t desc_a[MAXF * 32], desc_b[MAXF * 32];
+static int pairs[2 * MAXF], pairs_ref[2 * MAXF], dists[MAXF];
+
+/* Length of [a0, a1] inside [b0, b1]. */
+static double overlap(double a0, double a1, double b0, double b1)
+{
+    double lo = a0 > b0 ? a0 : b0, hi = a1 < b1 ? a1 : b1;
+    return hi > lo ? hi - lo : 0.0;
+}
+
+/* Axis-aligned bright squares on a dark ground, exact area coverage per
+ * pixel (pixel (i, j) covers [i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]). */
+static void render_squares(uint8_t *img, const double (*sq)[3], int n)
+{
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double cover = 0.0;
+            for (int k = 0; k < n; k++)
+                cover += overlap(x - 0.5, x + 0.5, sq[k][0], sq[k][0] + sq[k][2]) *
+                         overlap(y - 0.5, y + 0.5, sq[k][1], sq[k][1] + sq[k][2]);
+            img[y * W + x] = (uint8_t)floor(50.0 + 150.0 * cover + 0.5);
+        }
+}
+
+static int detect(const uint8_t *img, int w, int h, const sfm_features_params *p, sfm_keypoint *kp,
+                  uint8_t *desc)
+{
+    sfm_image_u8 im = {img, w, h, w};
+    size_t need = sfm_features_workspace_size(p, w, h);
+    if (need == 0 || need > WS_BYTES)
+        return -100;
+    return sfm_features_detect(&im, p, ws_buf, need, kp, desc, MAXF);
+}
+
+SFM_TEST(features_corners_subpixel)
+{
+    /* 3 x 2 squares of side 18.x at random sub-pixel positions: 24 L-corners */
+    double sq[6][3];
+    for (int k = 0; k < 6; k++) {
+        sq[k][0] = 28.0 + 40.0 * (k % 3) + sfm_test_uniform(t, 0.0, 1.0);
+        sq[k][1] = 28.0 + 40.0 * (k / 3) + sfm_test_uniform(t, 0.0, 1.0);
+        sq[k][2] = 18.0 + sfm_test_uniform(t, 0.0, 1.0);
+    }
+    render_squares(img_a, (const double(*)[3])sq, 6);
+    sfm_features_params p;
+    SFM_CHECK_EQ_INT(sfm_features_default_params(&p), SFM_OK);
+    p.n_levels = 1;
+    p.max_features = 100;
+    int n = detect(img_a, W, H, &p, kp_a, desc_a);
+    SFM_CHECK(n >= 24);
+    double worst = 0.0, sum = 0.0;
+    for (int k = 0; k < 6; k++)
+        for (int c = 0; c < 4; c++) {
+            double cx = sq[k][0] + ((c & 1) ? sq[k][2] : 0.0), cy = sq[k][1] + ((c & 2) ? sq[k][2] : 0.0);
+            double best = 1e9;
+            for (int i = 0; i < n; i++) {
+                double d = hypot(kp_a[i].x - cx, kp_a[i].y - cy);
+                best = d < best ? d : best;
+            }
+            worst = best > worst ? best : worst;
+            sum += best;
+        }
+    SFM_TEST_LOG("corner error: mean %.3f px, worst %.3f px", sum / 24.0, worst);
+    SFM_CHECK(worst < 0.3);
+    SFM_CHECK(sum / 24.0 < 0.2);
+    for (int i = 0; i < n; i++) {
+        SFM_CHECK_EQ_INT(kp_a[i].level, 0);
+        SFM_CHECK_NEAR(kp_a[i].scale, 1.0, 0.0);
+    }
+}
+
+/* Texture: random rotated rectangles with random gray levels, evaluated
+ * analytically in world coordinates with 4x4 supersampling; the second image
+ * sees the world through a known rotation + translation. */
+#define NRECT 70
+typedef struct rect {
+    double cx, cy, c, s, hw, hh, v;
+} rect;
+
+static double world(const rect *r, double X, double Y)
+{
+    double v = 128.0;
+    for (int k = 0; k < NRECT; k++) {
+        double dx = X - r[k].cx, dy = Y - r[k].cy;
+        double u = r[k].c * dx + r[k].s * dy, w = -r[k].s * dx + r[k].c * dy;
+        if (fabs(u) <= r[k].hw && fabs(w) <= r[k].hh)
+            v = r[k].v;
+    }
+    return v;
+}
+
+/* image point x maps to world X = A x + b, A a rotation by th about the centre */
+static void render_world(uint8_t *img, const rect *r, double th, double tx, double ty)
+{
+    const double c = cos(th), s = sin(th), x0 = 0.5 * (W - 1), y0 = 0.5 * (H - 1);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double acc = 0.0;
+            for (int j = 0; j < 4; j++)
+                for (int i = 0; i < 4; i++) {
+                    double px = x - 0.375 + 0.25 * i - x0, py = y - 0.375 + 0.25 * j - y0;
+                    double X = c * px - s * py + x0 + tx, Y = s * px + c * py + y0 + ty;
+                    acc += world(r, X, Y);
+                }
+            img[y * W + x] = (uint8_t)floor(acc / 16.0 + 0.5);
+        }
+}
+
+SFM_TEST(features_descriptors_follow_known_rotation)
+{
+    static rect r[NRECT];
+    for (int k = 0; k < NRECT; k++) {
+        double a = sfm_test_uniform(t, 0.0, 3.14159265358979);
+        r[k].cx = sfm_test_uniform(t, -20.0, W + 20.0);
+        r[k].cy = sfm_test_uniform(t, -20.0, H + 20.0);
+        r[k].c = cos(a);
+        r[k].s = sin(a);
+        r[k].hw = sfm_test_uniform(t, 3.0, 14.0);
+        r[k].hh = sfm_test_uniform(t, 3.0, 14.0);
+        r[k].v = sfm_test_uniform(t, 20.0, 235.0);
+    }
+    const double th = 0.5, tx = 4.3, ty = -2.7;
+    render_world(img_a, r, 0.0, 0.0, 0.0);
+    render_world(img_b, r, th, tx, ty);
+    sfm_features_params p;
+    sfm_features_default_params(&p);
+    p.max_features = 250;
+    p.n_levels = 3;
+    p.cell_size = 32;
+    int na = detect(img_a, W, H, &p, kp_a, desc_a), nb = detect(img_b, W, H, &p, kp_b, desc_b);
+    SFM_CHECK(na > 60 && nb > 60);
+    sfm_match_params mp;
+    sfm_features_default_match_params(&mp);
+    size_t need = sfm_features_match_workspace_size(na, nb);
+    SFM_CHECK(need <= WS_BYTES);
+    int m = sfm_features_match(desc_a, na, desc_b, nb, &mp, ws_buf, need, pairs, dists, MAXF);
+    SFM_CHECK(m > 0);
+    /* a point x_b of image b shows world A x_b + b = x_a (world = image a) */
+    const double c = cos(th), s = sin(th), x0 = 0.5 * (W - 1), y0 = 0.5 * (H - 1);
+    int good = 0;
+    double angle_err = 0.0;
+    for (int k = 0; k < m; k++) {
+        const sfm_keypoint *a = &kp_a[pairs[2 * k]], *b = &kp_b[pairs[2 * k + 1]];
+        double px = b->x - x0, py = b->y - y0;
+        double X = c * px - s * py + x0 + tx, Y = s * px + c * py + y0 + ty;
+        if (hypot(X - a->x, Y - a->y) <= 2.0) {
+            good++;
+            /* the world rotated by -th in image b: orientation decreases by th */
+            double d = (b->angle + th) - a->angle;
+            d = atan2(sin(d), cos(d));
+            angle_err += fabs(d);
+        }
+    }
+    SFM_TEST_LOG("%d features / %d features, %d matches, %d where the warp says (%.0f%%), mean angle error %.1f deg",
+                 na, nb, m, good, 100.0 * good / m, good ? angle_err / good * 57.2958 : 0.0);
+    SFM_CHECK(good >= 30);
+    SFM_CHECK(good >= 0.85 * m);
+    SFM_CHECK(good > 0 && angle_err / good < 0.12);
+}
+
+static int popcount_ref(const uint8_t *a, const uint8_t *b)
+{
+    int n = 0;
+    for (int i = 0; i < 32; i++)
+        for (int k = 0; k < 8; k++)
+            n += ((a[i] ^ b[i]) >> k) & 1;
+    return n;
+}
+
+/* Straightforward reference: nearest, second nearest, mutual. */
+static int match_ref(const uint8_t *d1, int n1, const uint8_t *d2, int n2, double ratio, int mutual, int maxd,
+                     int *out)
+{
+    int n = 0;
+    for (int i = 0; i < n1; i++) {
+        int b1 = 1000, b2 = 1000, bj = -1;
+        for (int j = 0; j < n2; j++) {
+            int d = popcount_ref(d1 + 32 * i, d2 + 32 * j);
+            if (d < b1) {
+                b2 = b1;
+                b1 = d;
+                bj = j;
+            } else if (d < b2) {
+                b2 = d;
+            }
+        }
+        if (bj < 0 || b1 > maxd)
+            continue;
+        if (ratio < 1.0 && b2 < 1000 && !(b1 < ratio * b2))
+            continue;
+        if (mutual) {
+            int best_i = -1, bd = 1000;
+            for (int k = 0; k < n1; k++) {
+                int d = popcount_ref(d1 + 32 * k, d2 + 32 * bj);
+                if (d < bd) {
+                    bd = d;
+                    best_i = k;
+                }
+            }
+            if (best_i != i)
+                continue;
+        }
+        out[2 * n] = i;
+        out[2 * n + 1] = bj;
+        n++;
+    }
+    return n;
+}
+
+SFM_TEST(features_matcher_equals_bruteforce_reference)
+{
+    const int iters = SFM_TEST_ITERS(20);
+    for (int it = 0; it < iters; it++) {
+        const int n1 = 1 + (int)(sfm_rng_next(&t->rng) % 90), n2 = 1 + (int)(sfm_rng_next(&t->rng) % 90);
+        for (int i = 0; i < 32 * n2; i++)
+            desc_b[i] = (uint8_t)sfm_rng_next(&t->rng);
+        for (int i = 0; i < n1; i++) {
+            /* half are noisy copies of a train descriptor (some bits flipped) */
+            if ((sfm_rng_next(&t->rng) & 1) != 0) {
+                int j = (int)(sfm_rng_next(&t->rng) % (uint64_t)n2);
+                memcpy(desc_a + 32 * i, desc_b + 32 * j, 32);
+                int flips = (int)(sfm_rng_next(&t->rng) % 60);
+                for (int f = 0; f < flips; f++) {
+                    int bit = (int)(sfm_rng_next(&t->rng) % 256);
+                    desc_a[32 * i + bit / 8] ^= (uint8_t)(1u << (bit % 8));
+                }
+            } else {
+                for (int k = 0; k < 32; k++)
+                    desc_a[32 * i + k] = (uint8_t)sfm_rng_next(&t->rng);
+            }
+        }
+        for (int i = 0; i < n1; i++)
+            SFM_CHECK_EQ_INT(sfm_features_hamming(desc_a + 32 * i, desc_b), popcount_ref(desc_a + 32 * i, desc_b));
+        const double ratios[3] = {0.7, 0.8, 1.0};
+        for (int r = 0; r < 3; r++)
+            for (int mutual = 0; mutual <= 1; mutual++) {
+                sfm_match_params mp = {ratios[r], mutual, it % 2 ? 256 : 100};
+                int m = sfm_features_match(desc_a, n1, desc_b, n2, &mp, ws_buf, WS_BYTES, pairs, dists, MAXF);
+                int mr = match_ref(desc_a, n1, desc_b, n2, ratios[r], mutual, mp.max_distance, pairs_ref);
+                SFM_CHECK_EQ_INT(m, mr);
+                if (m == mr && m >= 0) {
+                    SFM_CHECK(memcmp(pairs, pairs_ref, sizeof(int) * 2 * (size_t)m) == 0);
+                    for (int k = 0; k < m; k++)
+                        SFM_CHECK_EQ_INT(dists[k], popcount_ref(desc_a + 32 * pairs[2 * k], desc_b + 32 * pairs[2 * k + 1]));
+                }
+            }
+    }
+}
+
+SFM_TEST(features_cyclic_association_on_known_permutation)
+{
+    enum { N = 40 };
+    int p12[N], p23[N], m12[2 * N], m23[2 * N], m31[2 * N], out[3 * N];
+    for (int i = 0; i < N; i++)
+        p12[i] = p23[i] = i;
+    for (int i = N - 1; i > 0; i--) { /* Fisher-Yates */
+        int j = (int)sfm_rng_bounded(&t->rng, (uint32_t)(i + 1)), k = (int)sfm_rng_bounded(&t->rng, (uint32_t)(i + 1));
+        int a = p12[i]; p12[i] = p12[j]; p12[j] = a;
+        a = p23[i]; p23[i] = p23[k]; p23[k] = a;
+    }
+    /* m12: i -> p12[i]; m23: j -> p23[j]; m31 closes the cycle except for
+     * view-1 features i % 5 == 0 (sent to the wrong view-1 feature) and
+     * i % 7 == 0 (missing from m12). */
+    int n12 = 0, n31 = 0;
+    for (int i = 0; i < N; i++) {
+        if (i % 7 != 0) {
+            m12[2 * n12] = i;
+            m12[2 * n12 + 1] = p12[i];
+            n12++;
+        }
+        m23[2 * i] = i;
+        m23[2 * i + 1] = p23[i];
+    }
+    for (int i = 0; i < N; i++) {
+        int k = p23[p12[i]];
+        m31[2 * n31] = k;
+        m31[2 * n31 + 1] = i % 5 == 0 ? (i + 1) % N : i;
+        n31++;
+    }
+    size_t need = sfm_features_associate_workspace_size(N, N, N);
+    int n = sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N);
+    int expect = 0;
+    for (int i = 0; i < N; i++)
+        if (i % 5 != 0 && i % 7 != 0) {
+            SFM_CHECK(expect < n);
+            if (expect < n) {
+                SFM_CHECK_EQ_INT(out[3 * expect], i);
+                SFM_CHECK_EQ_INT(out[3 * expect + 1], p12[i]);
+                SFM_CHECK_EQ_INT(out[3 * expect + 2], p23[p12[i]]);
+            }
+            expect++;
+        }
+    SFM_CHECK_EQ_INT(n, expect);
+    /* a repeated source index is a broken contract: nothing written */
+    m23[2 * 1] = m23[2 * 0];
+    sfm_test_fill_canary(out, sizeof out);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+                     SFM_E_ARGUMENT);
+    SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
+    m23[2 * 1] = 1;
+    m23[2 * 1 + 1] = N; /* out of range */
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+                     SFM_E_ARGUMENT);
+    m23[2 * 1 + 1] = p23[1];
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need - 1, out, N),
+                     SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, n12 - 1),
+                     SFM_E_CAPACITY);
+    SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+                     SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, 0, m23, N, m31, n31, N, N, N, ws_buf, need, out, N), 0);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, NULL, need, out, N),
+                     SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, -1, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+                     SFM_E_ARGUMENT);
+}
+
+SFM_TEST(features_detect_contract)
+{
+    for (int i = 0; i < W * H; i++)
+        img_a[i] = (uint8_t)((i * 2654435761u) >> 24); /* noise: plenty of corners */
+    sfm_features_params p;
+    SFM_CHECK_EQ_INT(sfm_features_default_params(NULL), SFM_E_ARGUMENT);
+    sfm_features_default_params(&p);
+    p.max_features = 200;
+    sfm_image_u8 im = {img_a, W, H, W};
+    const size_t need = sfm_features_workspace_size(&p, W, H);
+    SFM_CHECK(need > 0 && need <= WS_BYTES);
+    sfm_test_fill_canary(kp_a, sizeof kp_a);
+    sfm_test_fill_canary(desc_a, sizeof desc_a);
+    SFM_CHECK_EQ_INT(sfm_features_detect(NULL, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, NULL, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, NULL, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, NULL, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, kp_a, NULL, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need - 1, kp_a, desc_a, MAXF), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, kp_a, desc_a, p.max_features - 1), SFM_E_CAPACITY);
+    sfm_image_u8 bad = im;
+    bad.stride = W - 1;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    bad = im;
+    bad.data = NULL;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    bad = im;
+    bad.width = 0;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    sfm_features_params q = p;
+    q.scale_factor = NAN;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_workspace_size(&q, W, H), 0);
+    q = p;
+    q.n_levels = SFM_FEATURES_MAX_LEVELS + 1;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    q = p;
+    q.max_features = 0;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    q = p;
+    q.fast_threshold = 0;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK(sfm_test_canary_intact(kp_a, sizeof kp_a));
+    SFM_CHECK(sfm_test_canary_intact(desc_a, sizeof desc_a));
+
+    /* exact size works at every alignment; same input, same bytes out */
+    int n0 = -1;
+    for (int off = 0; off < 16; off += 5) {
+        int n = sfm_features_detect(&im, &p, ws_buf + off, need, kp_a, desc_a, MAXF);
+        SFM_CHECK(n > 0 && n <= p.max_features);
+        if (off == 0) {
+            n0 = n;
+            memcpy(kp_b, kp_a, sizeof(sfm_keypoint) * (size_t)n);
+            memcpy(desc_b, desc_a, 32 * (size_t)n);
+        } else {
+            SFM_CHECK_EQ_INT(n, n0);
+            SFM_CHECK(n == n0 && memcmp(kp_b, kp_a, sizeof(sfm_keypoint) * (size_t)n) == 0);
+            SFM_CHECK(n == n0 && memcmp(desc_b, desc_a, 32 * (size_t)n) == 0);
+        }
+    }
+    /* every keypoint stays inside the image, away from the border */
+    for (int i = 0; i < n0; i++) {
+        SFM_CHECK(kp_a[i].x >= SFM_FEATURES_BORDER - 3.5 && kp_a[i].x <= W - SFM_FEATURES_BORDER + 2.5);
+        SFM_CHECK(kp_a[i].y >= SFM_FEATURES_BORDER - 3.5 && kp_a[i].y <= H - SFM_FEATURES_BORDER + 2.5);
+        SFM_CHECK(kp_a[i].level >= 0 && kp_a[i].level < p.n_levels && kp_a[i].reserved == 0);
+    }
+    /* the budget is a hard cap */
+    q = p;
+    q.max_features = 7;
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, WS_BYTES, kp_a, desc_a, 7), 7);
+
+    /* tiny images: valid, no room for a feature */
+    const int sides[4][2] = {{1, 1}, {32, 32}, {W, 20}, {20, H}};
+    for (int k = 0; k < 4; k++) {
+        sfm_image_u8 tiny = {img_a, sides[k][0], sides[k][1], W};
+        size_t tn = sfm_features_workspace_size(&p, sides[k][0], sides[k][1]);
+        SFM_CHECK(tn > 0);
+        SFM_CHECK_EQ_INT(sfm_features_detect(&tiny, &p, ws_buf, tn, kp_a, desc_a, MAXF), 0);
+    }
+    /* the smallest image that holds a feature */
+    sfm_image_u8 small = {img_a, 2 * SFM_FEATURES_BORDER + 1, 2 * SFM_FEATURES_BORDER + 1, W};
+    size_t sn = sfm_features_workspace_size(&p, small.width, small.height);
+    SFM_CHECK(sfm_features_detect(&small, &p, ws_buf, sn, kp_a, desc_a, MAXF) >= 0);
+}
+
+SFM_TEST(features_match_contract)
+{
+    for (int i = 0; i < 32 * 10; i++) {
+        desc_a[i] = (uint8_t)sfm_rng_next(&t->rng);
+        desc_b[i] = (uint8_t)sfm_rng_next(&t->rng);
+    }
+    sfm_match_params mp;
+    SFM_CHECK_EQ_INT(sfm_features_default_match_params(NULL), SFM_E_ARGUMENT);
+    sfm_features_default_match_params(&mp);
+    const size_t need = sfm_features_match_workspace_size(10, 10);
+    SFM_CHECK(need > 0);
+    sfm_test_fill_canary(pairs, sizeof pairs);
+    sfm_test_fill_canary(dists, sizeof dists);
+    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 10, desc_b, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, NULL, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, NULL, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need, NULL, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, -1, desc_b, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need - 1, pairs, dists, 10), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need, pairs, dists, 9), SFM_E_CAPACITY);
+    sfm_match_params bad = mp;
+    bad.ratio = NAN;
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    bad = mp;
+    bad.ratio = 0.0;
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    bad = mp;
+    bad.max_distance = 257;
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK(sfm_test_canary_intact(pairs, sizeof pairs));
+    SFM_CHECK(sfm_test_canary_intact(dists, sizeof dists));
+    /* empty sets are valid; distances may be NULL */
+    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 0, desc_b, 10, &mp, ws_buf, WS_BYTES, pairs, NULL, 0), 0);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 0, &mp, ws_buf, WS_BYTES, pairs, NULL, 10), 0);
+    /* one train descriptor: no second neighbour, the ratio test passes */
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 1, desc_a, 1, &mp, ws_buf, WS_BYTES, pairs, dists, 1), 1);
+    SFM_CHECK_EQ_INT(dists[0], 0);
+    SFM_CHECK_EQ_INT(sfm_features_hamming(NULL, desc_a), SFM_E_ARGUMENT);
+}
+
+SFM_TEST(features_brief_pattern_fits_patch)
+{
+    /* any rotation of the pattern stays inside the disc the border protects */
+    int distinct = 1;
+    for (int i = 0; i < SFM_BRIEF_PAIRS; i++) {
+        const signed char *q = sfm_brief_pattern[i];
+        SFM_CHECK(q[0] * q[0] + q[1] * q[1] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
+        SFM_CHECK(q[2] * q[2] + q[3] * q[3] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
+        SFM_CHECK(q[0] != q[2] || q[1] != q[3]);
+        for (int j = 0; j < i; j++)
+            if (memcmp(q, sfm_brief_pattern[j], 4) == 0)
+                distinct = 0;
+    }
+    SFM_CHECK(distinct);
+    SFM_CHECK(SFM_BRIEF_RADIUS + 1 <= SFM_FEATURES_BORDER);
+}
