@@ -8,6 +8,7 @@
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_camera.h"
+#include "sfm/sfm_solvers.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
 #include "sfm/sfm_triangulate.h"

@@ -11,6 +11,8 @@ from .features import associate_three_views, detect_and_describe, match  # noqa:
 def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
+from .solvers import (essential_8pt, fundamental_7pt, fundamental_8pt, homography_4pt,  # noqa: F401,E402
+                      homography_dlt, relpose_5pt)
 from . import frames  # noqa: F401,E402
 from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
 from .trifocal import *  # noqa: F401,F403

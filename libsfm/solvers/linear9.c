@@ -1,0 +1,121 @@
+/*
+ * Null vectors of systems in 9 unknowns: Householder QR of A^T for exact
+ * minimal samples, streaming Givens QR plus a 9x9 SVD for least squares.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_linalg.h"
+#include "solvers/linear9.h"
+
+int sfm__null9_exact(double *A, int m, double *N)
+{
+    /* Column j of A^T is row j of A: A[j*9 + i] = (A^T)(i, j). Reflector k
+     * (v_k in row k of A from entry k on, beta_k) zeroes entries k+1..8 of
+     * column k. */
+    double beta[8];
+    double dmax = 0.0, dmin = INFINITY;
+    for (int k = 0; k < m; k++) {
+        double *a = A + 9 * k;
+        double s = 0.0;
+        for (int i = k; i < 9; i++)
+            s += a[i] * a[i];
+        double nrm = sqrt(s);
+        double alpha = a[k] >= 0.0 ? -nrm : nrm;
+        double d = fabs(alpha);
+        if (d > dmax)
+            dmax = d;
+        if (d < dmin)
+            dmin = d;
+        if (nrm == 0.0) {
+            beta[k] = 0.0;
+            continue;
+        }
+        /* v = a(k:) - alpha e_k, beta = 2 / v^T v; v^T v = 2 nrm (nrm + |a_k|). */
+        a[k] -= alpha;
+        beta[k] = 1.0 / (nrm * (nrm + fabs(a[k] + alpha)));
+        for (int j = k + 1; j < m; j++) {
+            double *b = A + 9 * j;
+            double dot = 0.0;
+            for (int i = k; i < 9; i++)
+                dot += a[i] * b[i];
+            dot *= beta[k];
+            for (int i = k; i < 9; i++)
+                b[i] -= dot * a[i];
+        }
+    }
+    if (!(dmin > 1e-12 * dmax))
+        return -1;
+    /* Null basis: Q e_j for j = m..8, Q = H_0 H_1 ... H_{m-1}. */
+    for (int j = m; j < 9; j++) {
+        double *q = N + 9 * (j - m);
+        memset(q, 0, 9 * sizeof(double));
+        q[j] = 1.0;
+        for (int k = m - 1; k >= 0; k--) {
+            const double *a = A + 9 * k;
+            double dot = 0.0;
+            for (int i = k; i < 9; i++)
+                dot += a[i] * q[i];
+            dot *= beta[k];
+            for (int i = k; i < 9; i++)
+                q[i] -= dot * a[i];
+        }
+    }
+    return 0;
+}
+
+void sfm__ls9_init(sfm__ls9 *ls)
+{
+    memset(ls->R, 0, sizeof ls->R);
+    ls->rows = 0;
+}
+
+void sfm__ls9_add_row(sfm__ls9 *ls, const double row[9])
+{
+    double r[9];
+    memcpy(r, row, sizeof r);
+    for (int k = 0; k < 9; k++) {
+        double b = r[k];
+        if (b == 0.0)
+            continue;
+        double *Rk = ls->R + 10 * k; /* R(k, k..8) */
+        double a = Rk[0];
+        double h = sqrt(a * a + b * b);
+        double c = a / h, s = b / h;
+        Rk[0] = h;
+        r[k] = 0.0;
+        for (int j = 1; j < 9 - k; j++) {
+            double u = Rk[j], w = r[k + j];
+            Rk[j] = c * u + s * w;
+            r[k + j] = c * w - s * u;
+        }
+    }
+    ls->rows++;
+}
+
+int sfm__ls9_solve(sfm__ls9 *ls, double h[9])
+{
+    if (ls->rows < 8)
+        return -1;
+    double S[9], V[81];
+    double ws[512];
+    size_t need = sfm_svd_workspace_size(9, 9);
+    if (need > sizeof ws)
+        return -4; /* SFM_E_CAPACITY: the core's SVD needs more than budgeted */
+    int st = sfm_svd(ls->R, 9, 9, NULL, S, V, ws, sizeof ws);
+    if (st < 0)
+        return st;
+    if (!(S[7] > 1e-10 * S[0]))
+        return -1;
+    for (int i = 0; i < 9; i++)
+        h[i] = V[9 * i + 8];
+    return 0;
+}
+
+int sfm__svd3(const double M[9], double U[9], double S[3], double V[9])
+{
+    double ws[64];
+    if (sfm_svd_workspace_size(3, 3) > sizeof ws)
+        return -4; /* SFM_E_CAPACITY */
+    return sfm_svd(M, 3, 3, U, S, V, ws, sizeof ws);
+}

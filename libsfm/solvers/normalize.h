@@ -1,0 +1,26 @@
+/*
+ * Internal helpers shared by the solvers (not part of the public API).
+ *
+ * Hartley normalization (Hartley 1997, "In defense of the eight-point
+ * algorithm"): translate 2D points to their centroid and scale them so the
+ * mean distance to it is sqrt(2). T maps (u, v, 1) to normalized coordinates.
+ */
+#ifndef SFM_SOLVERS_NORMALIZE_H
+#define SFM_SOLVERS_NORMALIZE_H
+
+/* Normalizing similarity of n 2D points (row-major (n,2)): T = [s 0 -s cx;
+ * 0 s -s cy; 0 0 1], stored as (s, -s cx, -s cy) in t[3]. Returns 0, or -1
+ * when all points coincide (no scale). */
+int sfm__hartley_2d(const double *p, int n, double t[3]);
+
+/* Full 3x3 matrix of a normalization stored as t[3]. */
+void sfm__hartley_matrix(const double t[3], double T[9]);
+
+/* 1 when every one of the n doubles is finite. */
+int sfm__all_finite(const double *v, int n);
+
+/* Scale M (9 entries) to unit Frobenius norm. Returns 0, or -1 when M is
+ * zero or not finite (M is then left as is). */
+int sfm__normalize9(double M[9]);
+
+#endif

@@ -1,0 +1,599 @@
+/*
+ * Essential matrices from five bearing pairs: Nister, "An efficient solution
+ * to the five-point relative pose problem", IEEE PAMI 26(6), 2004.
+ *
+ * Assumptions: calibrated bearings (any nonzero length), x2^T E x1 = 0 with
+ * x_cam2 = R x_cam1 + t and E = [t]x R.
+ *
+ * 1. The 5x9 epipolar system has a 4-dimensional null space; with an
+ *    orthonormal basis X, Y, Z, W (Householder QR of its transpose),
+ *    E = x X + y Y + z Z + W.
+ * 2. det(E) = 0 and 2 E E^T E - tr(E E^T) E = 0 give 10 cubics in (x, y, z),
+ *    a 10x20 coefficient matrix over the monomials ordered as in the paper:
+ *    x^3 y^3 x^2y xy^2 x^2z x^2 y^2z y^2 xyz xy | xz^2 xz x yz^2 yz y z^3 z^2 z 1.
+ * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block
+ *    (back substitution only for the six rows needed).
+ *    Rows e-z*f, g-z*h, i-z*j of the reduced system are three equations
+ *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
+ *    tenth-degree polynomial, solved by Sturm bisection (below).
+ * 4. For each real root, [x y 1] is the null vector of B(z): the largest
+ *    cross product of two of its rows.
+ * Solutions with a vanishing W coefficient (x, y or z infinite) are not
+ * representable in this parametrization; they have measure zero.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_solvers.h"
+#include "solvers/linear9.h"
+#include "solvers/normalize.h"
+
+/* Linear polynomials are coefficient vectors over (x, y, z, 1); quadratics over
+ * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above. */
+static void mul11(const double *a, const double *b, double *q)
+{
+    q[0] = a[0] * b[0];
+    q[1] = a[0] * b[1] + a[1] * b[0];
+    q[2] = a[1] * b[1];
+    q[3] = a[0] * b[2] + a[2] * b[0];
+    q[4] = a[1] * b[2] + a[2] * b[1];
+    q[5] = a[2] * b[2];
+    q[6] = a[0] * b[3] + a[3] * b[0];
+    q[7] = a[1] * b[3] + a[3] * b[1];
+    q[8] = a[2] * b[3] + a[3] * b[2];
+    q[9] = a[3] * b[3];
+}
+
+/* c += q * l for a quadratic q and a linear l, written out per cubic
+ * monomial of the order above. */
+static void addmul21(double *c, const double *q, const double *l)
+{
+    c[0] += q[0] * l[0];
+    c[1] += q[2] * l[1];
+    c[2] += q[0] * l[1] + q[1] * l[0];
+    c[3] += q[1] * l[1] + q[2] * l[0];
+    c[4] += q[0] * l[2] + q[3] * l[0];
+    c[5] += q[0] * l[3] + q[6] * l[0];
+    c[6] += q[2] * l[2] + q[4] * l[1];
+    c[7] += q[2] * l[3] + q[7] * l[1];
+    c[8] += q[1] * l[2] + q[3] * l[1] + q[4] * l[0];
+    c[9] += q[1] * l[3] + q[6] * l[1] + q[7] * l[0];
+    c[10] += q[3] * l[2] + q[5] * l[0];
+    c[11] += q[3] * l[3] + q[6] * l[2] + q[8] * l[0];
+    c[12] += q[6] * l[3] + q[9] * l[0];
+    c[13] += q[4] * l[2] + q[5] * l[1];
+    c[14] += q[4] * l[3] + q[7] * l[2] + q[8] * l[1];
+    c[15] += q[7] * l[3] + q[9] * l[1];
+    c[16] += q[5] * l[2];
+    c[17] += q[5] * l[3] + q[8] * l[2];
+    c[18] += q[8] * l[3] + q[9] * l[2];
+    c[19] += q[9] * l[3];
+}
+
+/* Real roots of the tenth-degree polynomial by a Sturm sequence: bisection
+ * until each interval holds one root, then safeguarded Newton on the
+ * polynomial itself. Specialized to degree <= 10 with fixed storage (about
+ * 1 KB of stack); c: descending coefficients, c[0] != 0. */
+#define STURM_MAX 10
+
+typedef struct sturm_seq {
+    double s[STURM_MAX + 1][STURM_MAX + 1]; /* s[k] of degree deg[k], descending */
+    int deg[STURM_MAX + 1];
+    int n; /* number of polynomials */
+} sturm_seq;
+
+static void sturm_build(const double *c, int d, sturm_seq *S)
+{
+    double inv = 1.0 / c[0];
+    for (int i = 0; i <= d; i++)
+        S->s[0][i] = c[i] * inv;
+    for (int i = 0; i < d; i++)
+        S->s[1][i] = S->s[0][i] * (double)(d - i) / (double)d; /* p'/d, monic */
+    S->deg[0] = d;
+    S->deg[1] = d - 1;
+    S->n = 2;
+    while (S->deg[S->n - 1] > 0) {
+        const double *a = S->s[S->n - 2], *b = S->s[S->n - 1];
+        int da = S->deg[S->n - 2], db = S->deg[S->n - 1];
+        double r[STURM_MAX + 1];
+        for (int i = 0; i <= da; i++)
+            r[i] = a[i];
+        /* long division by b (leading coefficient +-1) */
+        for (int k = 0; k <= da - db; k++) {
+            double f = r[k] * b[0];
+            for (int j = 1; j <= db; j++)
+                r[k + j] -= f * b[j];
+        }
+        /* remainder: r[da-db+1 .. da], degree db-1; negate and make monic */
+        const double *rem = r + da - db + 1;
+        int dr = db - 1;
+        double lead = rem[0];
+        double mx = 0.0;
+        for (int i = 0; i <= dr; i++)
+            if (fabs(rem[i]) > mx)
+                mx = fabs(rem[i]);
+        if (!(mx > 0.0))
+            break; /* exact gcd: repeated roots; the sequence ends here */
+        if (fabs(lead) < 1e-300) {
+            /* leading term vanished: keep the unnormalized remainder */
+            int skip = 0;
+            while (skip < dr && rem[skip] == 0.0)
+                skip++;
+            rem += skip;
+            dr -= skip;
+            lead = rem[0];
+        }
+        double sc = -1.0 / fabs(lead);
+        for (int i = 0; i <= dr; i++)
+            S->s[S->n][i] = rem[i] * sc; /* -rem / |lead| */
+        S->deg[S->n] = dr;
+        S->n++;
+    }
+}
+
+static int sturm_var(const sturm_seq *S, double x)
+{
+    int v = 0;
+    double prev = 0.0;
+    for (int k = 0; k < S->n; k++) {
+        const double *p = S->s[k];
+        double y = p[0];
+        for (int i = 1; i <= S->deg[k]; i++)
+            y = y * x + p[i];
+        if (y != 0.0) {
+            if (prev != 0.0 && (y > 0.0) != (prev > 0.0))
+                v++;
+            prev = y;
+        }
+    }
+    return v;
+}
+
+static double peval(const double *c, int d, double x)
+{
+    double y = c[0];
+    for (int i = 1; i <= d; i++)
+        y = y * x + c[i];
+    return y;
+}
+
+/* p and p' at x */
+static double peval_d(const double *c, int d, double x, double *dp)
+{
+    double y = c[0], dy = 0.0;
+    for (int i = 1; i <= d; i++) {
+        dy = dy * x + y;
+        y = y * x + c[i];
+    }
+    *dp = dy;
+    return y;
+}
+
+/* Root of p in (a, b) where p(a), p(b) differ in sign: Newton's method
+ * safeguarded by bisection (a bisection step whenever Newton would leave the
+ * bracket or not halve the step, as in "rtsafe", Numerical Recipes 9.4). */
+static double polish(const double *p, int d, double a, double b)
+{
+    double fa = peval(p, d, a);
+    double x = 0.5 * (a + b), dxold = b - a, dx = dxold;
+    for (int it = 0; it < 100; it++) {
+        double df, f = peval_d(p, d, x, &df);
+        if (f == 0.0)
+            return x;
+        if ((f > 0.0) == (fa > 0.0))
+            a = x;
+        else
+            b = x;
+        double xn;
+        if (df == 0.0 || fabs(2.0 * f) > fabs(dxold * df) || !((xn = x - f / df) > a && xn < b)) {
+            dxold = dx;
+            dx = 0.5 * (b - a);
+            xn = a + dx;
+        } else {
+            dxold = dx;
+            dx = f / df;
+        }
+        if (fabs(xn - x) <= 1e-15 * fabs(xn) || b - a <= 4e-16 * (fabs(a) + fabs(b)))
+            return xn;
+        x = xn;
+    }
+    return x;
+}
+
+/* All distinct real roots, ascending; returns their number. */
+static int sturm_roots(const double *c, int d, double *roots)
+{
+    sturm_seq S;
+    sturm_build(c, d, &S);
+    /* Cauchy bound of the monic polynomial */
+    double B = 0.0;
+    for (int i = 1; i <= d; i++)
+        if (fabs(S.s[0][i]) > B)
+            B = fabs(S.s[0][i]);
+    B += 1.0;
+    double st_a[2 * STURM_MAX + 2], st_b[2 * STURM_MAX + 2];
+    int st_va[2 * STURM_MAX + 2], st_vb[2 * STURM_MAX + 2];
+    int sp = 0, nr = 0;
+    st_a[0] = -B; st_b[0] = B;
+    st_va[0] = sturm_var(&S, -B); st_vb[0] = sturm_var(&S, B);
+    sp = 1;
+    while (sp > 0) {
+        sp--;
+        double a = st_a[sp], b = st_b[sp];
+        int va = st_va[sp], vb = st_vb[sp];
+        int k = va - vb;
+        if (k <= 0)
+            continue;
+        if (k == 1) {
+            double fa = peval(S.s[0], d, a), fb = peval(S.s[0], d, b);
+            if ((fa > 0.0) != (fb > 0.0) || fa == 0.0 || fb == 0.0) {
+                roots[nr++] = polish(S.s[0], d, a, b);
+                continue;
+            }
+        }
+        double m = 0.5 * (a + b);
+        if (b - a <= 1e-14 * (fabs(a) + fabs(b))) {
+            for (int j = 0; j < k && nr < d; j++)
+                roots[nr++] = m; /* a cluster below resolution */
+            continue;
+        }
+        int vm = sturm_var(&S, m);
+        /* only halves holding roots are kept (so at most d + 1 pending);
+         * the upper half first so roots come out ascending */
+        if (vm > vb) {
+            st_a[sp] = m; st_b[sp] = b; st_va[sp] = vm; st_vb[sp] = vb; sp++;
+        }
+        if (va > vm) {
+            st_a[sp] = a; st_b[sp] = m; st_va[sp] = va; st_vb[sp] = vm; sp++;
+        }
+    }
+    return nr;
+}
+
+static void polymul(const double *a, int da, const double *b, int db, double *c)
+{
+    for (int i = 0; i <= da + db; i++)
+        c[i] = 0.0;
+    for (int i = 0; i <= da; i++)
+        for (int j = 0; j <= db; j++)
+            c[i + j] += a[i] * b[j];
+}
+
+#ifndef PERM_RETRY_PIVOT
+#define PERM_RETRY_PIVOT 3e-2
+#endif
+#ifndef REFINE_ITERS
+#define REFINE_ITERS 3
+#endif
+#ifndef REFINE_TOL
+#define REFINE_TOL 1e-11
+#endif
+#ifndef REFINE_PIVOT
+#define REFINE_PIVOT 0.1
+#endif
+/* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
+ * largest coefficient). Returns 1 when the residual is already at rounding
+ * level (no step taken), else 0. */
+static int refine(double M0[10][20], double *px, double *py, double *pz)
+{
+    double x = *px, y = *py, z = *pz;
+    double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
+                    x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
+    double mmax = 0.0, fmax_ = 0.0, fr[10];
+    for (int k = 0; k < 20; k++)
+        if (fabs(m[k]) > mmax)
+            mmax = fabs(m[k]);
+    for (int r = 0; r < 10; r++) {
+        double f = 0.0;
+        for (int k = 0; k < 20; k++)
+            f += M0[r][k] * m[k];
+        fr[r] = f;
+        if (fabs(f) > fmax_)
+            fmax_ = fabs(f);
+    }
+    if (fmax_ <= REFINE_TOL * mmax)
+        return 1;
+    double mx[20] = {3 * x * x, 0, 2 * x * y, y * y, 2 * x * z, 2 * x, 0, 0, y * z, y, z * z, z, 1,
+                     0, 0, 0, 0, 0, 0, 0};
+    double my[20] = {0, 3 * y * y, x * x, 2 * x * y, 0, 0, 2 * y * z, 2 * y, x * z, x, 0, 0, 0,
+                     z * z, z, 1, 0, 0, 0, 0};
+    double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
+                     3 * z * z, 2 * z, 1, 0};
+    double JtJ[6] = {0}, Jtf[3] = {0};
+    for (int r = 0; r < 10; r++) {
+        double f = fr[r], a = 0, b = 0, c = 0;
+        for (int k = 0; k < 20; k++) {
+            a += M0[r][k] * mx[k];
+            b += M0[r][k] * my[k];
+            c += M0[r][k] * mz[k];
+        }
+        JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
+        JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
+        Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
+    }
+    /* Solve the 3x3 symmetric system by Cramer's rule. */
+    double A00 = JtJ[0], A01 = JtJ[1], A02 = JtJ[2], A11 = JtJ[3], A12 = JtJ[4], A22 = JtJ[5];
+    double c00 = A11 * A22 - A12 * A12, c01 = A02 * A12 - A01 * A22, c02 = A01 * A12 - A02 * A11;
+    double det = A00 * c00 + A01 * c01 + A02 * c02;
+    if (!(fabs(det) > 0.0))
+        return 1;
+    double c11 = A00 * A22 - A02 * A02, c12 = A01 * A02 - A00 * A12, c22 = A00 * A11 - A01 * A01;
+    double dx = (c00 * Jtf[0] + c01 * Jtf[1] + c02 * Jtf[2]) / det;
+    double dy = (c01 * Jtf[0] + c11 * Jtf[1] + c12 * Jtf[2]) / det;
+    double dz = (c02 * Jtf[0] + c12 * Jtf[1] + c22 * Jtf[2]) / det;
+    if (!isfinite(dx) || !isfinite(dy) || !isfinite(dz))
+        return 1;
+    *px = x - dx; *py = y - dy; *pz = z - dz;
+    return 0;
+}
+
+/* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
+ * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
+ * copy in M0 and reduces M by Gauss-Jordan. Returns the smallest pivot
+ * magnitude (rows scaled to unit max norm), 0 when singular. */
+static double build_reduce(const double *N, int perm, double e[9][4], double M0[10][20],
+                           double M[10][20])
+{
+    for (int k = 0; k < 9; k++)
+        for (int j = 0; j < 4; j++)
+            e[k][j] = N[9 * ((j + perm) & 3) + k];
+
+    /* 2. The 10x20 constraint matrix. */
+    memset(M, 0, 10 * 20 * sizeof(double));
+    double q[10];
+    mul11(e[4], e[8], q);
+    {
+        double t[10];
+        mul11(e[5], e[7], t);
+        for (int k = 0; k < 10; k++)
+            q[k] -= t[k];
+        addmul21(M[0], q, e[0]);
+        mul11(e[3], e[8], q);
+        mul11(e[5], e[6], t);
+        for (int k = 0; k < 10; k++)
+            q[k] = t[k] - q[k];
+        addmul21(M[0], q, e[1]);
+        mul11(e[3], e[7], q);
+        mul11(e[4], e[6], t);
+        for (int k = 0; k < 10; k++)
+            q[k] -= t[k];
+        addmul21(M[0], q, e[2]);
+    }
+    double EEt[3][3][10];
+    for (int i = 0; i < 3; i++)
+        for (int j = i; j < 3; j++) {
+            double t[10];
+            mul11(e[3 * i], e[3 * j], EEt[i][j]);
+            mul11(e[3 * i + 1], e[3 * j + 1], t);
+            for (int k = 0; k < 10; k++)
+                EEt[i][j][k] += t[k];
+            mul11(e[3 * i + 2], e[3 * j + 2], t);
+            for (int k = 0; k < 10; k++)
+                EEt[i][j][k] += t[k];
+            if (j != i)
+                memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
+        }
+    for (int k = 0; k < 10; k++) {
+        double half_tr = 0.5 * (EEt[0][0][k] + EEt[1][1][k] + EEt[2][2][k]);
+        EEt[0][0][k] -= half_tr;
+        EEt[1][1][k] -= half_tr;
+        EEt[2][2][k] -= half_tr;
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
+
+    /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
+     * first scaled to unit largest entry (M0 keeps the scaled, unreduced rows
+     * for the polish). */
+    for (int r = 0; r < 10; r++) {
+        double mx = 0.0;
+        for (int c = 0; c < 20; c++)
+            if (fabs(M[r][c]) > mx)
+                mx = fabs(M[r][c]);
+        if (!(mx > 0.0))
+            return 0.0;
+        mx = 1.0 / mx;
+        for (int c = 0; c < 20; c++)
+            M[r][c] *= mx;
+    }
+    memcpy(M0, M, 10 * 20 * sizeof(double));
+    double minpiv = INFINITY;
+    for (int c = 0; c < 10; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 10; r++)
+            if (fabs(M[r][c]) > fabs(M[piv][c]))
+                piv = r;
+        if (!(fabs(M[piv][c]) > 1e-12))
+            return 0.0; /* degenerate (e.g. pure rotation: a continuum of E) */
+        if (fabs(M[piv][c]) < minpiv)
+            minpiv = fabs(M[piv][c]);
+        if (piv != c)
+            for (int k = c; k < 20; k++) {
+                double t = M[c][k];
+                M[c][k] = M[piv][k];
+                M[piv][k] = t;
+            }
+        double inv = 1.0 / M[c][c];
+        for (int k = c + 1; k < 20; k++)
+            M[c][k] *= inv;
+        M[c][c] = 1.0;
+        for (int r = c + 1; r < 10; r++) {
+            double f = M[r][c];
+            if (f == 0.0)
+                continue;
+            for (int k = c + 1; k < 20; k++)
+                M[r][k] -= f * M[c][k];
+            M[r][c] = 0.0;
+        }
+    }
+    /* Back substitution, only for the rows 4..9 used below (each needs only
+     * the rows after it): row i becomes x_i + B_i . (last ten monomials). */
+    for (int i = 8; i >= 4; i--)
+        for (int j = i + 1; j < 10; j++) {
+            double f = M[i][j];
+            for (int k = 10; k < 20; k++)
+                M[i][k] -= f * M[j][k];
+        }
+    return minpiv;
+}
+
+/* Steps 3 (end) and 4 for one reduced system: solutions written to out as
+ * unit-norm 9-vectors; returns their number. */
+static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20], int polish_roots,
+                         double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
+{
+    /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
+     * are the coefficients of xz^2 xz x yz^2 yz y z^3 z^2 z 1. */
+    double pa[3][4], pb[3][4], pc[3][5];
+    for (int k = 0; k < 3; k++) {
+        const double *Be = M[4 + 2 * k] + 10, *Bf = M[5 + 2 * k] + 10;
+        pa[k][0] = -Bf[0];
+        pa[k][1] = Be[0] - Bf[1];
+        pa[k][2] = Be[1] - Bf[2];
+        pa[k][3] = Be[2];
+        pb[k][0] = -Bf[3];
+        pb[k][1] = Be[3] - Bf[4];
+        pb[k][2] = Be[4] - Bf[5];
+        pb[k][3] = Be[5];
+        pc[k][0] = -Bf[6];
+        pc[k][1] = Be[6] - Bf[7];
+        pc[k][2] = Be[7] - Bf[8];
+        pc[k][3] = Be[8] - Bf[9];
+        pc[k][4] = Be[9];
+    }
+    /* det B(z) = c0 (a1 b2 - a2 b1) - c1 (a0 b2 - a2 b0) + c2 (a0 b1 - a1 b0). */
+    double poly[11], m1[7], m2[7], t10[11];
+    memset(poly, 0, sizeof poly);
+    for (int k = 0; k < 3; k++) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        polymul(pa[i], 3, pb[j], 3, m1);
+        polymul(pa[j], 3, pb[i], 3, m2);
+        for (int s = 0; s < 7; s++)
+            m1[s] -= m2[s];
+        polymul(pc[k], 4, m1, 6, t10);
+        for (int s = 0; s < 11; s++)
+            poly[s] += t10[s];
+    }
+
+    /* Sturm bisection for the real roots. Drop vanishing leading terms. */
+    double pmax = 0.0;
+    for (int s = 0; s < 11; s++)
+        if (fabs(poly[s]) > pmax)
+            pmax = fabs(poly[s]);
+    if (!(pmax > 0.0) || !isfinite(pmax))
+        return 0;
+    int lead = 0;
+    while (lead < 10 && fabs(poly[lead]) <= 1e-14 * pmax)
+        lead++;
+    int deg = 10 - lead;
+    if (deg < 1)
+        return 0;
+    double zr[10];
+    int nz = sturm_roots(poly + lead, deg, zr);
+    if (nz <= 0)
+        return 0;
+
+    /* 4. Back substitution. */
+    int ns = 0;
+    for (int s = 0; s < nz && ns < SFM_RELPOSE_5PT_MAX_SOLUTIONS; s++) {
+        double z = zr[s];
+        double B[3][3];
+        for (int k = 0; k < 3; k++) {
+            B[k][0] = peval(pa[k], 3, z);
+            B[k][1] = peval(pb[k], 3, z);
+            B[k][2] = peval(pc[k], 4, z);
+        }
+        double best[3] = {0.0, 0.0, 0.0}, bn = -1.0;
+        for (int k = 0; k < 3; k++) {
+            const double *u = B[k], *w = B[(k + 1) % 3];
+            double v[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                           u[0] * w[1] - u[1] * w[0]};
+            double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+            if (n2 > bn) {
+                bn = n2;
+                best[0] = v[0];
+                best[1] = v[1];
+                best[2] = v[2];
+            }
+        }
+        if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
+            continue;
+        double x = best[0] / best[2], y = best[1] / best[2];
+        for (int iter = 0; polish_roots && iter < REFINE_ITERS; iter++)
+            if (refine(M0, &x, &y, &z))
+                break;
+        double *o = out[ns];
+        for (int k = 0; k < 9; k++)
+            o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+        if (sfm__normalize9(o))
+            continue;
+        ns++;
+    }
+    return ns;
+}
+
+int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
+{
+    if (!x1 || !x2 || !E)
+        return SFM_E_ARGUMENT;
+    if (!sfm__all_finite(x1, 15) || !sfm__all_finite(x2, 15))
+        return SFM_E_NONFINITE;
+
+    /* 1. Null space. */
+    double A[45], N[36];
+    for (int i = 0; i < 5; i++)
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
+    if (sfm__null9_exact(A, 5, N))
+        return 0;
+    /* Nister fixes the coefficient of one null vector to 1; how well the
+     * 10x10 block is conditioned depends on which. When the first choice
+     * gives a small pivot, the best-conditioned of the other three cyclic
+     * orders is solved as well and the two solution sets are merged (a root
+     * that the first polynomial's rounding turned into a complex pair is
+     * found by the second). This takes the ground-truth-found rate from
+     * about 99% to above 99.9% on near-planar and distant scenes. */
+    double e[9][4], M0[10][20], M[10][20];
+    double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
+    double piv = build_reduce(N, 0, e, M0, M);
+    int ns = piv > 0.0 ? solve_reduced(e, M0, M, piv < REFINE_PIVOT, out) : 0;
+    if (piv < PERM_RETRY_PIVOT) {
+        double p2 = 0.0;
+        int best = 0;
+        for (int perm = 1; perm < 4; perm++) {
+            double pp = build_reduce(N, perm, e, M0, M);
+            if (pp > p2) {
+                p2 = pp;
+                best = perm;
+            }
+        }
+        if (best > 0) {
+            double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
+            if (best != 3)
+                (void)build_reduce(N, best, e, M0, M);
+            int n2 = solve_reduced(e, M0, M, 1, more);
+            for (int k = 0; k < n2; k++) {
+                int dup = 0;
+                for (int j = 0; j < ns && !dup; j++) {
+                    double dp = 0.0, dm = 0.0;
+                    for (int i = 0; i < 9; i++) {
+                        dp += (more[k][i] - out[j][i]) * (more[k][i] - out[j][i]);
+                        dm += (more[k][i] + out[j][i]) * (more[k][i] + out[j][i]);
+                    }
+                    dup = dp < 1e-12 || dm < 1e-12;
+                }
+                if (!dup)
+                    memcpy(out[ns++], more[k], sizeof out[0]);
+            }
+        }
+        if (ns > SFM_RELPOSE_5PT_MAX_SOLUTIONS)
+            ns = SFM_RELPOSE_5PT_MAX_SOLUTIONS;
+    }
+    for (int s = 0; s < ns; s++)
+        for (int k = 0; k < 9; k++)
+            E[s].m[k] = out[s][k];
+    return ns;
+}
