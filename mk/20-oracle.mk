@@ -27,3 +27,4 @@ test-oracle: $(ORACLE_PROGS)
 	done; echo "$$p passed, $$f failed"; exit $$rc
 
 .PHONY: test-oracle
+.SECONDARY: $(ORACLE_PROGS:=.o)
