@@ -20,7 +20,7 @@
 #define MAXM 5
 #define MAXN 60
 #define MAXO (MAXM * MAXN)
-#define WS_BYTES (400 * 1024)
+#define WS_BYTES (256 * 1024)
 
 static unsigned char g_ws[WS_BYTES];
 static double sR[9 * MAXM], st[3 * MAXM], sK[6 * MAXM], sX[3 * MAXN];
