@@ -17,3 +17,4 @@ from . import frames  # noqa: F401,E402
 from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
 from .trifocal import *  # noqa: F401,F403
 from .geometry import *  # noqa: F401,F403,E402
+from .ba import bundle_adjust  # noqa: F401,E402
