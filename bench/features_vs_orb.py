@@ -3,10 +3,11 @@
 
 Both get the same grayscale views (downscaled with INTER_AREA to 1024 px wide),
 the same feature budget and the same matching rule (ratio test, mutual nearest
-neighbour). A match is an inlier when both points lie within 2 px of the
+neighbour). Times are the best of --repeat runs, the two methods run
+alternately. A match is an inlier when both points lie within 2 px of the
 epipolar line that the ground-truth cameras predict. OpenCV runs on one
 thread. Prints, per method: inlier share, matches per pair, time per image for
-detect+describe and per pair for matching (median of several runs), and the
+detect+describe and per pair for matching, and the
 ratios libsfm / OpenCV.
 
 Usage: python bench/features_vs_orb.py [--features 2000] [--ratio 0.8] [--repeat 5]
@@ -91,13 +92,20 @@ def cv_match(bf, d1, d2, ratio, mutual):
     return np.array(out, dtype=np.intp).reshape(-1, 2)
 
 
-def median_time(fn, repeat):
-    ts = []
+def paired_min_times(fa, fb, repeat):
+    """Best-of-repeat wall time of fa and fb, run alternately so that load
+    from other processes hits both alike (the minimum is the least disturbed
+    run)."""
+    ta, tb = [], []
     for _ in range(repeat):
         t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return float(np.median(ts))
+        fa()
+        t1 = time.perf_counter()
+        fb()
+        t2 = time.perf_counter()
+        ta.append(t1 - t0)
+        tb.append(t2 - t1)
+    return min(ta), min(tb)
 
 
 def main():
@@ -105,7 +113,7 @@ def main():
     ap.add_argument("--features", type=int, default=2000)
     ap.add_argument("--ratio", type=float, default=0.8)
     ap.add_argument("--no-mutual", action="store_true")
-    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=9)
     args = ap.parse_args()
     mutual = not args.no_mutual
     if not os.path.isdir(DATA):
@@ -128,19 +136,27 @@ def main():
         kp, d = orb.detectAndCompute(v[0], None)
         cv_feats.append((np.array([k.pt for k in kp]).reshape(-1, 2), d))
 
-    t_sfm_det = np.mean([median_time(lambda v=v: libsfm.detect_and_describe(v[0], max_features=args.features), args.repeat) for v in views])
-    t_cv_det = np.mean([median_time(lambda v=v: orb.detectAndCompute(v[0], None), args.repeat) for v in views])
+    det = [paired_min_times(lambda v=v: libsfm.detect_and_describe(v[0], max_features=args.features),
+                            lambda v=v: orb.detectAndCompute(v[0], None), args.repeat) for v in views]
+    t_sfm_det = float(np.mean([d[0] for d in det]))
+    t_cv_det = float(np.mean([d[1] for d in det]))
+    mt = {"libsfm": [], "opencv-orb": []}
+    for i, j in pairs:
+        a, b = paired_min_times(
+            lambda: libsfm.match(sfm_feats[i][1], sfm_feats[j][1], ratio=args.ratio, mutual=mutual),
+            lambda: cv_match(bf, cv_feats[i][1], cv_feats[j][1], args.ratio, mutual), args.repeat)
+        mt["libsfm"].append(a)
+        mt["opencv-orb"].append(b)
 
     for name, feats, matcher in (
         ("libsfm", [(k[:, :2], d) for k, d in sfm_feats], lambda a, b: libsfm.match(a, b, ratio=args.ratio, mutual=mutual)),
         ("opencv-orb", cv_feats, lambda a, b: cv_match(bf, a, b, args.ratio, mutual)),
     ):
-        tot, inl, tmatch = 0, 0, []
+        tot, inl = 0, 0
         per_pair = []
         for i, j in pairs:
             (x1, d1), (x2, d2) = feats[i], feats[j]
             m = matcher(d1, d2)
-            tmatch.append(median_time(lambda: matcher(d1, d2), args.repeat))
             F = fundamental(views[i], views[j])
             ok = epipolar_inliers(F, x1[m[:, 0]], x2[m[:, 1]])
             tot += len(m)
@@ -148,7 +164,7 @@ def main():
             per_pair.append("%d-%d: %d/%d" % (i, j, int(ok.sum()), len(m)))
         nf = np.mean([len(f[0]) for f in feats])
         res[name] = dict(share=inl / max(tot, 1), count=tot / len(pairs), inliers=inl / len(pairs),
-                         feats=nf, tmatch=float(np.mean(tmatch)), pairs=per_pair)
+                         feats=nf, tmatch=float(np.mean(mt[name])), pairs=per_pair)
     res["libsfm"]["tdet"] = t_sfm_det
     res["opencv-orb"]["tdet"] = t_cv_det
 

@@ -15,5 +15,6 @@
 #include "sfm/sfm_trifocal.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_features.h"
+#include "sfm/sfm_ba.h"
 
 #endif

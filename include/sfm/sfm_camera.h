@@ -34,25 +34,37 @@ typedef struct sfm_camera {
 } sfm_camera;
 
 /* Statuses: SFM_OK, SFM_E_ARGUMENT (NULL, unknown model, zero focal length),
- * SFM_E_NONFINITE. */
+ * SFM_E_NONFINITE (NaN/Inf in fx, fy, cx, cy or a dist entry the model
+ * uses; unused entries are ignored). Every function below validates the
+ * camera the same way first. */
 SFM_API int sfm_camera_validate(const sfm_camera *cam);
 
 /* Project X (camera frame) to px. J (2x3, row-major, may be NULL) receives
  * d(px)/d(X). Pinhole and Brown need X[2] > 0; the fisheye model accepts any
  * direction except the optical axis' negative half (theta < pi).
  * Statuses: SFM_OK, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_SINGULAR (point not
- * projectable: at or behind the camera plane, or at the origin). */
+ * projectable: at or behind the camera plane, at the origin, or so close to
+ * the plane that the pixel or J overflows). */
 SFM_API int sfm_camera_project(const sfm_camera *cam, const double X[3], double px[2], double *J);
 
 /* Unit bearing for a pixel. Distortion is inverted iteratively (Gauss-Newton
  * on the distortion map); failing to reach 1e-10 normalized units within the
  * iteration limit is SFM_E_NO_CONVERGENCE, never a silent inexact answer.
+ * The answer is the preimage inside the region where the distortion map is
+ * invertible: Brown, the disc inside the first radius where
+ * r (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing, with a positive Jacobian
+ * determinant at the answer (strong tangential terms fold the map too);
+ * fisheye, angles below the first where theta_d(theta) stops increasing (and
+ * below pi). Pixels outside the image of that region are
+ * SFM_E_NO_CONVERGENCE. Pinhole and Brown bearings have z > 0; fisheye
+ * bearings may point behind the camera plane (theta > pi/2).
  * Statuses: SFM_OK, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_NO_CONVERGENCE. */
 SFM_API int sfm_camera_unproject(const sfm_camera *cam, const double px[2], double bearing[3]);
 
-/* Batch forms over n points (px n x 2, X / bearings n x 3). Stop at the first
- * failure and return its status; entries before it are written.
- * Statuses: as the single-point forms. */
+/* Batch forms over n points (px n x 2, X / bearings n x 3), n >= 0. Stop at
+ * the first failure and return its status; entries before it are written,
+ * entries from it on are not (an exception to "nothing written on failure").
+ * Statuses: as the single-point forms; n < 0 is SFM_E_ARGUMENT. */
 SFM_API int sfm_camera_project_many(const sfm_camera *cam, const double *X, int n, double *px);
 SFM_API int sfm_camera_unproject_many(const sfm_camera *cam, const double *px, int n,
                                       double *bearings);

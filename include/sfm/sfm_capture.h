@@ -262,7 +262,8 @@ SFM_API size_t sfm_pixfmt_min_size(int format, int width, int height, int src_st
  * >> 8; MJPEG decodes the JPEG (its size must be width x height). src_stride
  * 0 means tightly packed. Returns SFM_OK, SFM_E_ARGUMENT, SFM_E_FORMAT (src
  * too short, undecodable or wrong-size JPEG), SFM_E_UNSUPPORTED (MJPEG in a
- * build without libjpeg). */
+ * build without libjpeg). On failure dst is untouched, except after a JPEG
+ * that fails part way through decoding. */
 SFM_API int sfm_convert_to_gray(int format, const uint8_t *src, size_t src_len,
                                 int width, int height, int src_stride, uint8_t *dst,
                                 int dst_stride);

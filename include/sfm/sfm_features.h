@@ -65,7 +65,7 @@ typedef struct sfm_features_params {
     int cell_size;       /* grid cell side in level pixels for bucketing, 8..1024 */
 } sfm_features_params;
 
-/* Defaults: 2000 features, 6 levels, scale 1.25, FAST threshold 15, cells of
+/* Defaults: 2000 features, 6 levels, scale 1.25, FAST threshold 20, cells of
  * 48 pixels. Returns SFM_OK, or SFM_E_ARGUMENT when p is NULL. */
 SFM_API int sfm_features_default_params(sfm_features_params *p);
 

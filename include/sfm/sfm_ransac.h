@@ -7,8 +7,15 @@
  * PAMI 2008) so that bad models are dropped after a few points, scores the
  * survivors with MSAC (truncated quadratic: sum of min(r^2, tau^2)), runs
  * local optimisation (LO-RANSAC: a few nonlinear refinement rounds on the
- * inliers) on every new best model, and stops at a confidence level, an
- * iteration cap or a time budget read from a caller-supplied clock.
+ * inliers, or on the points within wide_mult thresholds, kept while the MSAC
+ * cost drops) on every new best model, and stops at a confidence level, an
+ * iteration cap or a time budget read from a caller-supplied clock. With
+ * opt->wide_mult > 1 the winner is then polished: refine() on
+ * every point within wide_mult thresholds, under a robust loss of scale tau (with
+ * 1 px noise a 1 px threshold keeps only about half of the true inliers; the
+ * polish uses nearly all of them, while the loss keeps the few outliers in
+ * that band from pulling). The polished model is kept unless it loses more
+ * than 5 % of the inliers.
  *
  * Memory: the run call works in caller memory only. Its size comes from
  * sfm_ransac_workspace_size(dims) or, for a static buffer, from the macro
@@ -38,6 +45,9 @@ extern "C" {
 #define SFM_RANSAC_MAX_MODELS 64      /* models one solve may return */
 #define SFM_RANSAC_MAX_MODEL_SIZE 64  /* doubles per model */
 #define SFM_RANSAC_MAX_POINTS 16777216
+/* The estimators below run local optimisation and the final polish on the
+ * points within this many thresholds (under a robust loss of scale tau). */
+#define SFM_RANSAC_WIDE_MULT 3
 
 /* Why a run stopped (sfm_ransac_stats.stop_reason). */
 #define SFM_RANSAC_STOP_CONFIDENCE 0     /* adaptive count reached at opt->confidence */
@@ -60,8 +70,11 @@ extern "C" {
  *  residual(ctx, model, i): squared residual of point i, in the units of
  *      opt->threshold squared. Must be >= 0 (NaN counts as an outlier).
  *  refine(ctx, inliers, n_inliers, model): optional (may be NULL). A few
- *      nonlinear steps on the listed inliers, updating model in place; return
- *      >= 0 on success, < 0 to leave the model as it was.
+ *      nonlinear steps on the listed points, updating model in place; return
+ *      >= 0 on success, < 0 to leave the model as it was. With
+ *      opt->wide_mult > 1 the list reaches wide_mult thresholds and refine
+ *      should apply a robust loss of scale tau (the estimators below use
+ *      Cauchy weights 1 / (1 + r^2 / tau^2)).
  *  degenerate(ctx, sample): optional. Nonzero rejects the sample before solve.
  *  fix_best(ctx, sample, model, rng): optional. Called when a model becomes the
  *      best so far, before local optimisation (DEGENSAC's plane-and-parallax
@@ -92,6 +105,13 @@ typedef struct sfm_ransac_options {
     int max_iterations;    /* >= 1, >= min_iterations */
     uint64_t seed;         /* seeds the run's own sfm_rng */
     int lo_rounds;         /* local-optimisation rounds per new best (0: no LO) */
+    double wide_mult;      /* <= 1: LO refines on the inliers at tau, no polish;
+                              > 1: LO and the final polish refine on the points
+                              within wide_mult thresholds. 0 (default) lets the
+                              estimators below pick SFM_RANSAC_WIDE_MULT (their
+                              refits are robust); sfm_ransac_run reads 0 as 1 */
+    int polish_rounds;     /* final polish rounds on the winner (0: none; only
+                              with wide_mult > 1) */
     int use_sprt;          /* 1: SPRT early rejection; 0: full MSAC scoring */
     const double *quality; /* optional per-point quality (higher is better):
                               PROSAC sampling; NULL: uniform sampling */
@@ -105,6 +125,7 @@ typedef struct sfm_ransac_stats {
     int models;           /* models verified */
     int sprt_rejected;    /* models dropped by SPRT before full scoring */
     int lo_runs;          /* local optimisations run */
+    int polished;         /* 1 when the final polish was kept */
     int num_inliers;      /* inliers of the returned model (r^2 < tau^2) */
     double score;         /* MSAC cost of the returned model */
     uint64_t seed;        /* the seed used */
@@ -113,7 +134,8 @@ typedef struct sfm_ransac_stats {
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
- * SFM_RNG_DEFAULT_SEED, 3 LO rounds, SPRT on, no quality, no clock.
+ * SFM_RNG_DEFAULT_SEED, 3 LO rounds, wide_mult 0, 2 polish rounds, SPRT on,
+ * no quality, no clock.
  * Statuses: SFM_OK, SFM_E_ARGUMENT (opt NULL). */
 SFM_API int sfm_ransac_default_options(sfm_ransac_options *opt);
 
@@ -131,7 +153,7 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 /* The same size as a constant expression, for static buffers. */
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
-    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 3u +                           \
+    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 4u +                           \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) +               \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
      SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 2u + 15u)
@@ -150,6 +172,105 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
                            double *model, uint8_t *inlier_mask, sfm_ransac_stats *stats,
                            void *ws, size_t ws_size);
+
+/* ======================================================================
+ * Estimators. All take pixels and camera models (sfm_camera, distortion
+ * included: pixels are unprojected to bearings once per call). The inlier
+ * threshold opt->threshold is in pixels; internally it is divided by the mean
+ * focal length of the cameras involved. opt may be NULL (defaults, threshold
+ * 1 px). Outputs: inlier_mask (n bytes, may be NULL) and stats (may be NULL)
+ * as for sfm_ransac_run; stats->flags carries the SFM_RANSAC_FLAG_* bits.
+ * Every estimator returns the inlier count (>= its sample size) or a negative
+ * status: SFM_E_ARGUMENT (NULL inputs/outputs, n below the sample size, n
+ * above SFM_RANSAC_MAX_POINTS, bad options), SFM_E_NONFINITE (NaN/Inf in
+ * pixels, points, directions or options), SFM_E_WORKSPACE (ws_size below the
+ * size function's value), SFM_E_NO_CONVERGENCE (no model found), or a camera
+ * status (SFM_E_ARGUMENT for an invalid camera, SFM_E_NO_CONVERGENCE when a
+ * pixel cannot be undistorted). Nothing is written on failure.
+ * ====================================================================== */
+
+/* Model sizes (doubles) the estimators hand to the engine. */
+#define SFM_RANSAC_RELPOSE_MODEL 22
+#define SFM_RANSAC_ABSPOSE_MODEL 12
+#define SFM_RANSAC_MAT3_MODEL 9
+
+/*
+ * Relative pose from n >= 5 pixel pairs: 5-point samples (Nister), SPRT +
+ * MSAC on the Sampson error of unit bearings (the first-order angular
+ * distance to the epipolar constraint, converted to pixels through the mean
+ * focal length), LO by Levenberg-Marquardt on the Sampson error over the
+ * inliers in (R, t), final pose by cheirality over the inliers.
+ * pose: x_cam2 = R x_cam1 + t, |t| = 1. E = [t]x R (unit Frobenius norm).
+ * stats->flags: SFM_RANSAC_FLAG_PURE_ROTATION when the inliers are explained
+ * by a rotation alone (t is then meaningless), SFM_RANSAC_FLAG_PLANAR when a
+ * homography explains them (the pose may be one of two twisted solutions).
+ * The pose is still written: check the flags before trusting t.
+ */
+SFM_API size_t sfm_ransac_relpose_workspace_size(int n);
+SFM_API int sfm_ransac_relpose(const double *px1, const double *px2, int n,
+                               const sfm_camera *cam1, const sfm_camera *cam2,
+                               const sfm_ransac_options *opt, sfm_pose *pose, double E[9],
+                               uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                               size_t ws_size);
+
+/*
+ * Upright relative pose from n >= 3 pixel pairs and one direction known in
+ * both frames (d1 in camera 1, d2 = R d1 in camera 2, e.g. gravity): 3-point
+ * samples, Sampson scoring as above, LO on the 3 remaining degrees of freedom
+ * (rotation about d2 and the translation direction), final pose by
+ * cheirality. Same flags as sfm_ransac_relpose.
+ */
+SFM_API size_t sfm_ransac_relpose_upright_workspace_size(int n);
+SFM_API int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
+                                       const sfm_camera *cam1, const sfm_camera *cam2,
+                                       const double d1[3], const double d2[3],
+                                       const sfm_ransac_options *opt, sfm_pose *pose,
+                                       double E[9], uint8_t *inlier_mask,
+                                       sfm_ransac_stats *stats, void *ws, size_t ws_size);
+
+/*
+ * Absolute pose from n >= 3 pixel / world point pairs (px n x 2, X n x 3):
+ * P3P samples (Lambda Twist), SPRT + MSAC on the reprojection error measured
+ * on the tangent plane of each bearing (pixels at the image centre of a
+ * pinhole camera), LO by Levenberg-Marquardt on that error over the inliers.
+ * pose: x_cam = R X + t.
+ */
+SFM_API size_t sfm_ransac_abspose_workspace_size(int n);
+SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camera *cam,
+                               const sfm_ransac_options *opt, sfm_pose *pose,
+                               uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                               size_t ws_size);
+
+/*
+ * Fundamental matrix from n >= 8 pixel pairs: 7-point samples, Sampson error
+ * in pixels, LO by a normalized 8-point least-squares refit on the inliers,
+ * DEGENSAC (Chum, Werner & Matas, CVPR 2005): when the best sample has five
+ * or more points on one homography, F is re-estimated by plane and parallax
+ * and SFM_RANSAC_FLAG_DEGENSAC is raised when that model wins.
+ * cam1, cam2 may be NULL (pixels used as given); otherwise pixels are first
+ * undistorted to the cameras' ideal pinhole pixels (F then relates those).
+ * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (1).
+ */
+SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);
+SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
+                                   const sfm_camera *cam1, const sfm_camera *cam2,
+                                   const sfm_ransac_options *opt, double F[9],
+                                   uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                                   size_t ws_size);
+
+/*
+ * Homography from n >= 4 pixel pairs: 4-point samples, symmetric transfer
+ * error in pixels (the larger of the two directions), LO and final polish by
+ * a normalized DLT refit. cam1, cam2 may be NULL, as for the fundamental
+ * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored
+ * (2: LO and polish refit on the points within two thresholds).
+ */
+SFM_API size_t sfm_ransac_homography_workspace_size(int n);
+SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,
+                                  const sfm_camera *cam1, const sfm_camera *cam2,
+                                  const sfm_ransac_options *opt, double H[9],
+                                  uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                                  size_t ws_size);
 
 #ifdef __cplusplus
 }

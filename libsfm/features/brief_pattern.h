@@ -6,6 +6,7 @@
 /* Every point of the pattern lies within this radius of the patch centre. */
 #define SFM_BRIEF_RADIUS 15
 
-extern const signed char sfm_brief_pattern[SFM_BRIEF_PAIRS][4];
+/* Rows x1, y1, x2, y2 (structure of arrays, so steering vectorises). */
+extern const signed char sfm_brief_pattern[4][SFM_BRIEF_PAIRS];
 
 #endif

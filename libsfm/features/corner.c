@@ -25,23 +25,25 @@
 #define WIN 3
 
 /* Structure tensor sums around (x, y); bx, by: sum of g g^T (u, v) with
- * (u, v) the offset from (x, y). */
-static void tensor(const uint8_t *img, int stride, int x, int y, long long *sxx, long long *syy,
-                   long long *sxy, long long *bx, long long *by, long long *ee)
+ * (u, v) the offset from (x, y); e: sum of (g . (u, v))^2. Gradients are at
+ * most 255 in magnitude per axis, so every sum over the 7x7 window fits in
+ * 32 bits (|sxx| <= 49 * 255^2, |bx| <= 49 * 2 * 255^2 * 3, e <= 49 * 1530^2). */
+static void tensor(const uint8_t *img, int stride, int x, int y, int32_t *sxx, int32_t *syy, int32_t *sxy,
+                   int32_t *bx, int32_t *by, int32_t *ee)
 {
-    long long a = 0, b = 0, c = 0, px = 0, py = 0, e = 0;
+    int32_t a = 0, b = 0, c = 0, px = 0, py = 0, e = 0;
     for (int v = -WIN; v <= WIN; v++) {
         const uint8_t *r = img + (long)(y + v) * stride + x;
         for (int u = -WIN; u <= WIN; u++) {
-            int gx = (int)r[u + 1] - (int)r[u - 1];
-            int gy = (int)r[u + stride] - (int)r[u - stride];
-            long long xx = (long long)gx * gx, yy = (long long)gy * gy, xy = (long long)gx * gy;
+            const int32_t gx = (int32_t)r[u + 1] - (int32_t)r[u - 1];
+            const int32_t gy = (int32_t)r[u + stride] - (int32_t)r[u - stride];
+            const int32_t xx = gx * gx, yy = gy * gy, xy = gx * gy;
             a += xx;
             b += yy;
             c += xy;
             px += xx * u + xy * v;
             py += xy * u + yy * v;
-            const long long gp = (long long)gx * u + (long long)gy * v;
+            const int32_t gp = gx * u + gy * v;
             e += gp * gp;
         }
     }
@@ -55,10 +57,18 @@ static void tensor(const uint8_t *img, int stride, int x, int y, long long *sxx,
 
 double sfm_feat_harris(const uint8_t *img, int stride, int x, int y)
 {
-    long long a, b, c, px, py, e;
-    tensor(img, stride, x, y, &a, &b, &c, &px, &py, &e);
-    double da = (double)a, db = (double)b, dc = (double)c;
-    double tr = da + db;
+    int32_t a = 0, b = 0, c = 0;
+    for (int v = -WIN; v <= WIN; v++) {
+        const uint8_t *r = img + (long)(y + v) * stride + x;
+        for (int u = -WIN; u <= WIN; u++) {
+            const int32_t gx = (int32_t)r[u + 1] - (int32_t)r[u - 1];
+            const int32_t gy = (int32_t)r[u + stride] - (int32_t)r[u - stride];
+            a += gx * gx;
+            b += gy * gy;
+            c += gx * gy;
+        }
+    }
+    const double da = (double)a, db = (double)b, dc = (double)c, tr = da + db;
     return da * db - dc * dc - 0.04 * tr * tr;
 }
 
@@ -68,7 +78,7 @@ int sfm_feat_refine(const uint8_t *img, int stride, int x, int y, double max_res
     double fx = (double)x, fy = (double)y;
     int ok = 0;
     for (int it = 0; it < 3; it++) {
-        long long a, b, c, px, py, e;
+        int32_t a, b, c, px, py, e;
         tensor(img, stride, cx, cy, &a, &b, &c, &px, &py, &e);
         double da = (double)a, db = (double)b, dc = (double)c;
         double det = da * db - dc * dc, tr = da + db;

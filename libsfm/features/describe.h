@@ -9,9 +9,21 @@
  * radius 15. A flat patch gives (1, 0). Needs 15 pixels around (x, y). */
 void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, double *c, double *s);
 
-/* 256-bit descriptor at integer (x, y) with the pattern rotated by (c, s):
+/* Orientations are quantised to this many bins (5.6 degrees) so that the
+ * steered pattern comes from a table built once per pyramid level. */
+#define SFM_FEAT_ANGLE_BINS 64
+#define SFM_FEAT_STEER_TABLE_LEN (SFM_FEAT_ANGLE_BINS * 512)
+
+/* Fills table[SFM_FEAT_STEER_TABLE_LEN]: for bin b, the 256 + 256 pixel
+ * offsets (for this stride) of the pattern rotated by 2 pi b / BINS. */
+void sfm_feat_steer_table(int stride, int32_t *table);
+
+/* Nearest bin of the direction (c, s). */
+int sfm_feat_angle_bin(double c, double s);
+
+/* 256-bit descriptor at integer (x, y) from one bin of the steering table:
  * bit i (byte i/8, bit i%8) is 1 when I(R p_i) < I(R q_i). Needs 15 pixels
  * around (x, y). */
-void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, double c, double s, uint8_t *out);
+void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, const int32_t *offsets, uint8_t *out);
 
 #endif

@@ -55,10 +55,12 @@ typedef struct layout {
     uint8_t *tmp;
     int32_t *xofs;
     uint16_t *xw;
+    uint16_t *row;
     uint8_t *ring;
     cand *slots;
     int32_t *count;
     int32_t *rank;
+    int32_t *steer; /* SFM_FEAT_STEER_TABLE_LEN */
 } layout;
 
 int sfm_features_default_params(sfm_features_params *p)
@@ -68,7 +70,7 @@ int sfm_features_default_params(sfm_features_params *p)
     p->max_features = 2000;
     p->n_levels = 6;
     p->scale_factor = 1.25;
-    p->fast_threshold = 15;
+    p->fast_threshold = 20;
     p->cell_size = 48;
     return SFM_OK;
 }
@@ -133,10 +135,12 @@ static void carve(sfm_arena *a, const plan *pl, layout *ly)
     ly->tmp = SFM_ARENA_ARRAY(a, uint8_t, w0);
     ly->xofs = SFM_ARENA_ARRAY(a, int32_t, w0);
     ly->xw = SFM_ARENA_ARRAY(a, uint16_t, w0);
+    ly->row = SFM_ARENA_ARRAY(a, uint16_t, w0);
     ly->ring = SFM_ARENA_ARRAY(a, uint8_t, 3 * w0);
     ly->slots = SFM_ARENA_ARRAY(a, cand, pl->max_slots);
     ly->count = SFM_ARENA_ARRAY(a, int32_t, pl->max_cells);
     ly->rank = SFM_ARENA_ARRAY(a, int32_t, pl->max_slots);
+    ly->steer = SFM_ARENA_ARRAY(a, int32_t, SFM_FEAT_STEER_TABLE_LEN);
 }
 
 size_t sfm_features_workspace_size(const sfm_features_params *p, int width, int height)
@@ -272,8 +276,16 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
         const int cy = (ym - B) / cell;
         for (int x = B; x < w - B; x++) {
             const int s = mid[x];
-            if (s == 0)
+            if (s == 0) {
+                /* skip runs of 8 empty scores in one read */
+                uint64_t run;
+                if (x + 9 <= w - B) {
+                    memcpy(&run, mid + x + 1, 8);
+                    if (run == 0)
+                        x += 8;
+                }
                 continue;
+            }
             /* strictly above earlier neighbours (raster order), at least later ones */
             if (!(s > up[x - 1] && s > up[x] && s > up[x + 1] && s > mid[x - 1] && s >= mid[x + 1] &&
                   s >= dn[x - 1] && s >= dn[x] && s >= dn[x + 1]))
@@ -290,7 +302,7 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
     }
 }
 
-static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int level, const cand *c,
+static int emit(const sfm_feat_level *lv, const uint8_t *smooth, const int32_t *steer, int level, const cand *c,
                 sfm_keypoint *kp, uint8_t *desc)
 {
     double rx, ry, co, si;
@@ -298,7 +310,8 @@ static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int level, cons
     const double max_res = REFINE_RMS * REFINE_RMS / (lv->sx * lv->sy);
     (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
     sfm_feat_orientation(smooth, lv->w, c->x, c->y, &co, &si);
-    sfm_feat_describe(smooth, lv->w, c->x, c->y, co, si, desc);
+    const int bin = sfm_feat_angle_bin(co, si);
+    sfm_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
     kp->y = (ry + 0.5) * lv->sy - 0.5;
     kp->angle = atan2(si, co);
@@ -343,7 +356,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             lv.stride = image->stride;
             lv.sx = lv.sy = 1.0;
         } else {
-            sfm_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw);
+            sfm_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw, ly.row);
             lv.data = ly.level[l];
             lv.w = pl.w[l];
             lv.h = pl.h[l];
@@ -366,6 +379,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             sort_cands(cc, ly.count[ci]);
         }
         sfm_feat_smooth(lv.data, lv.w, lv.h, lv.stride, ly.smooth, ly.tmp);
+        sfm_feat_steer_table(lv.w, ly.steer);
         /* every cell's kept candidates compete by Harris measure */
         int n = 0;
         for (int ci = 0; ci < cells; ci++)
@@ -374,7 +388,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
         sort_by_harris(ly.slots, ly.rank, n);
         const int take = n < budget ? n : budget;
         for (int i = 0; i < take; i++, n_out++)
-            emit(&lv, ly.smooth, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
+            emit(&lv, ly.smooth, ly.steer, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
         const int taken = take;
         carry = budget - taken;
     }

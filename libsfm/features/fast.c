@@ -155,6 +155,15 @@ void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, in
         memset(score + x, 0, 16);
         if ((lo8 | hi8) == 0)
             continue;
+        /* few candidates: test them one by one; many: all 16 at once */
+        const uint64_t ones = 0x0101010101010101ULL;
+        const int cands = (int)(((lo8 + hi8) * ones) >> 56);
+        if (cands <= 3) {
+            for (int k = 0; k < 16; k++)
+                if (m[k])
+                    score[x + k] = full_test(row + x + k, off, t);
+            continue;
+        }
         segment16(row + x, off, (uint8_t)t, m);
         for (int k = 0; k < 16; k++)
             if (m[k])

@@ -18,10 +18,10 @@ typedef struct sfm_feat_level {
 int sfm_feat_level_sizes(int w0, int h0, int n_levels, double scale_factor, int *w, int *h);
 
 /* Bilinear resampling of src (sw x sh) to dst (dw x dh, stride dw), pixel
- * centres mapped as xs = (xd + 0.5) * sw / dw - 0.5. xofs and xw hold dw
- * entries of scratch. Requires sw, sh >= 2. */
+ * centres mapped as xs = (xd + 0.5) * sw / dw - 0.5, 8-bit weights. xofs and
+ * xw hold dw entries of scratch, row sw entries. Requires sw, sh >= 2. */
 void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
-                     uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw);
+                     uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw, uint16_t *row);
 
 /* Separable 7-tap Gaussian (sigma about 2, integer weights summing to 256),
  * borders replicated, vertical pass first (rounded to 8 bits), then

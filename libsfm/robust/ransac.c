@@ -23,7 +23,9 @@ typedef struct engine {
     const sfm_ransac_estimator *est;
     int n, k, m, s;
     double tau2;
+    double wide; /* LO / polish band in thresholds, >= 1 */
     int *perm;    /* verification order: a seeded random permutation */
+    int *pos;     /* pos[perm[j]] = j */
     int *order;   /* PROSAC ranking (points by decreasing quality) */
     int *inl;     /* inlier list scratch */
     double *models;
@@ -47,6 +49,7 @@ static int dims_ok(const sfm_ransac_dims *d)
 static void carve(sfm_arena *a, const sfm_ransac_dims *d, engine *e)
 {
     e->perm = SFM_ARENA_ARRAY(a, int, d->n);
+    e->pos = SFM_ARENA_ARRAY(a, int, d->n);
     e->order = SFM_ARENA_ARRAY(a, int, d->n);
     e->inl = SFM_ARENA_ARRAY(a, int, d->n);
     e->models = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
@@ -79,6 +82,8 @@ int sfm_ransac_default_options(sfm_ransac_options *opt)
     opt->max_iterations = 10000;
     opt->seed = SFM_RNG_DEFAULT_SEED;
     opt->lo_rounds = 3;
+    opt->wide_mult = 0.0;
+    opt->polish_rounds = 2;
     opt->use_sprt = 1;
     opt->quality = NULL;
     opt->clock = NULL;
@@ -106,47 +111,39 @@ static double score_full(const engine *e, const double *model, int *ninl)
     return s;
 }
 
-static int collect_inliers(const engine *e, const double *model, int *list)
-{
-    const sfm_ransac_estimator *est = e->est;
-    int c = 0;
-    for (int i = 0; i < e->n; i++) {
-        double r2 = est->residual(est->ctx, model, i);
-        if (r2 < e->tau2)
-            list[c++] = i;
-    }
-    return c;
-}
-
 #define EVAL_BETTER 0
 #define EVAL_WORSE 1
 #define EVAL_SPRT 2
 
 /* Verify a model in the permuted order: SPRT rejection and MSAC early exit
  * once the partial cost reaches the best cost (every term is >= 0, so the
- * model cannot win any more). */
+ * model cannot win any more). The sample's own points fit by construction
+ * and say nothing about the model: they count in the score but not in the
+ * likelihood ratio nor in the estimate of delta. own_pos holds their
+ * positions in the verification order, ascending, ending with n. */
 static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *model,
-                    double best_score, double *score, int *ninl)
+                    const int *own_pos, double best_score, double *score, int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
     const double tau2 = e->tau2;
     const int sprt_on = use_sprt && sp->active && isfinite(best_score);
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
-    int c = 0;
+    int c = 0, own = 0, own_c = 0;
     for (int j = 0; j < e->n; j++) {
         double r2 = est->residual(est->ctx, model, e->perm[j]);
-        if (r2 < tau2) {
-            s += r2;
-            c++;
-            lambda *= min_;
+        int in = r2 < tau2;
+        s += in ? r2 : tau2;
+        c += in;
+        if (j == own_pos[own]) {
+            own++;
+            own_c += in;
         } else {
-            s += tau2;
-            lambda *= mout;
-        }
-        if (sprt_on && lambda > A) {
-            sfm_sprt_record_rejection(sp, j + 1, c);
-            return EVAL_SPRT;
+            lambda *= in ? min_ : mout;
+            if (sprt_on && lambda > A) {
+                sfm_sprt_record_rejection(sp, j + 1 - own, c - own_c);
+                return EVAL_SPRT;
+            }
         }
         if (s >= best_score)
             return EVAL_WORSE;
@@ -156,14 +153,32 @@ static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *m
     return EVAL_BETTER;
 }
 
-/* LO-RANSAC: refine on the inliers, keep the result while the cost drops. */
+/* Points whose squared residual is below wide2 go to list; returns count. */
+static int collect_within(const engine *e, const double *model, double wide2, int *list)
+{
+    const sfm_ransac_estimator *est = e->est;
+    int c = 0;
+    for (int i = 0; i < e->n; i++)
+        if (est->residual(est->ctx, model, i) < wide2)
+            list[c++] = i;
+    return c;
+}
+
+/* LO-RANSAC: refine on the inliers, or with opt->wide_mult > 1 on the
+ * points within wide_mult thresholds (robust scale tau), keep the result
+ * while the MSAC cost at tau drops. The wider set follows the iterative
+ * least squares of Chum, Matas & Kittler (which start at a multiple of the
+ * threshold): with noise near the
+ * threshold, a model from a noisy sample sees only part of its inliers at
+ * tau and converges from the wider set. */
 static void local_optimise(const engine *e, int rounds, double *model, double *score, int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
     if (est->refine == NULL)
         return;
     for (int r = 0; r < rounds; r++) {
-        int c = collect_inliers(e, model, e->inl);
+        int c = collect_within(e, model, wide2, e->inl);
         if (c < e->k)
             return;
         memcpy(e->tmp, model, sizeof(double) * (size_t)e->s);
@@ -177,6 +192,30 @@ static void local_optimise(const engine *e, int rounds, double *model, double *s
         *score = s2;
         *ninl = c2;
     }
+}
+
+/* Final polish of e->best: refine on every point within wide_mult
+ * thresholds (robust scale tau) without asking the MSAC cost at tau (which
+ * prefers models fitted to the points inside tau only); kept when it loses
+ * at most 5 % of the inliers. Returns 1 when kept. */
+static int polish(const engine *e, int rounds, int best_inl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
+    memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
+    for (int r = 0; r < rounds; r++) {
+        int c = collect_within(e, e->spare, wide2, e->inl);
+        if (c < e->k)
+            break;
+        if (est->refine(est->ctx, e->inl, c, e->spare) < 0)
+            break;
+    }
+    int ci;
+    (void)score_full(e, e->spare, &ci);
+    if ((double)ci < 0.95 * (double)best_inl)
+        return 0;
+    memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
+    return 1;
 }
 
 /* Samples needed so that an all-inlier, SPRT-accepted sample has been drawn
@@ -212,12 +251,12 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     sfm_ransac_dims d = {n, est->sample_size, est->max_models, est->model_size};
     if (!dims_ok(&d) || n < est->sample_size)
         return SFM_E_ARGUMENT;
-    if (!isfinite(opt->threshold) || !isfinite(opt->confidence) ||
+    if (!isfinite(opt->threshold) || !isfinite(opt->confidence) || !isfinite(opt->wide_mult) ||
         (opt->clock != NULL && !isfinite(opt->time_budget)))
         return SFM_E_NONFINITE;
     if (!(opt->threshold > 0.0) || !(opt->confidence > 0.0 && opt->confidence < 1.0) ||
         opt->min_iterations < 0 || opt->max_iterations < 1 ||
-        opt->min_iterations > opt->max_iterations || opt->lo_rounds < 0)
+        opt->min_iterations > opt->max_iterations || opt->lo_rounds < 0 || opt->polish_rounds < 0)
         return SFM_E_ARGUMENT;
     if (opt->quality != NULL) {
         for (int i = 0; i < n; i++)
@@ -242,6 +281,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     e.m = est->max_models;
     e.s = est->model_size;
     e.tau2 = opt->threshold * opt->threshold;
+    e.wide = opt->wide_mult > 1.0 ? opt->wide_mult : 1.0;
 
     sfm_rng rng;
     sfm_rng_seed(&rng, opt->seed);
@@ -254,6 +294,8 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         e.perm[i] = e.perm[j];
         e.perm[j] = tmp;
     }
+    for (int i = 0; i < n; i++)
+        e.pos[e.perm[i]] = i;
     sfm_prosac prosac;
     const int use_prosac = opt->quality != NULL;
     if (use_prosac) {
@@ -304,6 +346,17 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         }
         if (est->degenerate != NULL && est->degenerate(est->ctx, e.sample))
             continue;
+        /* positions of the sample in the verification order, ascending */
+        int own_pos[SFM_RANSAC_MAX_SAMPLE + 1];
+        for (int i = 0; i < e.k; i++) {
+            int p = e.pos[e.sample[i]], q = i;
+            while (q > 0 && own_pos[q - 1] > p) {
+                own_pos[q] = own_pos[q - 1];
+                q--;
+            }
+            own_pos[q] = p;
+        }
+        own_pos[e.k] = n;
         int nm = est->solve(est->ctx, e.sample, e.models);
         if (nm < 0)
             return nm;
@@ -315,7 +368,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             double sc;
             int ci;
             models++;
-            int r = evaluate(&e, &sprt, use_sprt, cand, best_score, &sc, &ci);
+            int r = evaluate(&e, &sprt, use_sprt, cand, own_pos, best_score, &sc, &ci);
             if (r == EVAL_SPRT)
                 rejected++;
             if (r != EVAL_BETTER)
@@ -345,6 +398,9 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
 
     if (!have_best)
         return SFM_E_NO_CONVERGENCE;
+    int polished = 0;
+    if (opt->polish_rounds > 0 && est->refine != NULL && e.wide > 1.0)
+        polished = polish(&e, opt->polish_rounds, best_inl);
     int ninl;
     double final_score = score_full(&e, e.best, &ninl);
     if (ninl < 1)
@@ -362,6 +418,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         stats->models = models;
         stats->sprt_rejected = rejected;
         stats->lo_runs = lo_runs;
+        stats->polished = polished;
         stats->num_inliers = ninl;
         stats->score = final_score;
         stats->seed = opt->seed;

@@ -51,8 +51,8 @@ void sfm_sprt_record_rejection(sfm_sprt *s, int tested, int consistent)
     if (s->bad_tested < 100.0)
         return;
     double d = s->bad_consistent / s->bad_tested;
-    if (d < 1e-3)
-        d = 1e-3;
+    if (d < 1e-4)
+        d = 1e-4;
     if (d > 0.5)
         d = 0.5;
     if (fabs(d - s->delta) > 0.1 * s->delta) {

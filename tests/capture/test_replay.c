@@ -24,7 +24,10 @@ static void record(sfm_test_ctx *t, const char *dir, int fmt)
     for (int k = 0; k < RN; k++) {
         cap_synth_frame(img, RW, RH, RW + 8, k);
         sfm_frame f = {img, RW, RH, RW + 8, SFM_PIX_GRAY8, stamp(k), seqno(k), 0};
+        unsigned long before = cap_alloc_calls;
         SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_OK);
+        if (fmt == SFM_RECORD_PGM) /* PGM frames are written without allocating */
+            SFM_CHECK_EQ_INT(cap_alloc_calls - before, 0);
     }
     SFM_CHECK_EQ_INT(sfm_recorder_count(r), RN);
     SFM_CHECK_EQ_INT(sfm_recorder_close(r), SFM_OK);

@@ -73,3 +73,20 @@ def test_device_where_one_exists():
     with frames.open_device("/dev/video0") as src:
         f = src.read()
         assert f.image.ndim == 2
+
+
+def test_libcamera_without_a_camera():
+    ids = frames.list_libcamera()
+    if ids:
+        pytest.skip("a camera is attached: %s" % ids)
+    with pytest.raises(libsfm.SfmError) as e:
+        frames.open_libcamera()
+    assert e.value.status == -11  # SFM_E_NO_DEVICE
+
+
+def test_missing_v4l2_device_is_no_device():
+    with pytest.raises(libsfm.SfmError) as e:
+        frames.open_device("/dev/sfm-no-such-video")
+    assert e.value.status == -11
+    with pytest.raises(ValueError):
+        frames.open_device("/dev/video0", pixel_format="rgb")

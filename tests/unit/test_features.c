@@ -89,7 +89,7 @@ SFM_TEST(features_corners_subpixel)
 }
 
 /* Texture: random rotated rectangles with random gray levels, evaluated
- * analytically in world coordinates with 4x4 supersampling; the second image
+ * analytically in world coordinates with 2x2 supersampling; the second image
  * sees the world through a known rotation + translation. */
 #define NRECT 70
 typedef struct rect {
@@ -98,14 +98,14 @@ typedef struct rect {
 
 static double world(const rect *r, double X, double Y)
 {
-    double v = 128.0;
-    for (int k = 0; k < NRECT; k++) {
+    /* later rectangles cover earlier ones: the last one containing X wins */
+    for (int k = NRECT - 1; k >= 0; k--) {
         double dx = X - r[k].cx, dy = Y - r[k].cy;
         double u = r[k].c * dx + r[k].s * dy, w = -r[k].s * dx + r[k].c * dy;
         if (fabs(u) <= r[k].hw && fabs(w) <= r[k].hh)
-            v = r[k].v;
+            return r[k].v;
     }
-    return v;
+    return 128.0;
 }
 
 /* image point x maps to world X = A x + b, A a rotation by th about the centre */
@@ -115,13 +115,13 @@ static void render_world(uint8_t *img, const rect *r, double th, double tx, doub
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             double acc = 0.0;
-            for (int j = 0; j < 4; j++)
-                for (int i = 0; i < 4; i++) {
-                    double px = x - 0.375 + 0.25 * i - x0, py = y - 0.375 + 0.25 * j - y0;
+            for (int j = 0; j < 2; j++)
+                for (int i = 0; i < 2; i++) {
+                    double px = x - 0.25 + 0.5 * i - x0, py = y - 0.25 + 0.5 * j - y0;
                     double X = c * px - s * py + x0 + tx, Y = s * px + c * py + y0 + ty;
                     acc += world(r, X, Y);
                 }
-            img[y * W + x] = (uint8_t)floor(acc / 16.0 + 0.5);
+            img[y * W + x] = (uint8_t)floor(acc / 4.0 + 0.5);
         }
 }
 
@@ -466,12 +466,15 @@ SFM_TEST(features_brief_pattern_fits_patch)
     /* any rotation of the pattern stays inside the disc the border protects */
     int distinct = 1;
     for (int i = 0; i < SFM_BRIEF_PAIRS; i++) {
-        const signed char *q = sfm_brief_pattern[i];
+        signed char q[4];
+        for (int c = 0; c < 4; c++)
+            q[c] = sfm_brief_pattern[c][i];
         SFM_CHECK(q[0] * q[0] + q[1] * q[1] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
         SFM_CHECK(q[2] * q[2] + q[3] * q[3] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
         SFM_CHECK(q[0] != q[2] || q[1] != q[3]);
         for (int j = 0; j < i; j++)
-            if (memcmp(q, sfm_brief_pattern[j], 4) == 0)
+            if (sfm_brief_pattern[0][j] == q[0] && sfm_brief_pattern[1][j] == q[1] &&
+                sfm_brief_pattern[2][j] == q[2] && sfm_brief_pattern[3][j] == q[3])
                 distinct = 0;
     }
     SFM_CHECK(distinct);

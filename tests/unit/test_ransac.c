@@ -11,6 +11,7 @@
 typedef struct line_ctx {
     const double *xy; /* n x 2 */
     int refine_calls;
+    double scale; /* robust scale of the refit (the threshold) */
 } line_ctx;
 
 /* Model: (a, b, c) with a^2 + b^2 = 1, line a x + b y + c = 0. */
@@ -35,24 +36,29 @@ static double line_residual(void *ctx, const double *m, int i)
     return r * r;
 }
 
-/* Total least squares on the inliers (closed-form 2x2 eigenvector). */
+/* Weighted total least squares on the listed points (closed-form 2x2
+ * eigenvector), Cauchy weights from the current model's residuals. */
 static int line_refine(void *ctx, const int *inl, int n, double *m)
 {
     line_ctx *L = ctx;
+    const double scale = L->scale;
     L->refine_calls++;
-    double mx = 0, my = 0;
+    double mx = 0, my = 0, sw = 0;
     for (int i = 0; i < n; i++) {
-        mx += L->xy[2 * inl[i]];
-        my += L->xy[2 * inl[i] + 1];
+        double w = scale > 0 ? 1.0 / (1.0 + line_residual(ctx, m, inl[i]) / (scale * scale)) : 1.0;
+        mx += w * L->xy[2 * inl[i]];
+        my += w * L->xy[2 * inl[i] + 1];
+        sw += w;
     }
-    mx /= n;
-    my /= n;
+    mx /= sw;
+    my /= sw;
     double sxx = 0, sxy = 0, syy = 0;
     for (int i = 0; i < n; i++) {
+        double w = scale > 0 ? 1.0 / (1.0 + line_residual(ctx, m, inl[i]) / (scale * scale)) : 1.0;
         double dx = L->xy[2 * inl[i]] - mx, dy = L->xy[2 * inl[i] + 1] - my;
-        sxx += dx * dx;
-        sxy += dx * dy;
-        syy += dy * dy;
+        sxx += w * dx * dx;
+        sxy += w * dx * dy;
+        syy += w * dy * dy;
     }
     /* normal = eigenvector of the smaller eigenvalue */
     double theta = 0.5 * atan2(2 * sxy, sxx - syy); /* direction of the line */
@@ -152,12 +158,14 @@ SFM_TEST(ransac_line_outlier_levels)
         for (int trial = 0; trial < SFM_TEST_ITERS(20); trial++) {
             double line[3], model[3];
             make_line(t, NPTS, ratios[r], 0.01, pts, truth_mask, line);
-            line_ctx L = {pts, 0};
+            line_ctx L = {pts, 0, 0.0};
             sfm_ransac_estimator est;
             line_estimator(&est, &L);
             sfm_ransac_options opt;
             sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
             opt.threshold = 0.03;
+            L.scale = opt.threshold;
             opt.seed = (uint64_t)trial;
             sfm_ransac_stats st;
             int ni = sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf);
@@ -194,12 +202,14 @@ SFM_TEST(ransac_same_seed_identical)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.6, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.02;
+    L.scale = opt.threshold;
     opt.seed = 1234;
     sfm_ransac_stats s1, s2;
     int a = sfm_ransac_run(&est, NPTS, &opt, m1, mask, &s1, ws_buf, sizeof ws_buf);
@@ -221,12 +231,14 @@ SFM_TEST(ransac_sprt_rejects_early_same_answer)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.75, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.min_iterations = 300;
     sfm_ransac_stats s1, s2;
     opt.use_sprt = 1;
@@ -245,12 +257,15 @@ SFM_TEST(ransac_lo_lowers_cost)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.5, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
+    opt.polish_rounds = 0;
     sfm_ransac_stats s1, s2;
     int a = sfm_ransac_run(&est, NPTS, &opt, m1, NULL, &s1, ws_buf, sizeof ws_buf);
     SFM_CHECK(L.refine_calls > 0);
@@ -263,16 +278,52 @@ SFM_TEST(ransac_lo_lowers_cost)
     SFM_CHECK(line_angle_err(m1, line) <= line_angle_err(m2, line) + 1e-3);
 }
 
+SFM_TEST(ransac_polish_uses_the_wider_band)
+{
+    /* threshold = noise sigma keeps ~68 % of the true inliers; the polish
+     * fits on those within 3 sigma and lands closer to the truth */
+    double sum_p = 0.0, sum_n = 0.0;
+    int kept = 0;
+    const int trials = SFM_TEST_ITERS(40);
+    for (int k = 0; k < trials; k++) {
+        double line[3], m1[3], m2[3];
+        make_line(t, NPTS, 0.5, 0.01, pts, truth_mask, line);
+        line_ctx L = {pts, 0, 0.0};
+        sfm_ransac_estimator est;
+        line_estimator(&est, &L);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
+        opt.threshold = 0.01;
+        L.scale = opt.threshold;
+        opt.seed = (uint64_t)k;
+        sfm_ransac_stats st;
+        SFM_CHECK(sfm_ransac_run(&est, NPTS, &opt, m1, NULL, &st, ws_buf, sizeof ws_buf) > 0);
+        kept += st.polished;
+        opt.polish_rounds = 0;
+        SFM_CHECK(sfm_ransac_run(&est, NPTS, &opt, m2, NULL, &st, ws_buf, sizeof ws_buf) > 0);
+        SFM_CHECK_EQ_INT(st.polished, 0);
+        sum_p += line_angle_err(m1, line);
+        sum_n += line_angle_err(m2, line);
+    }
+    SFM_TEST_LOG("mean angle error %.5f with polish, %.5f without (%d of %d kept)", sum_p / trials,
+                 sum_n / trials, kept, trials);
+    SFM_CHECK(kept >= trials * 3 / 4);
+    SFM_CHECK(sum_p < sum_n);
+}
+
 SFM_TEST(ransac_iteration_cap_and_minimum)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.9, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.max_iterations = 7;
     opt.confidence = 0.999999;
     sfm_ransac_stats st;
@@ -304,12 +355,14 @@ SFM_TEST(ransac_time_budget_uses_caller_clock)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.9, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.confidence = 0.999999;
     double now = 0.0;
     opt.clock = fake_clock;
@@ -330,12 +383,14 @@ SFM_TEST(ransac_prosac_uses_quality)
     make_line(t, NPTS, 0.8, 0.01, pts, truth_mask, line);
     for (int i = 0; i < NPTS; i++)
         quality[i] = truth_mask[i] ? 1.0 + sfm_test_uniform(t, 0, 1) : sfm_test_uniform(t, 0, 1.2);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.quality = quality;
     sfm_ransac_stats st;
     int a = sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf);
@@ -352,12 +407,14 @@ SFM_TEST(ransac_contract)
 {
     double line[3];
     make_line(t, NPTS, 0.3, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     double model[3];
     sfm_ransac_stats st;
     sfm_test_fill_canary(model, sizeof model);
@@ -390,6 +447,7 @@ SFM_TEST(ransac_contract)
     opt.threshold = -1;
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.confidence = 1.0;
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
     opt.confidence = 0.99;
@@ -428,12 +486,14 @@ SFM_TEST(ransac_solver_status_and_no_model)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.3, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0};
+    line_ctx L = {pts, 0, 0.0};
     sfm_ransac_estimator est;
     line_estimator(&est, &L);
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
+    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
     opt.threshold = 0.03;
+    L.scale = opt.threshold;
     opt.max_iterations = 20;
     sfm_test_fill_canary(model, sizeof model);
     est.solve = failing_solve;

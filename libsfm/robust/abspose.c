@@ -1,0 +1,138 @@
+/*
+ * Absolute pose by RANSAC over P3P samples (Persson & Nordberg, "Lambda
+ * Twist", ECCV 2018), scored on the tangent-plane reprojection error with
+ * SPRT + MSAC, LO by Levenberg-Marquardt on that error over the inliers.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "robust/reproj_lm.h"
+#include "sfm/sfm_pose.h"
+#include "sfm/sfm_ransac.h"
+
+#define ABS_LM_STEPS 4
+
+typedef struct abs_ctx {
+    const double *b; /* unit bearings n x 3 */
+    const double *X; /* world points n x 3 */
+    double scale;    /* robust scale of the refit: the threshold (normalised) */
+} abs_ctx;
+
+static int solve_p3p(void *ctx, const int *s, double *models)
+{
+    const abs_ctx *c = ctx;
+    double x[9], X[9];
+    sfm_pose P[SFM_P3P_MAX_SOLUTIONS];
+    for (int k = 0; k < 3; k++) {
+        memcpy(x + 3 * k, c->b + 3 * s[k], 3 * sizeof(double));
+        memcpy(X + 3 * k, c->X + 3 * s[k], 3 * sizeof(double));
+    }
+    int ns = sfm_p3p(x, X, P);
+    if (ns < 0)
+        return ns == SFM_E_NONFINITE ? 0 : ns;
+    for (int k = 0; k < ns; k++) {
+        memcpy(models + 12 * k, P[k].R, 9 * sizeof(double));
+        memcpy(models + 12 * k + 9, P[k].t, 3 * sizeof(double));
+    }
+    return ns;
+}
+
+static double residual(void *ctx, const double *m, int i)
+{
+    const abs_ctx *c = ctx;
+    return sfm_robust_reproj2(m, m + 9, c->b + 3 * i, c->X + 3 * i);
+}
+
+static int refine(void *ctx, const int *inl, int n, double *m)
+{
+    const abs_ctx *c = ctx;
+    if (n < 3)
+        return -1;
+    return sfm_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
+}
+
+static void layout(sfm_arena *a, int n, size_t es, double **b, void **eng)
+{
+    *b = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
+    *eng = sfm_arena_alloc(a, es);
+}
+
+static size_t engine_size(int n)
+{
+    sfm_ransac_dims d = {n, 3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL};
+    return sfm_ransac_workspace_size(&d);
+}
+
+size_t sfm_ransac_abspose_workspace_size(int n)
+{
+    if (n < 3 || n > SFM_RANSAC_MAX_POINTS)
+        return 0;
+    sfm_arena a;
+    double *b;
+    void *eng;
+    sfm_arena_measure(&a);
+    layout(&a, n, engine_size(n), &b, &eng);
+    return sfm_arena_required(&a);
+}
+
+int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camera *cam,
+                       const sfm_ransac_options *opt, sfm_pose *pose, uint8_t *inlier_mask,
+                       sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    if (px == NULL || X == NULL || cam == NULL || pose == NULL || ws == NULL)
+        return SFM_E_ARGUMENT;
+    if (n < 3 || n > SFM_RANSAC_MAX_POINTS)
+        return SFM_E_ARGUMENT;
+    sfm_ransac_options eopt;
+    if (opt != NULL)
+        eopt = *opt;
+    else
+        sfm_ransac_default_options(&eopt);
+    if (!isfinite(eopt.threshold) || !isfinite(eopt.confidence))
+        return SFM_E_NONFINITE;
+    if (!(eopt.threshold > 0.0))
+        return SFM_E_ARGUMENT;
+    int st = sfm_camera_validate(cam);
+    if (st < 0)
+        return st;
+    for (int i = 0; i < 2 * n; i++)
+        if (!isfinite(px[i]))
+            return SFM_E_NONFINITE;
+    for (int i = 0; i < 3 * n; i++)
+        if (!isfinite(X[i]))
+            return SFM_E_NONFINITE;
+    size_t need = sfm_ransac_abspose_workspace_size(n);
+    if (ws_size < need)
+        return SFM_E_WORKSPACE;
+    sfm_arena a;
+    double *b;
+    void *eng;
+    size_t es = engine_size(n);
+    sfm_arena_init(&a, ws, ws_size);
+    layout(&a, n, es, &b, &eng);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+    st = sfm_camera_unproject_many(cam, px, n, b);
+    if (st < 0)
+        return st;
+    const double f = 0.5 * (fabs(cam->fx) + fabs(cam->fy));
+    eopt.threshold /= f;
+    if (eopt.wide_mult == 0.0)
+        eopt.wide_mult = SFM_RANSAC_WIDE_MULT;
+    abs_ctx c = {b, X, eopt.threshold};
+    sfm_ransac_estimator est = {3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL, solve_p3p,
+                                residual, refine, NULL, NULL, &c};
+    double model[SFM_RANSAC_ABSPOSE_MODEL];
+    sfm_ransac_stats s;
+    int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, &s, eng, es);
+    if (ni < 0)
+        return ni;
+    memcpy(pose->R, model, 9 * sizeof(double));
+    memcpy(pose->t, model + 9, 3 * sizeof(double));
+    if (stats != NULL) {
+        *stats = s;
+        stats->score = s.score * f * f;
+    }
+    return ni;
+}

@@ -1,0 +1,98 @@
+/*
+ * Internal: small inline helpers shared by the two-view estimators.
+ *
+ * Sampson error on unit bearings: for C = b2^T E b1, the gradients of C on
+ * the tangent planes of the two unit spheres are E^T b2 - C b1 and
+ * E b1 - C b2, so the first-order squared angular distance to the epipolar
+ * constraint is C^2 / (|E b1|^2 + |E^T b2|^2 - 2 C^2). With narrow fields of
+ * view it equals the classic Sampson error on the z = 1 plane divided by the
+ * focal length squared.
+ */
+#ifndef SFM_ROBUST_EPIPOLAR_H
+#define SFM_ROBUST_EPIPOLAR_H
+
+#include <math.h>
+
+#define SFM_ROBUST_HUGE 1e300
+
+static inline double sfm_sampson_bearing2(const double *E, const double *b1, const double *b2)
+{
+    double e0 = E[0] * b1[0] + E[1] * b1[1] + E[2] * b1[2];
+    double e1 = E[3] * b1[0] + E[4] * b1[1] + E[5] * b1[2];
+    double e2 = E[6] * b1[0] + E[7] * b1[1] + E[8] * b1[2];
+    double f0 = E[0] * b2[0] + E[3] * b2[1] + E[6] * b2[2];
+    double f1 = E[1] * b2[0] + E[4] * b2[1] + E[7] * b2[2];
+    double f2 = E[2] * b2[0] + E[5] * b2[1] + E[8] * b2[2];
+    double C = b2[0] * e0 + b2[1] * e1 + b2[2] * e2;
+    double D = e0 * e0 + e1 * e1 + e2 * e2 + f0 * f0 + f1 * f1 + f2 * f2 - 2.0 * C * C;
+    if (!(D > 1e-300))
+        return SFM_ROBUST_HUGE;
+    return C * C / D;
+}
+
+/* Sampson error of a fundamental matrix on pixels (classic form). */
+static inline double sfm_sampson_pixel2(const double *F, const double *p1, const double *p2)
+{
+    double x = p1[0], y = p1[1], u = p2[0], v = p2[1];
+    double l0 = F[0] * x + F[1] * y + F[2];
+    double l1 = F[3] * x + F[4] * y + F[5];
+    double l2 = F[6] * x + F[7] * y + F[8];
+    double m0 = F[0] * u + F[3] * v + F[6];
+    double m1 = F[1] * u + F[4] * v + F[7];
+    double C = u * l0 + v * l1 + l2;
+    double D = l0 * l0 + l1 * l1 + m0 * m0 + m1 * m1;
+    if (!(D > 1e-300))
+        return SFM_ROBUST_HUGE;
+    return C * C / D;
+}
+
+static inline void sfm_cross3(const double *a, const double *b, double *c)
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double sfm_dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void sfm_matvec3(const double *M, const double *x, double *y)
+{
+    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
+    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
+    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
+}
+
+/* E = [t]x R. */
+static inline void sfm_essential_from_pose(const double *R, const double *t, double *E)
+{
+    for (int c = 0; c < 3; c++) {
+        double r0 = R[c], r1 = R[3 + c], r2 = R[6 + c];
+        E[c] = t[1] * r2 - t[2] * r1;
+        E[3 + c] = t[2] * r0 - t[0] * r2;
+        E[6 + c] = t[0] * r1 - t[1] * r0;
+    }
+}
+
+/* Two unit vectors completing the unit vector n to an orthonormal basis. */
+static inline void sfm_tangent_basis(const double *n, double *e1, double *e2)
+{
+    double a[3] = {0.0, 0.0, 0.0};
+    double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
+    if (ax <= ay && ax <= az)
+        a[0] = 1.0;
+    else if (ay <= az)
+        a[1] = 1.0;
+    else
+        a[2] = 1.0;
+    sfm_cross3(n, a, e1);
+    double l = sqrt(sfm_dot3(e1, e1));
+    e1[0] /= l;
+    e1[1] /= l;
+    e1[2] /= l;
+    sfm_cross3(n, e1, e2);
+}
+
+#endif

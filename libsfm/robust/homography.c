@@ -1,0 +1,132 @@
+/*
+ * Homography by RANSAC over 4-point samples, scored on the symmetric transfer
+ * error (the larger of the forward and backward squared distances, so both
+ * images must agree), LO by a normalised DLT refit on the inliers.
+ * Model: H[9] then H^-1[9].
+ */
+#include <math.h>
+#include <string.h>
+
+#include "robust/pixel_pairs.h"
+#include "sfm/sfm_solvers.h"
+
+#define HMODEL 18
+
+typedef struct h_ctx {
+    const double *p1, *p2;
+    double *g1, *g2;
+} h_ctx;
+
+/* Unit Frobenius norm and the inverse (adjugate, scaled); 0 when singular. */
+static int finish_model(const double *H, double *m)
+{
+    double s = 0.0;
+    for (int k = 0; k < 9; k++)
+        s += H[k] * H[k];
+    if (!(s > 0.0))
+        return 0;
+    s = 1.0 / sqrt(s);
+    for (int k = 0; k < 9; k++)
+        m[k] = H[k] * s;
+    const double *a = m;
+    double *v = m + 9;
+    v[0] = a[4] * a[8] - a[5] * a[7];
+    v[1] = a[2] * a[7] - a[1] * a[8];
+    v[2] = a[1] * a[5] - a[2] * a[4];
+    v[3] = a[5] * a[6] - a[3] * a[8];
+    v[4] = a[0] * a[8] - a[2] * a[6];
+    v[5] = a[2] * a[3] - a[0] * a[5];
+    v[6] = a[3] * a[7] - a[4] * a[6];
+    v[7] = a[1] * a[6] - a[0] * a[7];
+    v[8] = a[0] * a[4] - a[1] * a[3];
+    double det = a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
+    if (!(fabs(det) > 1e-15))
+        return 0;
+    return 1;
+}
+
+static double transfer2(const double *H, const double *x, const double *y)
+{
+    double w = H[6] * x[0] + H[7] * x[1] + H[8];
+    if (w == 0.0)
+        return 1e300;
+    double u = (H[0] * x[0] + H[1] * x[1] + H[2]) / w - y[0];
+    double v = (H[3] * x[0] + H[4] * x[1] + H[5]) / w - y[1];
+    return u * u + v * v;
+}
+
+static int solve4(void *ctx, const int *s, double *models)
+{
+    const h_ctx *c = ctx;
+    double a[8], b[8];
+    for (int k = 0; k < 4; k++) {
+        a[2 * k] = c->p1[2 * s[k]];
+        a[2 * k + 1] = c->p1[2 * s[k] + 1];
+        b[2 * k] = c->p2[2 * s[k]];
+        b[2 * k + 1] = c->p2[2 * s[k] + 1];
+    }
+    sfm_mat3 H;
+    int ns = sfm_homography_4pt(a, b, &H);
+    if (ns < 0)
+        return ns == SFM_E_NONFINITE ? 0 : ns;
+    if (ns == 0)
+        return 0;
+    return finish_model(H.m, models);
+}
+
+static double residual(void *ctx, const double *m, int i)
+{
+    const h_ctx *c = ctx;
+    double f = transfer2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    double b = transfer2(m + 9, c->p2 + 2 * i, c->p1 + 2 * i);
+    return f > b ? f : b;
+}
+
+/* A linear refit, unweighted. It runs on the points within 2 thresholds
+ * (the estimator forces wide_mult 2): a random point falls inside a disc of
+ * 2 tau around its transfer with probability ~ 4 pi tau^2 / image area, so
+ * the band adds true inliers and almost no outliers. */
+static int refine(void *ctx, const int *inl, int n, double *m)
+{
+    h_ctx *c = ctx;
+    for (int j = 0; j < n; j++) {
+        memcpy(c->g1 + 2 * j, c->p1 + 2 * inl[j], 2 * sizeof(double));
+        memcpy(c->g2 + 2 * j, c->p2 + 2 * inl[j], 2 * sizeof(double));
+    }
+    sfm_mat3 H;
+    if (sfm_homography_dlt(c->g1, c->g2, n, &H) != 1)
+        return -1;
+    double tmp[HMODEL];
+    if (!finish_model(H.m, tmp))
+        return -1;
+    memcpy(m, tmp, sizeof tmp);
+    return 0;
+}
+
+size_t sfm_ransac_homography_workspace_size(int n)
+{
+    return sfm_pixel_pairs_workspace_size(n, 4, 1, HMODEL);
+}
+
+int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+                          const sfm_camera *cam2, const sfm_ransac_options *opt, double H[9],
+                          uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    if (H == NULL)
+        return SFM_E_ARGUMENT;
+    pixel_pairs pp;
+    sfm_ransac_options eopt;
+    int st = sfm_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 4, 1, HMODEL, ws, ws_size, &pp,
+                                   &eopt);
+    if (st < 0)
+        return st;
+    eopt.wide_mult = 2.0;
+    h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2};
+    sfm_ransac_estimator est = {4, 1, HMODEL, solve4, residual, refine, NULL, NULL, &c};
+    double model[HMODEL];
+    int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, stats, pp.eng, pp.eng_size);
+    if (ni < 0)
+        return ni;
+    memcpy(H, model, 9 * sizeof(double));
+    return ni;
+}

@@ -1,0 +1,105 @@
+/* Shared input handling of the fundamental and homography estimators. */
+#include "robust/pixel_pairs.h"
+
+#include <math.h>
+#include <string.h>
+
+static void layout(sfm_arena *a, int n, size_t es, pixel_pairs *pp)
+{
+    pp->p1 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    pp->p2 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    pp->g1 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    pp->g2 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    pp->idx = SFM_ARENA_ARRAY(a, int, n);
+    pp->eng = sfm_arena_alloc(a, es);
+    pp->eng_size = es;
+}
+
+static size_t engine_size(int n, int sample, int max_models, int model_size)
+{
+    sfm_ransac_dims d = {n, sample, max_models, model_size};
+    return sfm_ransac_workspace_size(&d);
+}
+
+size_t sfm_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size)
+{
+    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
+        return 0;
+    size_t es = engine_size(n, sample, max_models, model_size);
+    if (es == 0)
+        return 0;
+    sfm_arena a;
+    pixel_pairs pp;
+    sfm_arena_measure(&a);
+    layout(&a, n, es, &pp);
+    return sfm_arena_required(&a);
+}
+
+static int ideal(const sfm_camera *cam, const double *px, int n, double *out)
+{
+    for (int i = 0; i < n; i++) {
+        double b[3];
+        int st = sfm_camera_unproject(cam, px + 2 * i, b);
+        if (st < 0)
+            return st;
+        if (b[2] > 1e-9) {
+            out[2 * i] = cam->fx * b[0] / b[2] + cam->cx;
+            out[2 * i + 1] = cam->fy * b[1] / b[2] + cam->cy;
+        } else {
+            /* behind the image plane of a wide camera: no pinhole pixel; a
+             * far point that no model explains */
+            out[2 * i] = 1e9;
+            out[2 * i + 1] = 1e9;
+        }
+    }
+    return SFM_OK;
+}
+
+int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+                          const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
+                          int max_models, int model_size, void *ws, size_t ws_size,
+                          pixel_pairs *pp, sfm_ransac_options *eopt)
+{
+    if (px1 == NULL || px2 == NULL || ws == NULL || (cam1 == NULL) != (cam2 == NULL))
+        return SFM_E_ARGUMENT;
+    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
+        return SFM_E_ARGUMENT;
+    if (opt != NULL)
+        *eopt = *opt;
+    else
+        sfm_ransac_default_options(eopt);
+    if (!isfinite(eopt->threshold) || !isfinite(eopt->confidence))
+        return SFM_E_NONFINITE;
+    if (!(eopt->threshold > 0.0))
+        return SFM_E_ARGUMENT;
+    if (cam1 != NULL) {
+        int st = sfm_camera_validate(cam1);
+        if (st < 0)
+            return st;
+        st = sfm_camera_validate(cam2);
+        if (st < 0)
+            return st;
+    }
+    for (int i = 0; i < 2 * n; i++)
+        if (!isfinite(px1[i]) || !isfinite(px2[i]))
+            return SFM_E_NONFINITE;
+    size_t need = sfm_pixel_pairs_workspace_size(n, sample, max_models, model_size);
+    if (need == 0)
+        return SFM_E_ARGUMENT;
+    if (ws_size < need)
+        return SFM_E_WORKSPACE;
+    sfm_arena a;
+    sfm_arena_init(&a, ws, ws_size);
+    layout(&a, n, engine_size(n, sample, max_models, model_size), pp);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+    if (cam1 == NULL) {
+        memcpy(pp->p1, px1, 2 * (size_t)n * sizeof(double));
+        memcpy(pp->p2, px2, 2 * (size_t)n * sizeof(double));
+        return SFM_OK;
+    }
+    int st = ideal(cam1, px1, n, pp->p1);
+    if (st < 0)
+        return st;
+    return ideal(cam2, px2, n, pp->p2);
+}

@@ -1,0 +1,26 @@
+/* Internal: input handling shared by the uncalibrated two-view estimators
+ * (fundamental matrix, homography): checks, workspace, ideal pixels. */
+#ifndef SFM_ROBUST_PIXEL_PAIRS_H
+#define SFM_ROBUST_PIXEL_PAIRS_H
+
+#include "core/arena.h"
+#include "sfm/sfm_ransac.h"
+
+typedef struct pixel_pairs {
+    double *p1, *p2;   /* ideal pixels n x 2 */
+    double *g1, *g2;   /* gather scratch n x 2 (LO refits) */
+    int *idx;          /* n ints */
+    void *eng;
+    size_t eng_size;
+} pixel_pairs;
+
+size_t sfm_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size);
+/* Checks inputs and options, carves ws, writes ideal pixels: with cameras,
+ * unproject (undoing distortion) and project with the cameras' pinhole part;
+ * without, copy. Returns SFM_OK or a status. */
+int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+                          const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
+                          int max_models, int model_size, void *ws, size_t ws_size,
+                          pixel_pairs *pp, sfm_ransac_options *eopt);
+
+#endif

@@ -1,0 +1,70 @@
+/*
+ * Relative pose by RANSAC over 5-point samples (Nister, "An efficient
+ * solution to the five-point relative pose problem", PAMI 2004), scored on
+ * the bearing Sampson error, with LO on (R, t) and the final pose by
+ * cheirality (see sfm_ransac.h). Essential matrices are verified as they come
+ * from the solver; the pose is only decomposed for models that become the
+ * best so far, which keeps SVDs out of the sampling loop.
+ */
+#include <string.h>
+
+#include "robust/twoview.h"
+#include "sfm/sfm_solvers.h"
+
+static int solve5(void *ctx, const int *s, double *models)
+{
+    twoview_ctx *c = ctx;
+    double x1[15], x2[15];
+    sfm_mat3 E[SFM_RELPOSE_5PT_MAX_SOLUTIONS];
+    for (int k = 0; k < 5; k++) {
+        memcpy(x1 + 3 * k, c->b1 + 3 * s[k], 3 * sizeof(double));
+        memcpy(x2 + 3 * k, c->b2 + 3 * s[k], 3 * sizeof(double));
+    }
+    int ns = sfm_relpose_5pt(x1, x2, E);
+    if (ns < 0)
+        return ns == SFM_E_NONFINITE ? 0 : ns;
+    for (int k = 0; k < ns; k++) {
+        double *m = models + (size_t)k * SFM_RANSAC_RELPOSE_MODEL;
+        memcpy(m + TV_E, E[k].m, sizeof E[k].m);
+        memset(m + TV_R, 0, 13 * sizeof(double));
+    }
+    return ns;
+}
+
+size_t sfm_ransac_relpose_workspace_size(int n)
+{
+    return sfm_twoview_workspace_size(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS);
+}
+
+int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+                       const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_pose *pose,
+                       double E[9], uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                       size_t ws_size)
+{
+    if (pose == NULL)
+        return SFM_E_ARGUMENT;
+    twoview_ws w;
+    sfm_ransac_options eopt;
+    double focal;
+    int st = sfm_twoview_setup(px1, px2, n, cam1, cam2, opt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, ws,
+                               ws_size, &w, &eopt, &focal);
+    if (st < 0)
+        return st;
+    twoview_ctx c = {w.b1, w.b2, n, NULL, NULL, eopt.threshold};
+    sfm_ransac_estimator est = {5,
+                                SFM_RELPOSE_5PT_MAX_SOLUTIONS,
+                                SFM_RANSAC_RELPOSE_MODEL,
+                                solve5,
+                                sfm_twoview_residual,
+                                sfm_twoview_refine,
+                                NULL,
+                                NULL,
+                                &c};
+    double model[SFM_RANSAC_RELPOSE_MODEL];
+    sfm_ransac_stats es;
+    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &es, w.eng, w.eng_size);
+    if (ni < 0)
+        return ni;
+    return sfm_twoview_finish(&c, &w, model, eopt.threshold, focal, 0, ni, &es, pose, E,
+                              inlier_mask, stats);
+}

@@ -1,0 +1,86 @@
+/*
+ * Upright relative pose by RANSAC over 3-point samples with a direction known
+ * in both frames (Fraundorfer, Tanskanen & Pollefeys, ECCV 2010), scored on
+ * the bearing Sampson error; LO keeps R d1 = d2 (rotation about d2 only).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "robust/twoview.h"
+#include "sfm/sfm_pose.h"
+
+static int solve3(void *ctx, const int *s, double *models)
+{
+    twoview_ctx *c = ctx;
+    double x1[9], x2[9];
+    sfm_pose P[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
+    for (int k = 0; k < 3; k++) {
+        memcpy(x1 + 3 * k, c->b1 + 3 * s[k], 3 * sizeof(double));
+        memcpy(x2 + 3 * k, c->b2 + 3 * s[k], 3 * sizeof(double));
+    }
+    int ns = sfm_relpose_upright_3pt(x1, x2, c->d1, c->d2, P);
+    if (ns < 0)
+        return ns == SFM_E_NONFINITE ? 0 : ns;
+    for (int k = 0; k < ns; k++)
+        sfm_twoview_set_pose(models + (size_t)k * SFM_RANSAC_RELPOSE_MODEL, P[k].R, P[k].t);
+    return ns;
+}
+
+size_t sfm_ransac_relpose_upright_workspace_size(int n)
+{
+    return sfm_twoview_workspace_size(n, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS);
+}
+
+static int unit(const double *d, double *u)
+{
+    if (!isfinite(d[0]) || !isfinite(d[1]) || !isfinite(d[2]))
+        return SFM_E_NONFINITE;
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(l > 0.0))
+        return SFM_E_ARGUMENT;
+    u[0] = d[0] / l;
+    u[1] = d[1] / l;
+    u[2] = d[2] / l;
+    return SFM_OK;
+}
+
+int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
+                               const sfm_camera *cam1, const sfm_camera *cam2, const double d1[3],
+                               const double d2[3], const sfm_ransac_options *opt, sfm_pose *pose,
+                               double E[9], uint8_t *inlier_mask, sfm_ransac_stats *stats,
+                               void *ws, size_t ws_size)
+{
+    if (pose == NULL || d1 == NULL || d2 == NULL)
+        return SFM_E_ARGUMENT;
+    double u1[3], u2[3];
+    int st = unit(d1, u1);
+    if (st < 0)
+        return st;
+    st = unit(d2, u2);
+    if (st < 0)
+        return st;
+    twoview_ws w;
+    sfm_ransac_options eopt;
+    double focal;
+    st = sfm_twoview_setup(px1, px2, n, cam1, cam2, opt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, ws,
+                           ws_size, &w, &eopt, &focal);
+    if (st < 0)
+        return st;
+    twoview_ctx c = {w.b1, w.b2, n, u1, u2, eopt.threshold};
+    sfm_ransac_estimator est = {3,
+                                SFM_UPRIGHT_3PT_MAX_SOLUTIONS,
+                                SFM_RANSAC_RELPOSE_MODEL,
+                                solve3,
+                                sfm_twoview_residual,
+                                sfm_twoview_refine,
+                                NULL,
+                                NULL,
+                                &c};
+    double model[SFM_RANSAC_RELPOSE_MODEL];
+    sfm_ransac_stats es;
+    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &es, w.eng, w.eng_size);
+    if (ni < 0)
+        return ni;
+    return sfm_twoview_finish(&c, &w, model, eopt.threshold, focal, 1, ni, &es, pose, E,
+                              inlier_mask, stats);
+}

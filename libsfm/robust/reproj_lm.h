@@ -1,0 +1,21 @@
+/* Internal: Levenberg-Marquardt on the tangent-plane reprojection error of an
+ * absolute pose. */
+#ifndef SFM_ROBUST_REPROJ_LM_H
+#define SFM_ROBUST_REPROJ_LM_H
+
+/* Squared tangent-plane error of world point X against unit bearing b under
+ * (R, t): tan^2 of the angle between b and R X + t; SFM_ROBUST_HUGE behind
+ * the camera. */
+double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
+                          const double *X);
+
+/* Minimises the sum over idx[0..n) of the squared residuals
+ * r_k = (e_k . Xc) / (b . Xc), k = 1, 2 (e_1, e_2 a basis of the tangent
+ * plane at b, Xc = R X + t), in (R, t) with R <- exp([w]x) R. At most `iters`
+ * steps. scale > 0: Cauchy loss of scale `scale` on each point's squared
+ * error (IRLS). Returns 0 when the cost went down, 1 otherwise, -1 on failure
+ * (R, t unchanged). */
+int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
+                         int iters, double R[9], double t[3]);
+
+#endif

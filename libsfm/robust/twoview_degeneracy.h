@@ -1,0 +1,28 @@
+/* Internal: is a set of two-view inliers explained by a pure rotation or by
+ * one homography? */
+#ifndef SFM_ROBUST_TWOVIEW_DEGENERACY_H
+#define SFM_ROBUST_TWOVIEW_DEGENERACY_H
+
+#include <stdint.h>
+
+/* Fraction of inliers a rotation or homography must explain to raise a flag. */
+#define SFM_DEGENERACY_FRACTION 0.85
+/* Threshold multiplier for the rotation / homography fits (their errors are
+ * two-dimensional transfer errors, the Sampson error one-dimensional). */
+#define SFM_DEGENERACY_TAU_MULT 3.0
+
+/* 4-point homographies tried for the plane test (the plane holds most of
+ * the points when the flag is due, so a few suffice). */
+#define SFM_DEGENERACY_H_TRIALS 50
+
+/*
+ * b1, b2: unit bearings; idx[0..n): inliers of the relative pose; R_pose:
+ * its rotation; tau: the angular inlier threshold; seed: for the homography
+ * samples. p1, p2: scratch of 2 n doubles each, sel: n ints.
+ * Returns SFM_RANSAC_FLAG_* bits (PURE_ROTATION, PLANAR) or 0.
+ */
+int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
+                                  const double *R_pose, double tau, uint64_t seed, double *p1,
+                                  double *p2, int *sel);
+
+#endif
