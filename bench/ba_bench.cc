@@ -37,6 +37,7 @@ int main(int argc, char **argv)
      * --toggle-collect=sfm_ba_solve or --toggle-collect='ceres::Solve*') */
     bool once = argc > 1 && std::string(argv[1]) == "once";
     int reps_scale = (argc > 1 && !once) ? std::atoi(argv[1]) : 1;
+    int only = (once && argc > 2) ? std::atoi(argv[2]) : -1; /* one size: 0, 1, 2 */
     const int sizes[3][2] = {{3, 200}, {5, 500}, {10, 2000}};
     sfm_ba_options o;
     sfm_ba_default_options(&o);
@@ -44,6 +45,8 @@ int main(int argc, char **argv)
                 "libsfm_med", "steps", "ceres_min", "ceres_med", "steps", "r_min", "r_med", "ws_bytes",
                 "cost_diff");
     for (int si = 0; si < 3; si++) {
+        if (only >= 0 && si != only)
+            continue;
         int m = sizes[si][0], n = sizes[si][1];
         char name[64];
         std::snprintf(name, sizeof name, "bench_%dx%d", m, n);

@@ -2,7 +2,7 @@
 # Ceres (Debian libceres-dev) is linked only into these programs, never into
 # the library.
 TEST_STEPS += test-ba-ceres
-BENCH_STEPS += bench-ba
+BENCH_STEPS += bench-ba bench-ba-callgrind
 
 BA_CXX ?= g++
 BA_CXXFLAGS := -std=c++17 -O2 -DNDEBUG -Wall -Wextra -Werror -Wno-unused-function -Iinclude -Itests/harness -Itests/oracle \
@@ -24,3 +24,8 @@ bench-ba: $(BUILD)/bench/ba_bench
 	$(BUILD)/bench/ba_bench
 
 .PHONY: test-ba-ceres bench-ba
+
+# Instruction counts beside Ceres (valgrind): `make bench-ba-callgrind`.
+bench-ba-callgrind: $(BUILD)/bench/ba_bench
+	sh bench/ba_callgrind.sh $(BUILD)/bench/ba_bench
+.PHONY: bench-ba-callgrind

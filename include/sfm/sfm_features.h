@@ -12,7 +12,7 @@
  * 3x3 non-maximum suppression on the FAST score, are bucketed in a grid, ranked
  * by the Harris measure and refined to sub-pixel accuracy (Foerstner: the point
  * closest in the least-squares sense to all gradient lines of a window). Each
- * level is then smoothed (7-tap Gaussian, sigma about 2) and every kept corner
+ * level is then smoothed (5-tap Gaussian, sigma 1.5) and every kept corner
  * gets the intensity-centroid orientation (Rosin 1999) and a 256-bit steered
  * BRIEF descriptor (Calonder et al. 2010, steered as in Rublee et al., "ORB",
  * ICCV 2011) whose sampling pattern comes from tools/gen_brief_pattern.py.

@@ -14,7 +14,8 @@
  *    (0 for a degenerate sample: nothing is then written), or a negative
  *    sfm_status when the arguments break the contract (nothing written).
  *    No solver ever writes NaN or Inf.
- *  - Stack: each solver uses less than 1 KiB of stack, no workspace, no heap.
+ *  - Stack: each solver uses at most 1.5 KiB of stack (measured with
+ *    -fstack-usage, gcc 12 -O2 x86-64), no workspace, no heap.
  *  - Outputs must not alias inputs.
  */
 #ifndef SFM_POSE_H

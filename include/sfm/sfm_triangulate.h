@@ -20,7 +20,8 @@
  * flagged SFM_TRI_BEHIND; a point at infinity (parallel rays, numerically)
  * is flagged SFM_TRI_INFINITY and X then holds the unit direction towards it
  * (oriented to lie in front of as many cameras as possible), not a position.
- * Stack: under 2 KiB per call, no workspace, no heap. Outputs must not alias
+ * Stack: at most 3 KiB per call (-fstack-usage, gcc 12 -O2 x86-64, the 4x4
+ * SVD fallback included), no workspace, no heap. Outputs must not alias
  * inputs.
  */
 #ifndef SFM_TRIANGULATE_H

@@ -90,14 +90,18 @@ int sfm_feat_refine(const uint8_t *img, int stride, int x, int y, double max_res
         fy = (double)cy + uy;
         if (!(fabs(fx - (double)x) <= 3.0 && fabs(fy - (double)y) <= 3.0))
             break;
+        /* weighted mean squared distance of the gradient lines from the
+         * estimate: small only where the window really is a junction. A
+         * window far off it is not re-centred (saves the iterations on
+         * texture that would be rejected anyway). */
+        const double res = (da * ux * ux + 2.0 * dc * ux * uy + db * uy * uy -
+                            2.0 * (ux * (double)px + uy * (double)py) + (double)e) / tr;
         if (fabs(ux) <= 0.5 && fabs(uy) <= 0.5) {
-            /* weighted mean squared distance of the gradient lines from the
-             * estimate: small only where the window really is a junction */
-            const double res = (da * ux * ux + 2.0 * dc * ux * uy + db * uy * uy -
-                                2.0 * (ux * (double)px + uy * (double)py) + (double)e) / tr;
             ok = res <= max_residual;
             break;
         }
+        if (res > 4.0 * max_residual)
+            break;
         cx = (int)floor(fx + 0.5);
         cy = (int)floor(fy + 0.5);
     }

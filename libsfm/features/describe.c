@@ -21,22 +21,47 @@
 /* floor(sqrt(15^2 - v^2)) for v = 0..15: the half-width of the disc rows. */
 static const signed char disc_umax[16] = {15, 14, 14, 14, 14, 14, 13, 13, 12, 12, 11, 10, 9, 7, 5, 0};
 
-void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, double *c, double *s)
+void sfm_feat_disc_mask(uint8_t *mask)
+{
+    for (int v = -15; v <= 15; v++) {
+        const int um = disc_umax[v < 0 ? -v : v];
+        for (int k = 0; k < 32; k++) {
+            const int u = k - 16;
+            mask[(v + 15) * 32 + k] = (uint8_t)(u >= -um && u <= um ? 0xFF : 0x00);
+        }
+    }
+}
+
+/* Sums over one 32-wide row (u = -16..15) under the mask: fixed trip counts
+ * and a mask instead of a branch, so it vectorises without target flags, in
+ * 16-bit lanes: the masked row has |u| <= 15, so each half-row moment is at
+ * most 255 * (1 + ... + 15) = 30600 and each half-row sum 255 * 16. */
+static void row_moments(const uint8_t *restrict r, const uint8_t *restrict m, int32_t *s_out, int32_t *su_out)
+{
+    uint16_t sl = 0, sr = 0, ml = 0, mr = 0;
+    for (int k = 0; k < 16; k++) {
+        const uint16_t p = (uint16_t)(r[k] & m[k]);
+        sl = (uint16_t)(sl + p);
+        ml = (uint16_t)(ml + (uint16_t)(16 - k) * p);
+    }
+    for (int k = 0; k < 16; k++) {
+        const uint16_t p = (uint16_t)(r[16 + k] & m[16 + k]);
+        sr = (uint16_t)(sr + p);
+        mr = (uint16_t)(mr + (uint16_t)k * p);
+    }
+    *s_out = (int32_t)sl + (int32_t)sr;
+    *su_out = (int32_t)mr - (int32_t)ml;
+}
+
+void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, const uint8_t *mask, double *c, double *s)
 {
     const uint8_t *ctr = img + (long)y * stride + x;
-    long m10 = 0, m01 = 0;
-    for (int u = -15; u <= 15; u++)
-        m10 += (long)u * ctr[u];
-    for (int v = 1; v <= 15; v++) {
-        const uint8_t *rp = ctr + (long)v * stride, *rm = ctr - (long)v * stride;
-        const int um = disc_umax[v];
-        long dsum = 0;
-        for (int u = -um; u <= um; u++) {
-            int p = rp[u], m = rm[u];
-            dsum += p - m;
-            m10 += (long)u * (p + m);
-        }
-        m01 += (long)v * dsum;
+    int32_t m10 = 0, m01 = 0; /* |m10|, |m01| <= 255 * 15 * 709 */
+    for (int v = -15; v <= 15; v++) {
+        int32_t rs, ru;
+        row_moments(ctr + (long)v * stride - 16, mask + (v + 15) * 32, &rs, &ru);
+        m10 += ru;
+        m01 += v * rs;
     }
     double fx = (double)m10, fy = (double)m01;
     double n = sqrt(fx * fx + fy * fy);

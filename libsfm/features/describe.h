@@ -4,10 +4,16 @@
 
 #include <stdint.h>
 
+/* The disc of radius 15 as 31 rows (v = -15..15) of 32 bytes (u = -16..15),
+ * 0xFF inside, 0 outside: fills mask[SFM_FEAT_DISC_MASK_LEN]. */
+#define SFM_FEAT_DISC_MASK_LEN (31 * 32)
+void sfm_feat_disc_mask(uint8_t *mask);
+
 /* Orientation of the patch around integer (x, y) as a unit vector (c, s):
  * the direction from the centre to the intensity centroid of the disc of
- * radius 15. A flat patch gives (1, 0). Needs 15 pixels around (x, y). */
-void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, double *c, double *s);
+ * radius 15 (mask from sfm_feat_disc_mask). A flat patch gives (1, 0).
+ * Needs 16 pixels left of x and 15 around otherwise. */
+void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, const uint8_t *mask, double *c, double *s);
 
 /* Orientations are quantised to this many bins (5.6 degrees) so that the
  * steered pattern comes from a table built once per pyramid level. */

@@ -302,14 +302,14 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
     }
 }
 
-static int emit(const sfm_feat_level *lv, const uint8_t *smooth, const int32_t *steer, int level, const cand *c,
-                sfm_keypoint *kp, uint8_t *desc)
+static int emit(const sfm_feat_level *lv, const uint8_t *smooth, const int32_t *steer, const uint8_t *disc,
+                int level, const cand *c, sfm_keypoint *kp, uint8_t *desc)
 {
     double rx, ry, co, si;
     /* gradient lines must meet within REFINE_RMS level-0 pixels (rms) */
     const double max_res = REFINE_RMS * REFINE_RMS / (lv->sx * lv->sy);
     (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
-    sfm_feat_orientation(smooth, lv->w, c->x, c->y, &co, &si);
+    sfm_feat_orientation(smooth, lv->w, c->x, c->y, disc, &co, &si);
     const int bin = sfm_feat_angle_bin(co, si);
     sfm_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
@@ -345,6 +345,8 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
     if (pl.n_levels > 0 && !sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
 
+    uint8_t disc[SFM_FEAT_DISC_MASK_LEN]; /* the only sizeable stack use: 992 bytes */
+    sfm_feat_disc_mask(disc);
     int n_out = 0, carry = 0;
     sfm_feat_level prev = {image->data, image->width, image->height, image->stride, 1.0, 1.0};
     for (int l = 0; l < pl.n_levels; l++) {
@@ -388,7 +390,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
         sort_by_harris(ly.slots, ly.rank, n);
         const int take = n < budget ? n : budget;
         for (int i = 0; i < take; i++, n_out++)
-            emit(&lv, ly.smooth, ly.steer, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
+            emit(&lv, ly.smooth, ly.steer, disc, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
         const int taken = take;
         carry = budget - taken;
     }

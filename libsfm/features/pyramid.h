@@ -23,7 +23,7 @@ int sfm_feat_level_sizes(int w0, int h0, int n_levels, double scale_factor, int 
 void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
                      uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw, uint16_t *row);
 
-/* Separable 7-tap Gaussian (sigma about 2, integer weights summing to 256),
+/* Separable 5-tap Gaussian (sigma 1.5, integer weights summing to 256),
  * borders replicated, vertical pass first (rounded to 8 bits), then
  * horizontal. dst has stride w; tmp holds w bytes. */
 void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint8_t *tmp);

@@ -4,7 +4,8 @@
  * and the shared pieces used by the optimal two-view method. The null vector
  * of the 4x4 factor comes from inverse iteration, the SVD only when that is
  * slow to converge.
- * Stack: the 4x4 factor plus the SVD workspace of a 4x4 (under 1.5 KiB).
+ * Stack: the 4x4 factor plus the SVD workspace of a 4x4: about 2.5 KiB with
+ * the SVD (gcc 12 -O2 x86-64: 288 + 1680 + 440 bytes).
  */
 #include <math.h>
 #include <string.h>

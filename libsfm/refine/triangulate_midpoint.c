@@ -3,7 +3,7 @@
  * least-squares sense, to all the rays (centre c_i = -R_i^T t_i, direction
  * d_i = R_i^T f_i / |f_i|): sum_i (I - d_i d_i^T) (X - c_i) = 0, a 3x3
  * symmetric system solved by Cramer's rule.
- * Stack: under 300 bytes.
+ * Stack: under 400 bytes (gcc 12 -O2 x86-64: 336).
  */
 #include <math.h>
 

@@ -4,7 +4,8 @@
  * with the exact optimum of Hartley & Sturm to machine precision in practice).
  * Lindstrom writes the constraint x^T E x' = 0; with ours, x2^T F x1 = 0,
  * x = x2, x' = x1 and E = F. The corrected pair is triangulated linearly.
- * Stack: under 1.5 KiB (the 4x4 SVD workspace of the linear step).
+ * Stack: about 3 KiB (the 4x4 SVD workspace of the linear step; gcc 12 -O2
+ * x86-64: 720 + 1680 + 440 bytes).
  */
 #include <math.h>
 

@@ -15,7 +15,7 @@
  * depths along x1 and x2 have the signs of -(t x x2).(R x1 x x2) and
  * -(t x R x1).(R x1 x x2); a point whose rays are parallel (at infinity or on
  * the baseline) gives zero and is not counted in front.
- * Stack: under 600 bytes.
+ * Stack: about 1 KiB (gcc 12 -O2 x86-64: 1024 bytes).
  */
 #include <math.h>
 #include <string.h>

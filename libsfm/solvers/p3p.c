@@ -17,7 +17,7 @@
  *
  * Assumptions: bearings nonzero (normalized here), points in front of the
  * camera (positive depths only). Pose convention x_cam = R X + t.
- * Stack: under 600 bytes, no workspace.
+ * Stack: about 1 KiB (gcc 12 -O2 x86-64: 880 + 64 bytes), no workspace.
  */
 #include <math.h>
 #include <string.h>

@@ -27,7 +27,8 @@
  * small unless F is small everywhere; no angle is singular.
  *
  * Assumptions: d2 = R d1 exactly (a noisy direction gives the nearest
- * consistent model). Bearings need not be unit. Stack: under 700 bytes.
+ * consistent model). Bearings need not be unit. Stack: under 1.5 KiB
+ * (gcc 12 -O2 x86-64: 1216 + 80 bytes).
  */
 #include <math.h>
 #include <string.h>

@@ -16,6 +16,7 @@ from .solvers import (essential_8pt, fundamental_7pt, fundamental_8pt, homograph
 from . import frames  # noqa: F401,E402
 from .pose import essential_to_poses, p3p, relpose_upright_3pt, triangulate  # noqa: F401,E402
 from .trifocal import *  # noqa: F401,F403
+from . import linalg  # noqa: F401,E402
 from .geometry import *  # noqa: F401,F403,E402
 from .ba import bundle_adjust  # noqa: F401,E402
 from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402

@@ -5,9 +5,23 @@ x, y, angle, response, scale, level: x, y in level-0 pixels with the origin at
 the centre of the top-left pixel; angle in radians from +x towards +y.
 Descriptors are (n, 32) uint8 (256 bits each).
 """
+import threading
+
 import numpy as np
 
 from ._ffi import check, ffi, lib
+
+# One detector workspace per thread, grown on demand and reused: a frame loop
+# then touches the same pages every call instead of mapping ~2 MB afresh.
+_local = threading.local()
+
+
+def _workspace(nbytes):
+    buf = getattr(_local, "ws", None)
+    if buf is None or buf.nbytes < nbytes:
+        buf = np.empty(nbytes, dtype=np.uint8)
+        _local.ws = buf
+    return buf
 
 KEYPOINT_COLUMNS = ("x", "y", "angle", "response", "scale", "level")
 
@@ -60,13 +74,13 @@ def detect_and_describe(image, max_features=2000, n_levels=None, scale_factor=No
     need = lib.sfm_features_workspace_size(p, w, h)
     if need == 0:
         raise ValueError("invalid feature parameters or image size %dx%d" % (w, h))
-    ws = np.empty(need, dtype=np.uint8)
+    ws = _workspace(need)
     view = ffi.new("sfm_image_u8 *")
     view.data = ffi.cast("const uint8_t *", ffi.from_buffer(img))
     view.width, view.height, view.stride = w, h, img.strides[0]
     cap = max(p.max_features, 1)
-    kps = np.zeros(cap, dtype=_KP_DTYPE)
-    desc = np.zeros((cap, 32), dtype=np.uint8)
+    kps = np.empty(cap, dtype=_KP_DTYPE)
+    desc = np.empty((cap, 32), dtype=np.uint8)
     n = check(lib.sfm_features_detect(view, p, ffi.from_buffer(ws), ws.nbytes,
                                       ffi.cast("sfm_keypoint *", ffi.from_buffer(kps)),
                                       ffi.cast("uint8_t *", ffi.from_buffer(desc)), cap),

@@ -11,9 +11,13 @@
 #include "sfm/sfm.h"
 #include "sfm_test.h"
 
-#define MAXE 40000 /* doubles per scratch matrix (e.g. 100 x 100 + slack) */
+/* Scratch matrices (up to 100 x 100): inputs g_a..g_f, results g_u, g_v,
+ * and g_q for random orthogonal matrices; about 800 KB of static memory in
+ * all, within the Cortex-M target's budget. */
+#define MAXE 10000
 static double g_a[MAXE], g_b[MAXE], g_c[MAXE], g_d[MAXE], g_e[MAXE], g_f[MAXE];
-static unsigned char g_ws[1 << 18];
+static double g_u[MAXE], g_v[MAXE], g_q[MAXE];
+static unsigned char g_ws[1 << 16];
 
 static void rand_mat(sfm_test_ctx *t, double *A, int m, int n)
 {
@@ -24,10 +28,10 @@ static void rand_mat(sfm_test_ctx *t, double *A, int m, int n)
 /* Random m x m orthogonal matrix (QR of a random matrix). */
 static void rand_orth(sfm_test_ctx *t, double *Q, int m)
 {
-    static double qr[MAXE], tau[256];
-    rand_mat(t, qr, m, m);
-    sfm_qr_factor(qr, m, m, tau);
-    sfm_qr_form_q(qr, tau, m, m, Q);
+    double tau[64];
+    rand_mat(t, g_q, m, m);
+    sfm_qr_factor(g_q, m, m, tau);
+    sfm_qr_form_q(g_q, tau, m, m, Q);
 }
 
 /* C = A (m x k) * B (k x n); tb: use B^T (B is n x k). */
@@ -266,7 +270,8 @@ SFM_TEST(qr_contract)
 
 static void check_svd(sfm_test_ctx *t, const double *A, int m, int n, double recon_tol)
 {
-    static double U[MAXE], V[MAXE], S[128];
+    double *U = g_u, *V = g_v;
+    static double S[128];
     size_t ws = sfm_svd_workspace_size(m, n);
     SFM_CHECK(ws > 0 && ws <= sizeof g_ws);
     int st = sfm_svd(A, m, n, U, S, V, g_ws, ws);
@@ -447,7 +452,8 @@ SFM_TEST(svd_contract)
 
 static void check_sym_eig(sfm_test_ctx *t, const double *A, int n, double tol)
 {
-    static double w[128], V[MAXE], w2[128];
+    static double w[128], w2[128];
+    double *V = g_v;
     size_t ws = sfm_sym_eig_workspace_size(n);
     SFM_CHECK(ws > 0 && ws <= sizeof g_ws);
     SFM_CHECK_EQ_INT(sfm_sym_eig(A, n, w, V, g_ws, ws), SFM_OK);
@@ -535,7 +541,8 @@ SFM_TEST(sym_eig_contract)
  * the order, the pair layout and the normalization. */
 static void check_eig(sfm_test_ctx *t, const double *A, int n, double tol)
 {
-    static double wr[128], wi[128], V[MAXE], wr2[128], wi2[128];
+    static double wr[128], wi[128], wr2[128], wi2[128];
+    double *V = g_v;
     size_t ws = sfm_eig_workspace_size(n);
     SFM_CHECK(ws > 0 && ws <= sizeof g_ws);
     int st = sfm_eig(A, n, wr, wi, V, g_ws, ws);
@@ -781,7 +788,8 @@ SFM_TEST(nullspace_of_rank_deficient_matrices)
             rand_mat(t, g_b, m, r);
             rand_mat(t, g_c, r, n);
             matmul(g_b, g_c, g_a, m, r, n, 0);
-            static double N[MAXE], S[64];
+            double *N = g_u;
+            static double S[64];
             size_t ws = sfm_nullspace_workspace_size(m, n);
             SFM_CHECK(ws > 0 && ws <= sizeof g_ws);
             SFM_CHECK_EQ_INT(sfm_nullspace(g_a, m, n, k, N, S, g_ws, ws), SFM_OK);
