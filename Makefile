@@ -92,7 +92,7 @@ $(eval $(call variant,native,$(BUILD),cc,$(STD) $(OPT) $(WARN) -fPIC -fvisibilit
 $(eval $(call variant,asan,$(BUILD)/asan,cc,$(ASAN_CFLAGS),$(ASAN_LDFLAGS)))
 
 $(BUILD)/libsfm.so: $(native_OBJS) $(BUILD)/lib_srclist
-	cc -shared -o $@ $(native_OBJS) -lm
+	cc -shared -Wl,--no-undefined -o $@ $(native_OBJS) -lm
 
 # The cdef the Python binding reads: the public headers after the
 # preprocessor, plus the integer macros, kept beside the library it describes.

@@ -9,8 +9,10 @@
 
 #include "sfm/sfm.h"
 
-int main(void)
+int main(int argc, char **argv)
 {
+    (void)argc;
+    (void)argv;
     sfm_rng rng;
     sfm_rng_seed(&rng, SFM_RNG_DEFAULT_SEED);
     int failures = 0;

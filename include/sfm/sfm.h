@@ -15,6 +15,7 @@
 #include "sfm/sfm_trifocal.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_features.h"
+#include "sfm/sfm_three_view.h"
 #include "sfm/sfm_ba.h"
 
 #endif

@@ -65,7 +65,10 @@ extern "C" {
 #define SFM_BA_LOSS_CAUCHY 2
 #define SFM_BA_LOSS_TRUNCATED 3
 
-/* options.gauge */
+/* options.gauge and options.scale_gauge act in SFM_BA_MODE_FULL only: in
+ * POSE_ONLY the held points fix the frame (so a single camera, camera 0
+ * included, is refined as RANSAC refinement needs), in POINTS_ONLY every
+ * camera is held. */
 #define SFM_BA_GAUGE_NONE 0
 #define SFM_BA_GAUGE_FIRST_CAMERA 1 /* pose of camera 0 held constant */
 

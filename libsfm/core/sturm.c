@@ -133,6 +133,18 @@ static int sign_changes(const sturm_seq *q, double x)
 
 static int sgn(double v) { return (v > 0.0) - (v < 0.0); }
 
+/* p(x) and p'(x) by Horner, without the error bound of sfm_poly__eval_d */
+static double eval_pd(const double *p, int d, double x, double *dp)
+{
+    double v = p[0], dv = 0.0;
+    for (int i = 1; i <= d; i++) {
+        dv = dv * x + v;
+        v = v * x + p[i];
+    }
+    *dp = dv;
+    return v;
+}
+
 /* Root of p in (a, b) where p(a), p(b) have opposite signs. Points are
  * classed as p < 0 or p >= 0, and the bracket always keeps one of each: an
  * exact zero met on the way (a touching root of even multiplicity, say) then
@@ -146,8 +158,7 @@ static double bracketed(const double *p, int d, double a, double b, double pa, d
         double width = b - a;
         if (width <= 2.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)) || width <= DBL_MIN)
             break;
-        double px, dpx, err;
-        sfm_poly__eval_d(p, d, x, &px, &dpx, &err);
+        double dpx, px = eval_pd(p, d, x, &dpx);
         if ((px < 0.0) == neg_a) {
             a = x;
             pa = px;
@@ -168,8 +179,8 @@ static double bracketed(const double *p, int d, double a, double b, double pa, d
             if (!(xn > a && xn < b) || (b - a) > 0.5 * width)
                 xn = a + 0.5 * (b - a);
         }
-        if (xn == x)
-            break;
+        if (fabs(xn - x) <= 2.0 * DBL_EPSILON * fabs(x))
+            return xn; /* converged */
         x = xn;
     }
     return x;

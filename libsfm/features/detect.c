@@ -28,7 +28,7 @@
 
 #define MAX_SIDE 32768
 /* A cell keeps at most this many times its fair share of a level's quota. */
-#define CELL_CAP 2.0
+#define CELL_CAP 3.0
 /* Sub-pixel acceptance: rms distance of the gradient lines, level-0 pixels. */
 #define REFINE_RMS 0.7
 

@@ -627,9 +627,22 @@ static int check_args(const sfm_ba_problem *p, const sfm_ba_options *o)
         !finite_array(p->intrinsics, 6 * (size_t)m) || (n > 0 && !finite_array(p->points, 3 * (size_t)n)) ||
         !finite_array(p->obs_xy, 2 * (size_t)no))
         return SFM_E_NONFINITE;
-    for (int i = 0; i < m; i++)
+    for (int i = 0; i < m; i++) {
         if (p->intrinsics[6 * i] == 0.0 || p->intrinsics[6 * i + 1] == 0.0)
             return SFM_E_ARGUMENT;
+        /* a rotation: R R^T = I to 1e-6 and det R > 0 */
+        const double *R = p->rotations + 9 * i;
+        for (int r = 0; r < 3; r++)
+            for (int c2 = 0; c2 < 3; c2++) {
+                double d = R[3 * r] * R[3 * c2] + R[3 * r + 1] * R[3 * c2 + 1] + R[3 * r + 2] * R[3 * c2 + 2];
+                if (fabs(d - (r == c2 ? 1.0 : 0.0)) > 1e-6)
+                    return SFM_E_ARGUMENT;
+            }
+        double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+                     R[2] * (R[3] * R[7] - R[4] * R[6]);
+        if (!(det > 0.0))
+            return SFM_E_ARGUMENT;
+    }
     return SFM_OK;
 }
 
@@ -707,12 +720,18 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, void *ws, size_t ws
     if (o->mode == SFM_BA_MODE_POINTS_ONLY)
         nic = 0;
 
+    /* The gauge options act in FULL mode only: held points fix the gauge of a
+     * pose-only solve, and a points-only solve holds every camera. */
+    const int full = o->mode == SFM_BA_MODE_FULL;
+    const int gauge = full ? o->gauge : SFM_BA_GAUGE_NONE;
+    const int scale_gauge = full ? o->scale_gauge : SFM_BA_SCALE_NONE;
+
     /* scale gauge: which translation coordinate is held */
     int scale_cam = -1, scale_coord = -1;
-    if (o->scale_gauge == SFM_BA_SCALE_COORDINATE) {
+    if (scale_gauge == SFM_BA_SCALE_COORDINATE) {
         scale_cam = o->scale_camera;
         scale_coord = o->scale_coordinate;
-    } else if (o->scale_gauge == SFM_BA_SCALE_DISTANCE) {
+    } else if (scale_gauge == SFM_BA_SCALE_DISTANCE) {
         /* other held cameras or points would fix the scale themselves */
         for (int i = 1; i < m; i++)
             if (p->camera_flags && (p->camera_flags[i] & SFM_BA_FIX_POSE))
@@ -720,8 +739,6 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, void *ws, size_t ws
         for (int j = 0; j < n; j++)
             if (!w->pt_free[j])
                 return SFM_E_ARGUMENT;
-        if (o->mode != SFM_BA_MODE_FULL)
-            return SFM_E_ARGUMENT;
         /* hold the coordinate of t_c whose change best measures scale:
          * t_c(s) = s t_c - (1 - s) R_c C0 moves by t_c + R_c C0 per unit s */
         const double *R0 = p->rotations, *t0 = p->translations;
@@ -746,7 +763,7 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, void *ws, size_t ws
         int q = 0;
         int pose_free = o->mode != SFM_BA_MODE_POINTS_ONLY &&
                         !(p->camera_flags && (p->camera_flags[ci] & SFM_BA_FIX_POSE)) &&
-                        !(ci == 0 && o->gauge == SFM_BA_GAUGE_FIRST_CAMERA);
+                        !(ci == 0 && gauge == SFM_BA_GAUGE_FIRST_CAMERA);
         if (pose_free) {
             for (int l = 0; l < 6; l++) {
                 if (ci == scale_cam && l == 3 + scale_coord)
@@ -948,7 +965,7 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, void *ws, size_t ws
     }
 
     /* scale gauge by distance: scale the scene about camera 0's centre */
-    if (o->scale_gauge == SFM_BA_SCALE_DISTANCE) {
+    if (scale_gauge == SFM_BA_SCALE_DISTANCE) {
         const double *R0 = w->R, *t0 = w->t;
         const double *Rc = w->R + 9 * scale_cam, *tc = w->t + 3 * scale_cam;
         double C0[3], Cc[3], dist2 = 0.0;

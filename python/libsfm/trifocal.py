@@ -3,6 +3,7 @@ Zisserman), view 1 the reference. Pixels are (n, 2) arrays; cameras 3x4."""
 import numpy as np
 
 from ._ffi import as_array, check, dptr, ffi, lib, workspace
+from .geometry import Camera
 
 
 def trifocal_from_cameras(P1, P2, P3):
@@ -124,5 +125,38 @@ def estimate_trifocal(x1, x2, x3, threshold_px=1.0, seed=0, confidence=None, max
                                   ffi.cast("uint8_t *", ffi.from_buffer(mask)), stats, ws, size),
           "estimate_trifocal")
     out = dict(T=T, P=P, inliers=mask.astype(bool))
+    out.update(_stats_dict(stats))
+    return out
+
+
+def estimate_three_view_pose(x1, x2, x3, K1, K2, K3, threshold_px=1.0, seed=0, confidence=None,
+                             max_iterations=None):
+    """Calibrated poses of views 2 and 3 relative to view 1 from (n,2) pixel
+    triplets with outliers, through trifocal RANSAC.
+
+    K1, K2, K3 are 3x3 intrinsic matrices or libsfm.Camera objects (with
+    distortion). Returns dict(R (3,3,3), t (3,3),
+    inliers (n,) bool, iterations, ...): x_cam_v = R[v] x_cam1 + t[v], R[0] = I,
+    t[0] = 0, |t[1]| = 1 and t[2] on the same scale.
+    """
+    x1 = as_array(x1, (None, 2), "x1")
+    n = x1.shape[0]
+    x2 = as_array(x2, (n, 2), "x2")
+    x3 = as_array(x3, (n, 2), "x3")
+    cams = [K if isinstance(K, Camera) else Camera.from_K(K) for K in (K1, K2, K3)]
+    opt = _ransac_options(threshold_px, seed, confidence, max_iterations)
+    poses = ffi.new("sfm_pose[3]")
+    mask = np.zeros(n, dtype=np.uint8)
+    stats = ffi.new("sfm_ransac_stats *")
+    need = lib.sfm_recon_three_view_pose_workspace_size(n)
+    if need == 0:
+        raise ValueError("need at least 7 triplets, got %d" % n)
+    buf, ws, size = workspace(need)
+    check(lib.sfm_recon_three_view_pose(dptr(x1), dptr(x2), dptr(x3), n, cams[0]._c, cams[1]._c, cams[2]._c, opt,
+                                        poses, ffi.cast("uint8_t *", ffi.from_buffer(mask)), stats, ws, size),
+          "estimate_three_view_pose")
+    R = np.array([list(poses[v].R) for v in range(3)]).reshape(3, 3, 3)
+    t = np.array([list(poses[v].t) for v in range(3)])
+    out = dict(R=R, t=t, inliers=mask.astype(bool))
     out.update(_stats_dict(stats))
     return out

@@ -27,7 +27,9 @@ if PYTHONPATH=$top/python LIBSFM_LIBRARY=$prefix/lib/libsfm.so LIBSFM_CDEF=$pref
 
 # The Python package installs with pip from python/ and finds the library.
 py=$top/${PYTHON_VENV:-.venv}/bin/python
-if "$py" -m pip wheel -q --no-deps --no-build-isolation "$top/python" -w "$out/wheel" >/dev/null 2>&1 &&
+# Built from a copy so the source tree gets no build/ or egg-info.
+rm -rf "$out/pysrc" && cp -r "$top/python" "$out/pysrc" && rm -rf "$out/pysrc/build" "$out"/pysrc/*.egg-info
+if "$py" -m pip wheel -q --no-deps --no-build-isolation "$out/pysrc" -w "$out/wheel" >/dev/null 2>&1 &&
    "$py" -m pip install -q --no-deps --target "$out/site" "$out"/wheel/libsfm-*.whl >/dev/null 2>&1 &&
    (cd "$out" && PYTHONPATH=$out/site LIBSFM_LIBRARY=$prefix/lib/libsfm.so "$py" -c 'import libsfm; print("pip-installed", libsfm.version())'); then
     ok pip-install; else ko pip-install; fi

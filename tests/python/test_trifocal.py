@@ -94,3 +94,27 @@ def test_estimate_trifocal_with_outliers():
     assert np.median(np.linalg.norm(x3 - clean[2], axis=1)) < 0.5
     again = libsfm.estimate_trifocal(*xs, threshold_px=2.0, seed=7)
     assert np.array_equal(again["inliers"], r["inliers"]) and np.array_equal(again["T"], r["T"])
+
+
+def test_three_view_pose_synthetic_scale_and_accuracy():
+    rng = np.random.default_rng(0)
+    K = np.array([[800, 0, 320], [0, 800, 240], [0, 0, 1.0]])
+    from scipy.spatial.transform import Rotation
+
+    Rs = [np.eye(3)] + [Rotation.from_rotvec(rng.normal(scale=0.2, size=3)).as_matrix() for _ in range(2)]
+    ts = [np.zeros(3)] + [rng.normal(size=3) for _ in range(2)]
+    X = rng.uniform(-2, 2, size=(300, 3)) + [0, 0, 8]
+    xs = []
+    for R, t in zip(Rs, ts):
+        p = (K @ (R @ X.T + t[:, None])).T
+        xs.append(p[:, :2] / p[:, 2:] + rng.normal(scale=0.5, size=(300, 2)))
+    bad = rng.random(300) < 0.25
+    xs[1][bad] = rng.uniform(0, 640, size=(bad.sum(), 2))
+    r = libsfm.estimate_three_view_pose(*xs, K, K, K, threshold_px=1.5, seed=1)
+    s = np.linalg.norm(ts[1])
+    for v in (1, 2):
+        ang = np.degrees(np.arccos(np.clip((np.trace(r["R"][v].T @ Rs[v]) - 1) / 2, -1, 1)))
+        assert ang < 0.3
+        # one consistent scale: t3 relative to |t2| = 1
+        assert np.linalg.norm(r["t"][v] * s - ts[v]) < 0.02 * np.linalg.norm(ts[v])
+    assert np.sum(r["inliers"] & bad) <= 3 and np.sum(r["inliers"] & ~bad) >= 0.95 * np.sum(~bad)

@@ -500,6 +500,41 @@ SFM_TEST(ba_pose_only_and_points_only)
     SFM_CHECK(bas_max_abs_diff(pt, st, 3 * s.m) < 1e-8);
     SFM_CHECK(memcmp(pX, sX, sizeof(double) * 3 * s.n) == 0);
 
+    /* one camera, pose only, as RANSAC refinement uses it: camera 0 is
+     * refined (the gauge options apply to full solves only) */
+    {
+        sfm_ba_problem p1;
+        int nobs1 = 0;
+        static int oc1[MAXO], op1[MAXO];
+        static double xy1[2 * MAXO];
+        for (int k = 0; k < s.nobs; k++) {
+            if (soc[k] != 1)
+                continue;
+            oc1[nobs1] = 0;
+            op1[nobs1] = sop[k];
+            xy1[2 * nobs1] = sxy[2 * k];
+            xy1[2 * nobs1 + 1] = sxy[2 * k + 1];
+            nobs1++;
+        }
+        bas_problem(&s, &p1, pR, pt, pK, pX);
+        memcpy(pR, sR0 + 9, 9 * sizeof(double));
+        memcpy(pt, st0 + 3, 3 * sizeof(double));
+        p1.n_cameras = 1;
+        p1.n_observations = nobs1;
+        p1.obs_camera = oc1;
+        p1.obs_point = op1;
+        p1.obs_xy = xy1;
+        sfm_ba_options o1;
+        sfm_ba_default_options(&o1);
+        o1.mode = SFM_BA_MODE_POSE_ONLY;
+        o1.function_tolerance = 1e-14;
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p1, &o1, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+        SFM_CHECK_EQ_INT(r.n_camera_params, 6);
+        SFM_CHECK(r.final_cost < 1e-12);
+        SFM_CHECK(bas_max_abs_diff(pR, sR + 9, 9) < 1e-8);
+        SFM_CHECK(bas_max_abs_diff(pt, st + 3, 3) < 1e-8);
+    }
+
     /* points only: true cameras, perturbed points */
     scene(t, &s, 3, 40, 0.0, 0.0, 0.0, 0.1);
     bas_problem(&s, &p, pR, pt, pK, pX);
@@ -605,7 +640,12 @@ SFM_TEST(ba_contract)
     pK[0] = sK0[0];
     pR[0] = NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
-    pR[0] = c0R[0];
+    pR[0] = c0R[0] * 1.001; /* not a rotation */
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    for (int e = 0; e < 3; e++) /* a reflection */
+        pR[9 + e] = -c0R[9 + e];
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    memcpy(pR, c0R, sizeof c0R);
     SFM_CHECK(UNTOUCHED());
     /* and the exact size works */
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws + 3, need, &r, NULL), SFM_OK);

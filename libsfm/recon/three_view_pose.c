@@ -1,0 +1,354 @@
+/*
+ * Calibrated three-view relative pose from the trifocal tensor (see
+ * sfm_three_view.h for the method). The tensor's fundamental matrices are
+ * mutually consistent, unlike three independently estimated pairwise ones,
+ * so the two essential matrices share one set of inliers.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "sfm/sfm_ba.h"
+#include "sfm/sfm_pose.h"
+#include "sfm/sfm_ransac.h"
+#include "sfm/sfm_ransac_trifocal.h"
+#include "sfm/sfm_three_view.h"
+#include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_trifocal.h"
+
+typedef struct tv_ws {
+    double *ideal[3]; /* n x 2 ideal pinhole pixels per view */
+    double *bear;     /* 3 views x n x 3 bearings of the inliers, view-major */
+    double *X;        /* n x 3 */
+    int *flags;       /* n */
+    uint8_t *mask;    /* n */
+    void *ransac_ws;
+    size_t ransac_size;
+    int *obs_cam, *obs_pt; /* 3n */
+    double *obs_xy;        /* 3n x 2 */
+    double *pix[3];        /* n x 2 inlier ideal pixels per view, compacted */
+    void *rel_ws;
+    size_t rel_size;
+    void *ba_ws;
+    size_t ba_size;
+} tv_ws;
+
+static void layout(sfm_arena *a, int n, tv_ws *w)
+{
+    for (int v = 0; v < 3; v++)
+        w->ideal[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->bear = SFM_ARENA_ARRAY(a, double, 9 * (size_t)n);
+    w->X = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
+    w->flags = SFM_ARENA_ARRAY(a, int, n);
+    w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
+    w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
+    w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+    w->obs_cam = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
+    w->obs_pt = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
+    w->obs_xy = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
+    sfm_ba_dims d = {3, n, 3 * n, SFM_BA_INTRINSICS_FIXED, 0};
+    w->ba_size = sfm_ba_workspace_size(&d);
+    w->ba_ws = sfm_arena_alloc(a, w->ba_size);
+    for (int v = 0; v < 3; v++)
+        w->pix[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->rel_size = sfm_ransac_relpose_workspace_size(n);
+    w->rel_ws = sfm_arena_alloc(a, w->rel_size);
+}
+
+size_t sfm_recon_three_view_pose_workspace_size(int n)
+{
+    if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
+        return 0;
+    sfm_arena a;
+    tv_ws w;
+    sfm_arena_measure(&a);
+    layout(&a, n, &w);
+    return sfm_arena_required(&a);
+}
+
+static void K_of(const sfm_camera *c, double K[9])
+{
+    const double k[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
+    memcpy(K, k, sizeof k);
+}
+
+/* E = K2^T F K1 */
+static void essential(const double F[9], const double K1[9], const double K2[9], double E[9])
+{
+    double M[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            M[r * 3 + c] = F[r * 3] * K1[c] + F[r * 3 + 1] * K1[3 + c] + F[r * 3 + 2] * K1[6 + c];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            E[r * 3 + c] = K2[r] * M[c] + K2[3 + r] * M[3 + c] + K2[6 + r] * M[6 + c];
+}
+
+/* Ideal pinhole pixels and unit bearings of every point of one view. */
+static int undistort(const sfm_camera *cam, const double *px, int n, double *ideal)
+{
+    for (int i = 0; i < n; i++) {
+        double b[3];
+        int st = sfm_camera_unproject(cam, &px[2 * i], b);
+        if (st < 0)
+            return st;
+        if (!(b[2] > 1e-12))
+            return SFM_E_NO_CONVERGENCE; /* no pinhole image: outside the field of view */
+        ideal[2 * i] = cam->fx * b[0] / b[2] + cam->cx;
+        ideal[2 * i + 1] = cam->fy * b[1] / b[2] + cam->cy;
+    }
+    return SFM_OK;
+}
+
+/* Metric bundle adjustment of the three poses and the inlier points, view 1
+ * fixed and |t2| = 1, on the ideal pixels (intrinsics held). The projective
+ * tensor has 18 degrees of freedom against the calibrated problem's 11, so
+ * its essential matrices fit the noise; this step brings the estimate to the
+ * calibrated maximum-likelihood answer. A Huber loss at 2 px guards against
+ * inliers that are outliers of the calibrated model. */
+static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est[3], double *cost)
+{
+    int st = sfm_triangulate_midpoint(3, est, m, w->bear, w->X, w->flags);
+    if (st < 0)
+        return st;
+    int np = 0, no = 0;
+    for (int j = 0; j < m; j++) {
+        if (w->flags[j] != 0)
+            continue;
+        memmove(&w->X[3 * np], &w->X[3 * j], 3 * sizeof(double));
+        for (int v = 0; v < 3; v++) {
+            const double *b = &w->bear[((size_t)v * m + j) * 3];
+            w->obs_cam[no] = v;
+            w->obs_pt[no] = np;
+            w->obs_xy[2 * no] = cams[v]->fx * b[0] / b[2] + cams[v]->cx;
+            w->obs_xy[2 * no + 1] = cams[v]->fy * b[1] / b[2] + cams[v]->cy;
+            no++;
+        }
+        np++;
+    }
+    if (np < SFM_TRIFOCAL_MIN_POINTS)
+        return SFM_E_SINGULAR;
+    double Rs[27], ts[9], K[18];
+    for (int v = 0; v < 3; v++) {
+        memcpy(&Rs[9 * v], est[v].R, 9 * sizeof(double));
+        memcpy(&ts[3 * v], est[v].t, 3 * sizeof(double));
+        const double k[6] = {cams[v]->fx, cams[v]->fy, cams[v]->cx, cams[v]->cy, 0, 0};
+        memcpy(&K[6 * v], k, sizeof k);
+    }
+    sfm_ba_problem p = {3, np, no, Rs, ts, K, w->X, w->obs_cam, w->obs_pt, w->obs_xy, NULL, NULL, NULL};
+    sfm_ba_options o;
+    sfm_ba_default_options(&o);
+    o.loss = SFM_BA_LOSS_HUBER;
+    o.loss_scale = 2.0;
+    o.scale_gauge = SFM_BA_SCALE_DISTANCE;
+    o.scale_camera = 1;
+    o.scale_distance = 1.0;
+    o.max_iterations = 30;
+    sfm_ba_result res;
+    st = sfm_ba_solve(&p, &o, w->ba_ws, w->ba_size, &res, NULL);
+    if (st < 0)
+        return st;
+    for (int v = 0; v < 3; v++) {
+        memcpy(est[v].R, &Rs[9 * v], 9 * sizeof(double));
+        memcpy(est[v].t, &ts[3 * v], 3 * sizeof(double));
+    }
+    *cost = res.final_cost;
+    return SFM_OK;
+}
+
+/* Scale of t3 relative to |t2| = 1 from the inliers triangulated in views 1
+ * and 2 (midpoint): least squares on b3 x (R3 X + s t3) = 0; then polish.
+ * Keeps the result in best when its cost is the lowest so far. */
+static void try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sfm_pose *p2,
+                      const sfm_pose *p3, sfm_pose best[3], double *best_cost)
+{
+    sfm_pose est[3];
+    memset(&est[0], 0, sizeof est[0]);
+    est[0].R[0] = est[0].R[4] = est[0].R[8] = 1.0;
+    est[1] = *p2;
+    est[2] = *p3;
+    if (sfm_triangulate_midpoint(2, est, m, w->bear, w->X, w->flags) <= 0)
+        return;
+    const double *b3 = &w->bear[(size_t)2 * m * 3];
+    double num = 0, den = 0;
+    const double *R3 = p3->R, *t3 = p3->t;
+    for (int j = 0; j < m; j++) {
+        if (w->flags[j] != 0)
+            continue;
+        const double *X = &w->X[3 * j], *b = &b3[3 * j];
+        double y[3], ca[3], cc[3];
+        for (int r = 0; r < 3; r++)
+            y[r] = R3[r * 3] * X[0] + R3[r * 3 + 1] * X[1] + R3[r * 3 + 2] * X[2];
+        ca[0] = b[1] * t3[2] - b[2] * t3[1];
+        ca[1] = b[2] * t3[0] - b[0] * t3[2];
+        ca[2] = b[0] * t3[1] - b[1] * t3[0];
+        cc[0] = b[1] * y[2] - b[2] * y[1];
+        cc[1] = b[2] * y[0] - b[0] * y[2];
+        cc[2] = b[0] * y[1] - b[1] * y[0];
+        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
+        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    }
+    double s = num / den;
+    if (!(den > 0) || !isfinite(s))
+        return;
+    for (int r = 0; r < 3; r++)
+        est[2].t[r] = s * t3[r];
+    double cost;
+    if (polish(w, cams, m, est, &cost) == SFM_OK && cost < *best_cost) {
+        *best_cost = cost;
+        memcpy(best, est, sizeof est);
+    }
+}
+
+/* Bearings (z = 1) of the masked points, view-major with stride cnt. */
+static int gather(tv_ws *w, const sfm_camera *const cams[3], int n, int cnt)
+{
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        if (!w->mask[i])
+            continue;
+        for (int v = 0; v < 3; v++) {
+            double *b = &w->bear[((size_t)v * cnt + m) * 3];
+            b[0] = (w->ideal[v][2 * i] - cams[v]->cx) / cams[v]->fx;
+            b[1] = (w->ideal[v][2 * i + 1] - cams[v]->cy) / cams[v]->fy;
+            b[2] = 1.0;
+        }
+        m++;
+    }
+    return m;
+}
+
+/* P = K [R | t] */
+static void metric_camera(const sfm_camera *c, const sfm_pose *p, double P[12])
+{
+    const double K[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
+    for (int r = 0; r < 3; r++)
+        for (int col = 0; col < 4; col++) {
+            double s = 0;
+            for (int k = 0; k < 3; k++)
+                s += K[r * 3 + k] * (col < 3 ? p->R[k * 3 + col] : p->t[k]);
+            P[r * 4 + col] = s;
+        }
+}
+
+static int finite_all(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+int sfm_recon_three_view_pose(const double *px1, const double *px2, const double *px3, int n,
+                              const sfm_camera *cam1, const sfm_camera *cam2, const sfm_camera *cam3,
+                              const sfm_ransac_options *opt, sfm_pose poses[3], uint8_t *inlier_mask,
+                              sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    if (px1 == NULL || px2 == NULL || px3 == NULL || cam1 == NULL || cam2 == NULL || cam3 == NULL ||
+        poses == NULL || ws == NULL || n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
+        return SFM_E_ARGUMENT;
+    const sfm_camera *cams[3] = {cam1, cam2, cam3};
+    const double *px[3] = {px1, px2, px3};
+    for (int v = 0; v < 3; v++) {
+        int st = sfm_camera_validate(cams[v]);
+        if (st < 0)
+            return st;
+        if (!finite_all(px[v], 2 * n))
+            return SFM_E_NONFINITE;
+    }
+    sfm_arena a;
+    tv_ws w;
+    sfm_arena_init(&a, ws, ws_size);
+    layout(&a, n, &w);
+    if (!sfm_arena_ok(&a))
+        return SFM_E_WORKSPACE;
+    for (int v = 0; v < 3; v++) {
+        int st = undistort(cams[v], px[v], n, w.ideal[v]);
+        if (st < 0)
+            return st;
+    }
+    double T[27], P[36];
+    sfm_ransac_stats rs;
+    int cnt = sfm_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
+                                  w.ransac_ws, w.ransac_size);
+    if (cnt < 0)
+        return cnt;
+
+    int m = gather(&w, cams, n, cnt);
+    /* Candidate starts: (a) the essential matrices of the tensor's
+     * fundamental matrices; (b) calibrated 5-point RANSAC on the inlier pairs
+     * (1, 2) and (1, 3), which stays correct on near-planar scenes where the
+     * projective fundamental matrices are poorly determined. Each is scaled,
+     * polished, and the lower final cost wins. */
+    double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];
+    int st = sfm_trifocal_fundamentals(T, F21, F31, NULL);
+    if (st < 0)
+        return st;
+    K_of(cam1, K1);
+    K_of(cam2, K2);
+    K_of(cam3, K3);
+    essential(F21, K1, K2, E21);
+    essential(F31, K1, K3, E31);
+    const double *b1 = w.bear, *b2 = &w.bear[(size_t)cnt * 3], *b3 = &w.bear[(size_t)2 * cnt * 3];
+    sfm_pose best[3];
+    double best_cost = INFINITY;
+    sfm_pose c2[4], c3[4];
+    if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) == 4 &&
+        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) == 4)
+        try_start(&w, cams, m, &c2[0], &c3[0], best, &best_cost);
+    for (int j = 0; j < m; j++)
+        for (int v = 0; v < 3; v++) {
+            const double *b = &w.bear[((size_t)v * m + j) * 3];
+            w.pix[v][2 * j] = cams[v]->fx * b[0] + cams[v]->cx;
+            w.pix[v][2 * j + 1] = cams[v]->fy * b[1] + cams[v]->cy;
+        }
+    sfm_camera pin[3];
+    for (int v = 0; v < 3; v++) {
+        pin[v] = *cams[v];
+        pin[v].model = SFM_CAMERA_PINHOLE;
+    }
+    sfm_ransac_options ro;
+    if (opt != NULL)
+        ro = *opt;
+    else
+        sfm_ransac_default_options(&ro);
+    sfm_pose p12, p13;
+    if (sfm_ransac_relpose(w.pix[0], w.pix[1], m, &pin[0], &pin[1], &ro, &p12, NULL, NULL, NULL,
+                           w.rel_ws, w.rel_size) > 0 &&
+        sfm_ransac_relpose(w.pix[0], w.pix[2], m, &pin[0], &pin[2], &ro, &p13, NULL, NULL, NULL,
+                           w.rel_ws, w.rel_size) > 0)
+        try_start(&w, cams, m, &p12, &p13, best, &best_cost);
+    if (!isfinite(best_cost))
+        return SFM_E_SINGULAR;
+    /* The calibrated model is tighter than the projective one: re-collect
+     * the inliers under the metric cameras (same per-view threshold on the
+     * optimally triangulated three-view error) and polish once more. */
+    double tau = opt != NULL ? opt->threshold : ro.threshold;
+    double Pm[3][12];
+    for (int v = 0; v < 3; v++)
+        metric_camera(cams[v], &best[v], Pm[v]);
+    int cnt2 = 0;
+    for (int i = 0; i < n; i++) {
+        double e;
+        int in = sfm_trifocal_point_error(Pm[0], Pm[1], Pm[2], &w.ideal[0][2 * i], &w.ideal[1][2 * i],
+                                          &w.ideal[2][2 * i], &e, NULL) == SFM_OK &&
+                 e / 3.0 < tau * tau;
+        w.mask[i] = (uint8_t)in;
+        cnt2 += in;
+    }
+    if (cnt2 >= SFM_TRIFOCAL_MIN_POINTS) {
+        m = gather(&w, cams, n, cnt2);
+        sfm_pose again[3];
+        memcpy(again, best, sizeof again);
+        double cost;
+        if (polish(&w, cams, m, again, &cost) == SFM_OK)
+            memcpy(best, again, sizeof again);
+        cnt = cnt2;
+    }
+    memcpy(poses, best, 3 * sizeof(sfm_pose));
+    if (inlier_mask != NULL)
+        memcpy(inlier_mask, w.mask, (size_t)n);
+    if (stats != NULL)
+        *stats = rs;
+    return cnt;
+}
