@@ -21,9 +21,11 @@ RUNS = 5
 
 
 def _rot(rng):
-    q = rng.normal(size=4)
-    q /= np.linalg.norm(q)
-    w, x, y, z = q
+    """Rotation by up to 0.5 rad about a random axis (as bench/solvers_bench.c)."""
+    a = rng.normal(size=3)
+    a /= np.linalg.norm(a)
+    h = 0.5 * rng.uniform(0, 0.5)
+    w, x, y, z = np.cos(h), *(np.sin(h) * a)
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
@@ -37,12 +39,13 @@ def make_problems(rng, n):
         C = rng.normal(size=3)
         C /= np.linalg.norm(C)
         t = -R @ C
-        while True:
-            X = np.column_stack([rng.uniform(-0.6, 0.6, n), rng.uniform(-0.45, 0.45, n), np.ones(n)])
-            X *= rng.uniform(2, 10, n)[:, None]
-            Y = X @ R.T + t
-            if np.all(Y[:, 2] > 0.1):
-                break
+        X = np.empty((0, 3))
+        while len(X) < n:  # keep points in front of both cameras
+            Z = np.column_stack([rng.uniform(-0.6, 0.6, n), rng.uniform(-0.45, 0.45, n), np.ones(n)])
+            Z *= rng.uniform(2, 10, n)[:, None]
+            X = np.vstack([X, Z[(Z @ R.T + t)[:, 2] > 0.1]])
+        X = X[:n]
+        Y = X @ R.T + t
         x1 = X / np.linalg.norm(X, axis=1)[:, None]
         x2 = Y / np.linalg.norm(Y, axis=1)[:, None]
         p1 = ((X / X[:, 2:]) @ K.T)[:, :2].copy()

@@ -40,7 +40,14 @@ extern "C" {
 
 /* Essential matrices from 5 bearing pairs (Nister 2004). x1, x2: (5,3)
  * bearings (any nonzero length; only directions matter). E: room for
- * SFM_RELPOSE_5PT_MAX_SOLUTIONS. Returns 0..10. Stack: under 6 KB.
+ * SFM_RELPOSE_5PT_MAX_SOLUTIONS. Returns 0..10. The real roots of the
+ * tenth-degree polynomial are isolated by a Sturm sequence; each solution is
+ * polished by Gauss-Newton on the ten original cubic constraints; when the
+ * elimination is ill-conditioned a second ordering of the null basis is
+ * solved too and the solution sets merged. Ground truth found (within 1e-6)
+ * on > 99.9% of noise-free problems up to 100 baselines deep; beyond that
+ * the problem nears the pure-rotation degeneracy (about 95% at 100 to 1000
+ * baselines). Stack: under 12 KB.
  * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE. */
 SFM_API int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E);
 
@@ -51,14 +58,17 @@ SFM_API int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F);
 
 /* Essential matrix from n >= 8 bearing pairs: least-squares solution of the
  * epipolar constraints, projected to the nearest essential matrix (singular
- * values equal, third zero). x1, x2: (n,3). Returns 0 or 1. Stack: under 4 KB
- * for any n. Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE. */
+ * values equal, third zero). x1, x2: (n,3). Returns 0 or 1. Stack: under 2 KB
+ * for n = 8, under 7 KB for n > 8 (any n: rows are streamed into a QR).
+ * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_CAPACITY and
+ * SFM_E_NO_CONVERGENCE (from the core SVD; not expected in practice). */
 SFM_API int sfm_relpose_8pt(const double *x1, const double *x2, int n, sfm_mat3 *E);
 
 /* Fundamental matrix from n >= 8 pixel pairs, Hartley-normalized least
  * squares with rank 2 enforced (smallest singular value zeroed). p1, p2:
- * (n,2). Returns 0 or 1. Stack: under 4 KB for any n.
- * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE. */
+ * (n,2). Returns 0 or 1. Stack: under 7 KB for any n.
+ * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_CAPACITY and
+ * SFM_E_NO_CONVERGENCE (from the core SVD; not expected in practice). */
 SFM_API int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F);
 
 /* Homography from exactly 4 point pairs (plane points or pixels), p2h ~ H
@@ -69,8 +79,9 @@ SFM_API int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H);
 
 /* Homography from n >= 4 point pairs: Hartley-normalized DLT, least squares
  * on the algebraic error. p1, p2: (n,2). Returns 0 (rank-deficient: e.g. all
- * points collinear) or 1. Stack: under 4 KB for any n.
- * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE. */
+ * points collinear) or 1. Stack: under 2 KB for n = 4, under 7 KB for n > 4.
+ * Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_CAPACITY and
+ * SFM_E_NO_CONVERGENCE (from the core SVD; not expected in practice). */
 SFM_API int sfm_homography_dlt(const double *p1, const double *p2, int n, sfm_mat3 *H);
 
 #ifdef __cplusplus

@@ -25,7 +25,7 @@ static double tri(const double *a, const double *b, const double *c)
 /* Triple products of the four points: d[0] = det[q1 q2 q3] and d[i] =
  * det with column i replaced by q4. Returns 0 when a triple is collinear
  * relative to the squared spread of the points. */
-static int triples(const double *p, double d[4])
+static inline int triples(const double *p, double d[4])
 {
     const double *a = p, *b = p + 2, *c = p + 4, *e = p + 6;
     d[0] = tri(a, b, c);
@@ -45,35 +45,37 @@ int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H)
 {
     if (!p1 || !p2 || !H)
         return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(p1, 8) || !sfm__all_finite(p2, 8))
-        return SFM_E_NONFINITE;
+    /* Non-finite input makes a triple product NaN or the tolerance infinite,
+     * so it always ends on the degenerate path, which tells the two apart:
+     * the finiteness scan costs nothing on the common path. */
     double d1[4], d2[4];
-    if (!triples(p1, d1) || !triples(p2, d2))
+    if (!triples(p1, d1) || !triples(p2, d2)) {
+        if (!sfm__all_finite(p1, 8) || !sfm__all_finite(p2, 8))
+            return SFM_E_NONFINITE;
         return 0;
+    }
 
-    /* adj([q1 q2 q3]) for q_i = (u_i, v_i, 1), rows of the adjugate. */
+    /* Rows of adj([q1 q2 q3]) for q_i = (u_i, v_i, 1), each scaled by the
+     * ratio of canonical-frame weights k_i (image 2 over image 1, times a
+     * common factor): C = diag(k) adj(M1). */
     const double u0 = p1[0], v0 = p1[1], u1 = p1[2], v1 = p1[3], u2 = p1[4], v2 = p1[5];
-    const double A[9] = {
-        v1 - v2, u2 - u1, u1 * v2 - u2 * v1, /* q2 x q3 */
-        v2 - v0, u0 - u2, u2 * v0 - u0 * v2, /* q3 x q1 */
-        v0 - v1, u1 - u0, u0 * v1 - u1 * v0, /* q1 x q2 */
-    };
-    /* Scales: the canonical-frame weights of image 2 over those of image 1. */
     const double k0 = d2[1] * d1[2] * d1[3];
     const double k1 = d2[2] * d1[1] * d1[3];
     const double k2 = d2[3] * d1[1] * d1[2];
-    /* B = [r1 r2 r3] diag(k). */
-    const double B[9] = {
-        p2[0] * k0, p2[2] * k1, p2[4] * k2,
-        p2[1] * k0, p2[3] * k1, p2[5] * k2,
-        k0, k1, k2,
+    const double C[9] = {
+        k0 * (v1 - v2), k0 * (u2 - u1), k0 * (u1 * v2 - u2 * v1), /* q2 x q3 */
+        k1 * (v2 - v0), k1 * (u0 - u2), k1 * (u2 * v0 - u0 * v2), /* q3 x q1 */
+        k2 * (v0 - v1), k2 * (u1 - u0), k2 * (u0 * v1 - u1 * v0), /* q1 x q2 */
     };
+    /* H = [r1 r2 r3] C with r_i = (u'_i, v'_i, 1): the last row is a sum. */
     double h[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            h[3 * r + c] = B[3 * r] * A[c] + B[3 * r + 1] * A[3 + c] + B[3 * r + 2] * A[6 + c];
-    /* det(H) = det(B) det(adj) = d2[0] k0 k1 k2 d1[0]^2: take its sign
-     * without forming the product (which could overflow). */
+    for (int c = 0; c < 3; c++) {
+        h[c] = p2[0] * C[c] + p2[2] * C[3 + c] + p2[4] * C[6 + c];
+        h[3 + c] = p2[1] * C[c] + p2[3] * C[3 + c] + p2[5] * C[6 + c];
+        h[6 + c] = C[c] + C[3 + c] + C[6 + c];
+    }
+    /* det(H) = det[r1 r2 r3] k0 k1 k2 det(M1)^2 = d2[0] k0 k1 k2 d1[0]^2:
+     * its sign without forming the product (which could overflow). */
     int neg = (d2[0] < 0.0) ^ (k0 < 0.0) ^ (k1 < 0.0) ^ (k2 < 0.0);
     double s = 0.0;
     for (int i = 0; i < 9; i++)

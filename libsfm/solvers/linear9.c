@@ -101,7 +101,7 @@ int sfm__ls9_solve(sfm__ls9 *ls, double h[9])
     double ws[512];
     size_t need = sfm_svd_workspace_size(9, 9);
     if (need > sizeof ws)
-        return -4; /* SFM_E_CAPACITY: the core's SVD needs more than budgeted */
+        return SFM_E_CAPACITY; /* the core SVD needs more than budgeted */
     int st = sfm_svd(ls->R, 9, 9, NULL, S, V, ws, sizeof ws);
     if (st < 0)
         return st;
@@ -116,6 +116,6 @@ int sfm__svd3(const double M[9], double U[9], double S[3], double V[9])
 {
     double ws[64];
     if (sfm_svd_workspace_size(3, 3) > sizeof ws)
-        return -4; /* SFM_E_CAPACITY */
+        return SFM_E_CAPACITY;
     return sfm_svd(M, 3, 3, U, S, V, ws, sizeof ws);
 }
