@@ -1,6 +1,7 @@
 /*
  * Trifocal tensor algebra: from cameras, epipoles, fundamental matrices,
- * compatible cameras, point and line transfer.
+ * compatible cameras, point and line transfer. F32 comes from the cameras
+ * through sfm_fundamental_from_projections.
  * Hartley & Zisserman, Multiple View Geometry, 2nd ed.: eq. 17.12 (tensor from
  * general cameras), alg. 15.1 (epipoles, fundamental matrices), sec. 15.1.4
  * (cameras), sec. 16.3 (point transfer via a line perpendicular to the
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "sfm/sfm_linalg.h"
+#include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
 
@@ -191,63 +193,6 @@ int sfm_trifocal_cameras(const double T[27], double P2[12], double P3[12])
     return SFM_OK;
 }
 
-/* F = [e]_x P' P^+ for cameras P (3x4, full rank) and P' with e = P' C. */
-static int fundamental_from_cameras(const double P[12], const double Pp[12], double F[9])
-{
-    double C[4], A[12], V[16], S[3];
-    unsigned char ws[4096];
-    if (sfm_svd_workspace_size(3, 4) > sizeof ws)
-        return SFM_E_WORKSPACE;
-    memcpy(A, P, sizeof A);
-    int st = sfm_svd(A, 3, 4, NULL, S, V, ws, sizeof ws);
-    if (st < 0)
-        return st;
-    for (int r = 0; r < 4; r++)
-        C[r] = V[r * 4 + 3];
-    /* P^+ = P^T (P P^T)^-1 */
-    double PPt[9], inv[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += P[r * 4 + k] * P[c * 4 + k];
-            PPt[r * 3 + c] = s;
-        }
-    double det = PPt[0] * (PPt[4] * PPt[8] - PPt[5] * PPt[7]) -
-                 PPt[1] * (PPt[3] * PPt[8] - PPt[5] * PPt[6]) +
-                 PPt[2] * (PPt[3] * PPt[7] - PPt[4] * PPt[6]);
-    if (!(fabs(det) > 0))
-        return SFM_E_SINGULAR;
-    inv[0] = (PPt[4] * PPt[8] - PPt[5] * PPt[7]) / det;
-    inv[1] = (PPt[2] * PPt[7] - PPt[1] * PPt[8]) / det;
-    inv[2] = (PPt[1] * PPt[5] - PPt[2] * PPt[4]) / det;
-    inv[3] = (PPt[5] * PPt[6] - PPt[3] * PPt[8]) / det;
-    inv[4] = (PPt[0] * PPt[8] - PPt[2] * PPt[6]) / det;
-    inv[5] = (PPt[2] * PPt[3] - PPt[0] * PPt[5]) / det;
-    inv[6] = (PPt[3] * PPt[7] - PPt[4] * PPt[6]) / det;
-    inv[7] = (PPt[1] * PPt[6] - PPt[0] * PPt[7]) / det;
-    inv[8] = (PPt[0] * PPt[4] - PPt[1] * PPt[3]) / det;
-    double Pplus[12]; /* 4x3 */
-    for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 3; c++)
-            Pplus[r * 3 + c] = P[r] * inv[c] + P[4 + r] * inv[3 + c] + P[8 + r] * inv[6 + c];
-    double e[3], M[9], Ex[9];
-    for (int r = 0; r < 3; r++) {
-        e[r] = 0;
-        for (int k = 0; k < 4; k++)
-            e[r] += Pp[r * 4 + k] * C[k];
-        for (int c = 0; c < 3; c++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += Pp[r * 4 + k] * Pplus[k * 3 + c];
-            M[r * 3 + c] = s;
-        }
-    }
-    skew(e, Ex);
-    mul33(Ex, M, F);
-    return sfm_trifocal_normalize(F, 9);
-}
-
 int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], double F32[9])
 {
     if (T == NULL)
@@ -273,7 +218,7 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
     if (F32 != NULL) {
         double P2[12], P3[12];
         cameras_from(T, e2, e3, P2, P3);
-        st = fundamental_from_cameras(P2, P3, c);
+        st = sfm_fundamental_from_projections(P2, P3, c);
         if (st < 0)
             return st;
     }

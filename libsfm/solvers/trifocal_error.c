@@ -1,6 +1,6 @@
 /*
  * Three-view reprojection error of a point triplet: linear triangulation
- * from the three projective cameras (null vector of the 6x4 DLT system),
+ * from the three projective cameras (sfm_triangulate_dlt),
  * then Gauss-Newton on the summed squared pixel error. The point stays
  * homogeneous (unit 4-vector, updated in its 3-dimensional tangent space) so
  * points at infinity of a projective frame need no special case. BoofCV's
@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "sfm/sfm_linalg.h"
+#include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 
 enum { GN_ITERS = 4 };
@@ -86,27 +87,23 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         if (!isfinite(x[v][0]) || !isfinite(x[v][1]))
             return SFM_E_NONFINITE;
     }
-    /* DLT rows x * P3 - P1 and y * P3 - P2 per view, each row normalized. */
-    double A[24], S[4], V[16];
-    unsigned char ws[4096];
-    if (sfm_svd_workspace_size(6, 4) > sizeof ws)
-        return SFM_E_WORKSPACE;
-    for (int v = 0; v < 3; v++)
-        for (int h = 0; h < 2; h++) {
-            double *row = &A[(v * 2 + h) * 4], n = 0;
-            for (int c = 0; c < 4; c++) {
-                row[c] = x[v][h] * P[v][8 + c] - P[v][h * 4 + c];
-                n += row[c] * row[c];
-            }
-            n = sqrt(n);
-            if (n > 0)
-                for (int c = 0; c < 4; c++)
-                    row[c] /= n;
-        }
-    int st = sfm_svd(A, 6, 4, NULL, S, V, ws, sizeof ws);
+    /* Linear start from the three views; a point at infinity of the
+     * projective frame comes back as a direction, homogeneous (d, 0). */
+    double Ps[36], xv[6], X3[3], X[4];
+    int flag;
+    for (int v = 0; v < 3; v++) {
+        memcpy(&Ps[12 * v], P[v], 12 * sizeof(double));
+        xv[2 * v] = x[v][0];
+        xv[2 * v + 1] = x[v][1];
+    }
+    int st = sfm_triangulate_dlt(3, Ps, 1, xv, X3, &flag);
     if (st < 0)
         return st;
-    double X[4] = {V[3], V[7], V[11], V[15]};
+    double w = (flag & SFM_TRI_INFINITY) ? 0.0 : 1.0;
+    double nrm = sqrt(X3[0] * X3[0] + X3[1] * X3[1] + X3[2] * X3[2] + w * w);
+    for (int k = 0; k < 3; k++)
+        X[k] = X3[k] / nrm;
+    X[3] = w / nrm;
     int ok;
     double c0 = cost(P, x, X, &ok);
     if (!ok)

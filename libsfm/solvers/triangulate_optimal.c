@@ -9,7 +9,7 @@
  */
 #include <math.h>
 
-#include "refine/triangulate_internal.h"
+#include "solvers/triangulate_internal.h"
 #include "sfm/sfm_triangulate.h"
 
 static int all_finite(const double *v, long n)

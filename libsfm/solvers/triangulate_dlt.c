@@ -10,7 +10,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "refine/triangulate_internal.h"
+#include "solvers/triangulate_internal.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_triangulate.h"
 

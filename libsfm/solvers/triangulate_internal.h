@@ -1,6 +1,6 @@
 /* Shared pieces of the triangulation methods (libsfm/refine). */
-#ifndef SFM_REFINE_TRIANGULATE_INTERNAL_H
-#define SFM_REFINE_TRIANGULATE_INTERNAL_H
+#ifndef SFM_SOLVERS_TRIANGULATE_INTERNAL_H
+#define SFM_SOLVERS_TRIANGULATE_INTERNAL_H
 
 #include "sfm/sfm_common.h"
 
