@@ -17,7 +17,7 @@ $(eval $(call variant,cortexm7,$(BUILD)/cortex-m7,$(M7_CC),$(M7_CFLAGS),$(M7_LDF
 $(BUILD)/cortex-m7/tests/unit_tests: $(M7_DIR)/startup.c $(M7_DIR)/mps2_an500.ld
 
 cross: $(BUILD)/aarch64/libsfm.a
-firmware: $(BUILD)/cortex-m7/libsfm.a
+firmware: $(BUILD)/cortex-m7/libsfm.a $(BUILD)/cortex-m7/examples/relpose_demo.elf
 
 $(BUILD)/cortex-m7/examples/relpose_demo.elf: $(M7_DIR)/main.c $(BUILD)/cortex-m7/libsfm.a $(M7_DIR)/startup.c $(M7_DIR)/mps2_an500.ld
 	@mkdir -p $(@D)
@@ -32,7 +32,8 @@ test-aarch64: $(BUILD)/aarch64/tests/unit_tests
 # over semihosting. A fault or a failed test ends the run with status 1.
 QEMU_M7 := qemu-system-arm -M mps2-an500 -cpu cortex-m7 -nographic -monitor none -serial none \
 	-semihosting-config enable=on,target=native -kernel
-test-cortex-m7: $(BUILD)/cortex-m7/tests/unit_tests
+test-cortex-m7: $(BUILD)/cortex-m7/tests/unit_tests $(BUILD)/cortex-m7/examples/relpose_demo.elf
+	timeout 600 $(QEMU_M7) $(BUILD)/cortex-m7/examples/relpose_demo.elf
 	timeout 900 $(QEMU_M7) $(BUILD)/cortex-m7/tests/unit_tests
 
 test-heapfree-cross: $(BUILD)/aarch64/libsfm.a $(BUILD)/cortex-m7/libsfm.a

@@ -28,6 +28,10 @@
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
 
+#ifndef PRE_BISECT
+#define PRE_BISECT 4
+#endif
+
 /* Linear polynomials are coefficient vectors over (x, y, z, 1); quadratics over
  * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above. */
 static void mul11(const double *a, const double *b, double *q)
@@ -175,8 +179,20 @@ static double peval_d(const double *c, int d, double x, double *dp)
  * 9.4), started from the false-position point. */
 static double polish(const double *p, int d, double a, double b, double fa, double fb)
 {
+    /* a few plain bisections first: the isolating interval can be wide */
+    for (int k = 0; k < PRE_BISECT; k++) {
+        double m = 0.5 * (a + b), fm = peval(p, d, m);
+        if (fm == 0.0)
+            return m;
+        if ((fm > 0.0) == (fa > 0.0)) {
+            a = m;
+            fa = fm;
+        } else {
+            b = m;
+            fb = fm;
+        }
+    }
     double x = (a * fb - b * fa) / (fb - fa), dxold = b - a, dx = dxold;
-    (void)fb;
     for (int it = 0; it < 100; it++) {
         double df, f = peval_d(p, d, x, &df);
         if (f == 0.0)
@@ -426,27 +442,34 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
                 M[c][k] = M[piv][k];
                 M[piv][k] = t;
             }
-        double inv = 1.0 / M[c][c];
-        for (int k = c + 1; k < 20; k++)
-            M[c][k] *= inv;
-        M[c][c] = 1.0;
+        /* Full-width updates from a local copy of the pivot row: fixed trip
+         * counts and no aliasing, so the compiler vectorizes them; entries
+         * left of column c are zero in every row involved. */
+        double inv = 1.0 / M[c][c], pr[20];
+        for (int k = 0; k < 20; k++)
+            pr[k] = M[c][k] * inv;
+        for (int k = 0; k < 20; k++)
+            M[c][k] = pr[k];
         for (int r = c + 1; r < 10; r++) {
             double f = M[r][c];
-            if (f == 0.0)
-                continue;
-            for (int k = c + 1; k < 20; k++)
-                M[r][k] -= f * M[c][k];
-            M[r][c] = 0.0;
+            for (int k = 0; k < 20; k++)
+                M[r][k] -= f * pr[k];
         }
     }
     /* Back substitution, only for the rows 4..9 used below (each needs only
      * the rows after it): row i becomes x_i + B_i . (last ten monomials). */
-    for (int i = 8; i >= 4; i--)
+    for (int i = 8; i >= 4; i--) {
+        double ri[10];
+        for (int k = 0; k < 10; k++)
+            ri[k] = M[i][10 + k];
         for (int j = i + 1; j < 10; j++) {
             double f = M[i][j];
-            for (int k = 10; k < 20; k++)
-                M[i][k] -= f * M[j][k];
+            for (int k = 0; k < 10; k++)
+                ri[k] -= f * M[j][10 + k];
         }
+        for (int k = 0; k < 10; k++)
+            M[i][10 + k] = ri[k];
+    }
     return minpiv;
 }
 
