@@ -52,6 +52,10 @@ static void usage(FILE *f)
             "  --features N    features per frame (default 2000)\n"
             "  --threshold PX  RANSAC inlier threshold in pixels (default 1)\n"
             "  --seed S        RANSAC seed (default 1)\n"
+            "  --min-parallax DEG\n"
+            "                  refuse the poses when the median triangulation angle of\n"
+            "                  the inliers is below DEG (default 0.1): without parallax\n"
+            "                  the translation is not observable\n"
             "  --ply FILE      write the triangulated inliers as an ASCII PLY file\n"
             "  --help          this text\n");
 }
@@ -199,7 +203,7 @@ int main(int argc, char **argv)
 {
     const char *dir = NULL, *gt_path = NULL, *ply_path = NULL;
     int max_features = 2000, have_cam = 0;
-    double threshold = 1.0;
+    double threshold = 1.0, min_parallax = 0.1;
     unsigned long long seed = 1;
     sfm_camera cam_arg;
     memset(&cam_arg, 0, sizeof cam_arg);
@@ -234,6 +238,13 @@ int main(int argc, char **argv)
             threshold = strtod(v, &end);
             if (*end != '\0' || !(threshold > 0.0 && threshold < 1e3)) {
                 fprintf(stderr, "three_view_demo: bad --threshold %s\n", v);
+                return 2;
+            }
+        } else if (strcmp(a, "--min-parallax") == 0 && v) {
+            i++;
+            min_parallax = strtod(v, &end);
+            if (*end != '\0' || !(min_parallax >= 0.0 && min_parallax < 90.0)) {
+                fprintf(stderr, "three_view_demo: bad --min-parallax %s\n", v);
                 return 2;
             }
         } else if (strcmp(a, "--seed") == 0 && v) {
@@ -486,6 +497,41 @@ int main(int argc, char **argv)
     double med = ne ? err[ne / 2] : (double)NAN;
     printf("sparse points: %d triangulated (%d in front of all three cameras)\n", np, nfront);
     printf("median reprojection error of the inliers: %.3f px (%d observations)\n", med, ne);
+
+    /* Parallax: per point, the larger of the angles its rays from view 1
+     * make with those from views 2 and 3. Points at (or near) infinity carry
+     * rotation only; when most are, |t| = 1 is a direction fitted to noise,
+     * and an application should not act on it. */
+    double C[3][3];
+    for (int v = 0; v < 3; v++)
+        for (int r = 0; r < 3; r++)
+            C[v][r] = -(poses[v].R[r] * poses[v].t[0] + poses[v].R[3 + r] * poses[v].t[1] +
+                        poses[v].R[6 + r] * poses[v].t[2]);
+    int na = 0;
+    for (int j = 0; j < np; j++) {
+        if (flags[j])
+            continue;
+        double best = 0.0;
+        for (int v = 1; v < 3; v++) {
+            double r1[3], rv[3];
+            for (int r = 0; r < 3; r++) {
+                r1[r] = X[3 * j + r] - C[0][r];
+                rv[r] = X[3 * j + r] - C[v][r];
+            }
+            double a = angle_deg(r1, rv);
+            best = a > best ? a : best;
+        }
+        err[na++] = best;
+    }
+    qsort(err, (size_t)na, sizeof(double), cmp_double);
+    double parallax = na ? err[na / 2] : 0.0;
+    printf("median triangulation angle: %.2f deg\n", parallax);
+    if (!(parallax >= min_parallax)) {
+        status = SFM_E_SINGULAR;
+        fprintf(stderr, "three_view_demo: median triangulation angle %.3g deg is below %.3g deg: "
+                        "too little parallax for a translation\n", parallax, min_parallax);
+        goto done;
+    }
 
     if (ply_path) {
         FILE *f = fopen(ply_path, "w");

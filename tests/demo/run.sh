@@ -90,8 +90,8 @@ for i in 1 2 3; do cp "$DIR/view1.pgm" "$TMP/same/view$i.pgm"; done
 printf 'sequence,timestamp_ns,file\n0,0,view1.pgm\n1,1,view2.pgm\n2,2,view3.pgm\n' > "$TMP/same/manifest.csv"
 "$BIN" "$TMP/same" --camera 500,500,319.5,239.5 > "$TMP/o4.txt" 2>&1
 rc=$?
-check "three identical frames (no baseline): exit 1 with a negative status" \
-    '[ $rc -eq 1 ] && grep -qE "\(-[0-9]+\)" "$TMP/o4.txt"'
+check "three identical frames (no baseline): exit 1 with SFM_E_SINGULAR (-5)" \
+    '[ $rc -eq 1 ] && grep -qF "(-5)" "$TMP/o4.txt"'
 cat "$TMP/o4.txt"
 
 echo "test-demo: $pass passed, $fail failed"
