@@ -15,6 +15,7 @@
 #include "sfm/sfm_common.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_trifocal.h"
+#include "solvers/trifocal_internal.h"
 
 enum { NC = 24 };
 
@@ -23,57 +24,6 @@ void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w)
     w->X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->Xold = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->cap = n;
-}
-
-/* Residual (2) of x under P for homogeneous X, with d r / d X (2x4) and
- * d r / d P (2x12, may be NULL). 0 when the point projects to infinity. */
-static int residual(const double *P, const double X[4], const double x[2], double r[2],
-                    double JX[8], double JP[24])
-{
-    double p[3];
-    for (int k = 0; k < 3; k++)
-        p[k] = P[k * 4] * X[0] + P[k * 4 + 1] * X[1] + P[k * 4 + 2] * X[2] + P[k * 4 + 3] * X[3];
-    if (!(fabs(p[2]) > 1e-300))
-        return 0;
-    double iw = 1.0 / p[2], u = p[0] * iw, v = p[1] * iw;
-    r[0] = u - x[0];
-    r[1] = v - x[1];
-    if (JX != NULL)
-        for (int c = 0; c < 4; c++) {
-            JX[c] = (P[c] - u * P[8 + c]) * iw;
-            JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
-        }
-    if (JP != NULL) {
-        memset(JP, 0, sizeof(double) * 24);
-        for (int c = 0; c < 4; c++) {
-            JP[c] = X[c] * iw;            /* du / dP[0][c] */
-            JP[8 + c] = -u * X[c] * iw;   /* du / dP[2][c] */
-            JP[12 + 4 + c] = X[c] * iw;   /* dv / dP[1][c] */
-            JP[12 + 8 + c] = -v * X[c] * iw;
-        }
-    }
-    return 1;
-}
-
-/* Householder basis B (4x3) of the complement of unit X. */
-static void tangent_basis(const double X[4], double B[12])
-{
-    int a = 0;
-    for (int k = 1; k < 4; k++)
-        if (fabs(X[k]) > fabs(X[a]))
-            a = k;
-    double v[4];
-    memcpy(v, X, sizeof v);
-    v[a] += X[a] >= 0 ? 1.0 : -1.0;
-    double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3];
-    int col = 0;
-    for (int c = 0; c < 4; c++) {
-        if (c == a)
-            continue;
-        for (int r = 0; r < 4; r++)
-            B[r * 3 + col] = (r == c ? 1.0 : 0.0) - 2.0 * v[r] * v[c] / vv;
-        col++;
-    }
 }
 
 static const double P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
@@ -87,7 +37,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         int p = idx[q];
         for (int v = 0; v < 3; v++) {
             double r[2];
-            if (!residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
+            if (!sfm_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
                 return INFINITY;
             c += r[0] * r[0] + r[1] * r[1];
         }
@@ -106,11 +56,11 @@ static int point_jacobians(const double *const xs[3], int p, const double *P2, c
 {
     const double *P[3] = {P1, P2, P3};
     double B[12];
-    tangent_basis(X, B);
+    sfm_trifocal_tangent_basis(X, B);
     for (int v = 0; v < 3; v++) {
         double JX[8];
         double *JP = v == 1 ? b->Jc2 : v == 2 ? b->Jc3 : NULL;
-        if (!residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX, JP))
+        if (!sfm_trifocal_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX, JP))
             return 0;
         for (int h = 0; h < 2; h++)
             for (int c = 0; c < 3; c++)
@@ -280,7 +230,7 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
             }
             for (int c = 0; c < 3; c++)
                 d[c] = Vi[c * 3] * rhs[0] + Vi[c * 3 + 1] * rhs[1] + Vi[c * 3 + 2] * rhs[2];
-            tangent_basis(X, B);
+            sfm_trifocal_tangent_basis(X, B);
             double nn = 0;
             for (int r = 0; r < 4; r++) {
                 X[r] += B[r * 3] * d[0] + B[r * 3 + 1] * d[1] + B[r * 3 + 2] * d[2];

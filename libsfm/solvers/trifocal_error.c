@@ -13,25 +13,35 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
+#include "solvers/trifocal_internal.h"
 
 enum { GN_ITERS = 4 };
 
-static int project(const double P[12], const double X[4], double r[2], double J[8],
-                   const double x[2])
+int sfm_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
+                          double JX[8], double JP[24])
 {
     double p[3];
     for (int k = 0; k < 3; k++)
         p[k] = P[k * 4] * X[0] + P[k * 4 + 1] * X[1] + P[k * 4 + 2] * X[2] + P[k * 4 + 3] * X[3];
     if (!(fabs(p[2]) > 1e-300))
         return 0;
-    double u = p[0] / p[2], v = p[1] / p[2];
+    double iw = 1.0 / p[2], u = p[0] * iw, v = p[1] * iw;
     r[0] = u - x[0];
     r[1] = v - x[1];
-    if (J != NULL)
+    if (JX != NULL)
         for (int c = 0; c < 4; c++) {
-            J[c] = (P[c] - u * P[8 + c]) / p[2];
-            J[4 + c] = (P[4 + c] - v * P[8 + c]) / p[2];
+            JX[c] = (P[c] - u * P[8 + c]) * iw;
+            JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
         }
+    if (JP != NULL) {
+        memset(JP, 0, sizeof(double) * 24);
+        for (int c = 0; c < 4; c++) {
+            JP[c] = X[c] * iw;          /* du / dP[0][c] */
+            JP[8 + c] = -u * X[c] * iw; /* du / dP[2][c] */
+            JP[16 + c] = X[c] * iw;     /* dv / dP[1][c] */
+            JP[20 + c] = -v * X[c] * iw;
+        }
+    }
     return 1;
 }
 
@@ -40,7 +50,7 @@ static double cost(const double *P[3], const double *x[3], const double X[4], in
     double c = 0, r[2];
     *ok = 1;
     for (int v = 0; v < 3; v++) {
-        if (!project(P[v], X, r, NULL, x[v])) {
+        if (!sfm_trifocal_residual(P[v], X, x[v], r, NULL, NULL)) {
             *ok = 0;
             return INFINITY;
         }
@@ -51,7 +61,7 @@ static double cost(const double *P[3], const double *x[3], const double X[4], in
 
 /* Orthonormal basis B (4x3, columns) of the complement of unit X, from the
  * Householder reflector that maps X to a multiple of e_a. */
-static void tangent_basis(const double X[4], double B[12])
+void sfm_trifocal_tangent_basis(const double X[4], double B[12])
 {
     int a = 0;
     for (int k = 1; k < 4; k++)
@@ -110,10 +120,10 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
         double B[12], H[9] = {0}, g[3] = {0};
-        tangent_basis(X, B);
+        sfm_trifocal_tangent_basis(X, B);
         for (int v = 0; v < 3; v++) {
             double r[2], J[8], Jb[6];
-            project(P[v], X, r, J, x[v]);
+            sfm_trifocal_residual(P[v], X, x[v], r, J, NULL);
             for (int h = 0; h < 2; h++)
                 for (int c = 0; c < 3; c++)
                     Jb[h * 3 + c] = J[h * 4] * B[c] + J[h * 4 + 1] * B[3 + c] +
