@@ -306,7 +306,8 @@ int main(int argc, char **argv)
     double *obs = malloc(sizeof(double) * 6 * (size_t)cap); /* view-major normalized coordinates */
     double *err = malloc(sizeof(double) * 3 * (size_t)cap);
     int *flags = malloc(sizeof(int) * (size_t)cap);
-    int ok = trip && px && inl && X && obs && err && flags;
+    double *hp = malloc(sizeof(double) * 4 * (size_t)cap); /* inlier pixels of views 1 and 2 */
+    int ok = trip && px && inl && X && obs && err && flags && hp;
     for (int v = 0; v < 3 && ok; v++) {
         kps[v] = malloc(sizeof(sfm_keypoint) * (size_t)cap);
         desc[v] = malloc((size_t)SFM_FEATURES_DESC_BYTES * (size_t)cap);
@@ -352,11 +353,12 @@ int main(int argc, char **argv)
             w = fr.width;
             h = fr.height;
             /* The largest workspace any step needs, for this frame size. */
-            size_t need[4] = {sfm_features_workspace_size(&fp, w, h),
+            size_t need[5] = {sfm_features_workspace_size(&fp, w, h),
                               sfm_features_match_workspace_size(cap, cap),
                               sfm_features_associate_workspace_size(cap, cap, cap),
-                              sfm_recon_three_view_pose_workspace_size(cap)};
-            for (int k = 0; k < 4; k++)
+                              sfm_recon_three_view_pose_workspace_size(cap),
+                              sfm_ransac_homography_workspace_size(cap)};
+            for (int k = 0; k < 5; k++)
                 ws_size = need[k] > ws_size ? need[k] : ws_size;
             ws = malloc(ws_size);
             if (need[0] == 0 || ws == NULL) {
@@ -533,6 +535,28 @@ int main(int argc, char **argv)
         goto done;
     }
 
+    /* One plane: when a homography between views 1 and 2 explains most
+     * inliers, the calibrated pose has a twin (the two decompositions of a
+     * plane's homography) and the trifocal tensor is not determined by
+     * those points; the answer may be the wrong twin. */
+    int nh = 0;
+    for (int k = 0; k < nt; k++)
+        if (inl[k]) {
+            memcpy(hp + 2 * (size_t)nh, px1 + 2 * k, 2 * sizeof(double));
+            memcpy(hp + 2 * ((size_t)ni + nh), px2 + 2 * k, 2 * sizeof(double));
+            nh++;
+        }
+    double H[9];
+    int on_plane = sfm_ransac_homography(hp, hp + 2 * (size_t)ni, nh, &cams[0], &cams[1], &ro, H, NULL,
+                                         NULL, ws, ws_size);
+    if (on_plane >= 0) {
+        printf("inliers on one plane (homography 1-2 within %.2f px): %d of %d (%.0f%%)\n", threshold,
+               on_plane, ni, 100.0 * on_plane / ni);
+        if (on_plane >= 0.75 * ni)
+            printf("warning: one plane dominates the inliers; the poses may be the plane's twin "
+                   "solution (views with more depth variation help)\n");
+    }
+
     if (ply_path) {
         FILE *f = fopen(ply_path, "w");
         if (f == NULL) {
@@ -590,6 +614,7 @@ done:
     free(obs);
     free(err);
     free(flags);
+    free(hp);
     if (rc == 1 && status < 0)
         fprintf(stderr, "three_view_demo: failed: %s (%d)\n", sfm_status_str(status), status);
     return rc;

@@ -58,6 +58,9 @@ check "translation direction error view 2 < 2 deg ($d2)" 'lt "$d2" 2'
 check "translation direction error view 3 < 2 deg ($d3)" 'lt "$d3" 2'
 check "scale |t3|/|t2| within 3% ($sc %)" 'abs_lt "$sc" 3'
 check "median reprojection error < 1 px ($re)" 'lt "$re" 1'
+pl=$(num "inliers on one plane (homography 1-2 within 1.00 px): ")
+check "plane share reported, no twin warning on the room ($pl inliers on one plane)" \
+    '[ -n "$pl" ] && ! grep -q "^warning" "$TMP/out.txt"'
 npts=$(sed -n 's/^element vertex //p' "$TMP/points.ply")
 check "PLY holds the points in front ($npts)" '[ "${npts:-0}" -ge 90 ] && [ $(wc -l < "$TMP/points.ply") -eq $((npts + 7)) ]'
 
