@@ -135,15 +135,34 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
     }
 }
 
+/* p(x) for descending coefficients p[0..deg], deg <= 10: Horner's rule
+ * entered at the step for the degree (no loop counter; the same operations in
+ * the same order as the plain loop). */
+static inline double horner(const double *p, int deg, double x)
+{
+    double y = *p++;
+    switch (10 - deg) {
+    case 0: y = y * x + *p++; /* fall through */
+    case 1: y = y * x + *p++; /* fall through */
+    case 2: y = y * x + *p++; /* fall through */
+    case 3: y = y * x + *p++; /* fall through */
+    case 4: y = y * x + *p++; /* fall through */
+    case 5: y = y * x + *p++; /* fall through */
+    case 6: y = y * x + *p++; /* fall through */
+    case 7: y = y * x + *p++; /* fall through */
+    case 8: y = y * x + *p++; /* fall through */
+    case 9: y = y * x + *p; /* fall through */
+    default: break;
+    }
+    return y;
+}
+
 static int sturm_var(const sturm_seq *S, double x)
 {
     int v = 0;
     double prev = 0.0;
     for (int k = 0; k < S->n; k++) {
-        const double *p = S->s[k];
-        double y = p[0];
-        for (int i = 1; i <= S->deg[k]; i++)
-            y = y * x + p[i];
+        double y = horner(S->s[k], S->deg[k], x);
         if (y != 0.0) {
             if (prev != 0.0 && (y > 0.0) != (prev > 0.0))
                 v++;
@@ -155,19 +174,25 @@ static int sturm_var(const sturm_seq *S, double x)
 
 static double peval(const double *c, int d, double x)
 {
-    double y = c[0];
-    for (int i = 1; i <= d; i++)
-        y = y * x + c[i];
-    return y;
+    return horner(c, d, x);
 }
 
-/* p and p' at x */
-static double peval_d(const double *c, int d, double x, double *dp)
+/* p and p' at x (Horner, entered at the step for the degree as above) */
+static double peval_d(const double *p, int d, double x, double *dp)
 {
-    double y = c[0], dy = 0.0;
-    for (int i = 1; i <= d; i++) {
-        dy = dy * x + y;
-        y = y * x + c[i];
+    double y = *p++, dy = 0.0;
+    switch (10 - d) {
+    case 0: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 1: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 2: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 3: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 4: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 5: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 6: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 7: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 8: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 9: dy = dy * x + y; y = y * x + *p; /* fall through */
+    default: break;
     }
     *dp = dy;
     return y;
@@ -299,24 +324,46 @@ static void polymul(const double *a, int da, const double *b, int db, double *c)
 #define REFINE_TOL 1e-11
 #endif
 /* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
- * largest coefficient). Returns 1 when the residual is already at rounding
- * level (no step taken), else 0. */
-static int refine(double M0[10][20], double *px, double *py, double *pz)
+ * largest coefficient), given transposed: M0T[k][r] is the coefficient of
+ * monomial k in constraint r, so that the products below run over the ten
+ * constraints in contiguous memory (each sum still adds its terms in
+ * monomial order). Returns 1 when the residual is already at rounding level
+ * (no step taken), else 0. */
+/* f = M0T^T v: f[r] = sum over k, in order, of M0T[k][r] v[k]. Written as
+ * pairs of adjacent rows so that the compiler can use two-lane arithmetic. */
+static inline void axpy10(double M0T[20][10], const double *v, double *f)
+{
+    double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0, f6 = 0.0, f7 = 0.0,
+           f8 = 0.0, f9 = 0.0;
+    for (int k = 0; k < 20; k++) {
+        const double *c = M0T[k], w = v[k];
+        f0 += c[0] * w; f1 += c[1] * w;
+        f2 += c[2] * w; f3 += c[3] * w;
+        f4 += c[4] * w; f5 += c[5] * w;
+        f6 += c[6] * w; f7 += c[7] * w;
+        f8 += c[8] * w; f9 += c[9] * w;
+    }
+    f[0] = f0; f[1] = f1; f[2] = f2; f[3] = f3; f[4] = f4;
+    f[5] = f5; f[6] = f6; f[7] = f7; f[8] = f8; f[9] = f9;
+}
+
+static int refine(double M0T[20][10], double *px, double *py, double *pz)
 {
     double x = *px, y = *py, z = *pz;
     double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
                     x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
-    double mmax = 0.0, fmax_ = 0.0, fr[10];
-    for (int k = 0; k < 20; k++)
-        if (fabs(m[k]) > mmax)
-            mmax = fabs(m[k]);
+    /* The largest monomial magnitude: max(1, |x|, |y|, |z|)^3. */
+    double mm = 1.0, ax = fabs(x), ay = fabs(y), az = fabs(z);
+    mm = ax > mm ? ax : mm;
+    mm = ay > mm ? ay : mm;
+    mm = az > mm ? az : mm;
+    const double mmax = mm * mm * mm;
+    double fr[10];
+    axpy10(M0T, m, fr);
+    double fmax_ = 0.0;
     for (int r = 0; r < 10; r++) {
-        double f = 0.0;
-        for (int k = 0; k < 20; k++)
-            f += M0[r][k] * m[k];
-        fr[r] = f;
-        if (fabs(f) > fmax_)
-            fmax_ = fabs(f);
+        double af = fabs(fr[r]);
+        fmax_ = af > fmax_ ? af : fmax_;
     }
     if (fmax_ <= REFINE_TOL * mmax)
         return 1;
@@ -326,14 +373,13 @@ static int refine(double M0[10][20], double *px, double *py, double *pz)
                      z * z, z, 1, 0, 0, 0, 0};
     double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
                      3 * z * z, 2 * z, 1, 0};
+    double ja[10], jb[10], jc[10];
+    axpy10(M0T, mx, ja);
+    axpy10(M0T, my, jb);
+    axpy10(M0T, mz, jc);
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
-        double f = fr[r], a = 0, b = 0, c = 0;
-        for (int k = 0; k < 20; k++) {
-            a += M0[r][k] * mx[k];
-            b += M0[r][k] * my[k];
-            c += M0[r][k] * mz[k];
-        }
+        double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
         Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
@@ -356,9 +402,9 @@ static int refine(double M0[10][20], double *px, double *py, double *pz)
 
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
- * copy in M0 and reduces M by Gauss-Jordan. Returns the smallest pivot
+ * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
  * magnitude (rows scaled to unit max norm), 0 when singular. */
-static double build_reduce(const double *N, int perm, double e[9][4], double M0[10][20],
+static double build_reduce(const double *N, int perm, double e[9][4], double M0T[20][10],
                            double M[10][20])
 {
     for (int k = 0; k < 9; k++)
@@ -412,20 +458,23 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
                 addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
 
     /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
-     * first scaled to unit largest entry (M0 keeps the scaled, unreduced rows
-     * for the polish). */
+     * first scaled to unit largest entry (M0T keeps the scaled, unreduced
+     * rows, transposed, for the polish). */
     for (int r = 0; r < 10; r++) {
         double mx = 0.0;
-        for (int c = 0; c < 20; c++)
-            if (fabs(M[r][c]) > mx)
-                mx = fabs(M[r][c]);
+        for (int c = 0; c < 20; c++) {
+            double a = fabs(M[r][c]);
+            mx = a > mx ? a : mx;
+        }
         if (!(mx > 0.0))
             return 0.0;
         mx = 1.0 / mx;
-        for (int c = 0; c < 20; c++)
-            M[r][c] *= mx;
+        for (int c = 0; c < 20; c++) {
+            double v = M[r][c] * mx;
+            M[r][c] = v;
+            M0T[c][r] = v;
+        }
     }
-    memcpy(M0, M, 10 * 20 * sizeof(double));
     double minpiv = INFINITY;
     for (int c = 0; c < 10; c++) {
         int piv = c;
@@ -475,7 +524,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
 
 /* Steps 3 (end) and 4 for one reduced system: solutions written to out as
  * unit-norm 9-vectors; returns their number. */
-static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
+static int solve_reduced(double e[9][4], double M0T[20][10], double M[10][20],
                          double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
@@ -556,7 +605,7 @@ static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
         for (int iter = 0; iter < REFINE_ITERS; iter++)
-            if (refine(M0, &x, &y, &z))
+            if (refine(M0T, &x, &y, &z))
                 break;
         double *o = out[ns];
         for (int k = 0; k < 9; k++)
@@ -590,16 +639,16 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
      * that the first polynomial's rounding turned into a complex pair is
      * found by the second). This takes the ground-truth-found rate from
      * about 99% to above 99.9% on near-planar and distant scenes. */
-    double e[9][4], M0[10][20], M[10][20];
+    double e[9][4], M0T[20][10], M[10][20];
     double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
-    double piv = build_reduce(N, 0, e, M0, M);
-    int ns = piv > 0.0 ? solve_reduced(e, M0, M, out) : 0;
+    double piv = build_reduce(N, 0, e, M0T, M);
+    int ns = piv > 0.0 ? solve_reduced(e, M0T, M, out) : 0;
     if (piv < PERM_RETRY_PIVOT) {
         double p2 = 0.0;
         int best = 0;
         int last = 0;
         for (int perm = 1; perm < 4; perm++) {
-            double pp = build_reduce(N, perm, e, M0, M);
+            double pp = build_reduce(N, perm, e, M0T, M);
             last = perm;
             if (pp > p2) {
                 p2 = pp;
@@ -611,8 +660,8 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         if (best > 0) {
             double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
             if (best != last)
-                (void)build_reduce(N, best, e, M0, M);
-            int n2 = solve_reduced(e, M0, M, more);
+                (void)build_reduce(N, best, e, M0T, M);
+            int n2 = solve_reduced(e, M0T, M, more);
             for (int k = 0; k < n2; k++) {
                 int dup = 0;
                 for (int j = 0; j < ns && !dup; j++) {
