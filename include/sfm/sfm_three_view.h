@@ -4,11 +4,17 @@
  * three cameras' intrinsics (distortion included).
  *
  * Method: pixels are undistorted to each camera's ideal pinhole pixels;
- * trifocal RANSAC (sfm_ransac_trifocal) finds the inliers and three
- * consistent projective cameras; the essential matrices E21 = K2^T F21 K1 and
- * E31 = K3^T F31 K1 of that tensor are decomposed with the cheirality choice
- * over the inliers; the scale of t3 relative to t2 comes from the inliers
- * triangulated in views 1 and 2 and observed in view 3 (linear least squares).
+ * trifocal RANSAC (sfm_ransac_trifocal) finds the triplets consistent with
+ * three projective cameras. Two calibrated starts are then built, each
+ * scaled (t3 relative to |t2| = 1 by linear least squares on points
+ * triangulated in views 1 and 2) and polished by metric bundle adjustment:
+ * (a) the essential matrices E21 = K2^T F21 K1, E31 = K3^T F31 K1 of the
+ * tensor, decomposed with the cheirality choice; (b) calibrated 5-point
+ * RANSAC on the pairs (1, 2) and (1, 3) of all triplets, which has no
+ * plane-induced ambiguity. The start whose metric cameras explain more
+ * triplets wins; its inliers are re-collected under the metric cameras and
+ * polished once more. When rotation alone explains views 1 and 2 the
+ * translation is unobservable: SFM_E_SINGULAR.
  *
  * Poses map view-1 coordinates to each camera: x_cam = R x_cam1 + t; pose 0
  * is the identity, |t2| = 1 (the overall scale is unobservable).

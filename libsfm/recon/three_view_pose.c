@@ -26,7 +26,7 @@ typedef struct tv_ws {
     size_t ransac_size;
     int *obs_cam, *obs_pt; /* 3n */
     double *obs_xy;        /* 3n x 2 */
-    double *pix[3];        /* n x 2 inlier ideal pixels per view, compacted */
+    uint8_t *m12, *m13;    /* n: 5-point inliers of pairs (1, 2), (1, 3) */
     void *rel_ws;
     size_t rel_size;
     void *ba_ws;
@@ -49,8 +49,8 @@ static void layout(sfm_arena *a, int n, tv_ws *w)
     sfm_ba_dims d = {3, n, 3 * n, SFM_BA_INTRINSICS_FIXED, 0};
     w->ba_size = sfm_ba_workspace_size(&d);
     w->ba_ws = sfm_arena_alloc(a, w->ba_size);
-    for (int v = 0; v < 3; v++)
-        w->pix[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->m12 = SFM_ARENA_ARRAY(a, uint8_t, n);
+    w->m13 = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->rel_size = sfm_ransac_relpose_workspace_size(n);
     w->rel_ws = sfm_arena_alloc(a, w->rel_size);
 }
@@ -156,19 +156,31 @@ static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est
     return SFM_OK;
 }
 
-/* Scale of t3 relative to |t2| = 1 from the inliers triangulated in views 1
- * and 2 (midpoint): least squares on b3 x (R3 X + s t3) = 0; then polish.
- * Keeps the result in best when its cost is the lowest so far. */
-static void try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sfm_pose *p2,
-                      const sfm_pose *p3, sfm_pose best[3], double *best_cost)
+/* P = K [R | t] */
+static void metric_camera(const sfm_camera *c, const sfm_pose *p, double P[12])
 {
-    sfm_pose est[3];
+    const double K[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
+    for (int r = 0; r < 3; r++)
+        for (int col = 0; col < 4; col++) {
+            double s = 0;
+            for (int k = 0; k < 3; k++)
+                s += K[r * 3 + k] * (col < 3 ? p->R[k * 3 + col] : p->t[k]);
+            P[r * 4 + col] = s;
+        }
+}
+
+/* Scale of t3 relative to |t2| = 1 from the gathered points triangulated in
+ * views 1 and 2 (midpoint): least squares on b3 x (R3 X + s t3) = 0; then
+ * polish. Writes the candidate and its cost; 0 when it fails. */
+static int try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sfm_pose *p2,
+                     const sfm_pose *p3, sfm_pose est[3], double *cost)
+{
     memset(&est[0], 0, sizeof est[0]);
     est[0].R[0] = est[0].R[4] = est[0].R[8] = 1.0;
     est[1] = *p2;
     est[2] = *p3;
     if (sfm_triangulate_midpoint(2, est, m, w->bear, w->X, w->flags) <= 0)
-        return;
+        return 0;
     const double *b3 = &w->bear[(size_t)2 * m * 3];
     double num = 0, den = 0;
     const double *R3 = p3->R, *t3 = p3->t;
@@ -190,13 +202,43 @@ static void try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sf
     }
     double s = num / den;
     if (!(den > 0) || !isfinite(s))
-        return;
+        return 0;
     for (int r = 0; r < 3; r++)
         est[2].t[r] = s * t3[r];
-    double cost;
-    if (polish(w, cams, m, est, &cost) == SFM_OK && cost < *best_cost) {
+    return polish(w, cams, m, est, cost) == SFM_OK;
+}
+
+/* Triplets whose three-view error after optimal triangulation under the
+ * metric cameras K [R | t] is below tau per view; written to w->mask when
+ * write_mask. */
+static int metric_inliers(tv_ws *w, const sfm_camera *const cams[3], int n, double tau,
+                          const sfm_pose est[3], int write_mask)
+{
+    double Pm[3][12];
+    for (int v = 0; v < 3; v++)
+        metric_camera(cams[v], &est[v], Pm[v]);
+    int cnt = 0;
+    for (int i = 0; i < n; i++) {
+        double e;
+        int in = sfm_trifocal_point_error(Pm[0], Pm[1], Pm[2], &w->ideal[0][2 * i], &w->ideal[1][2 * i],
+                                          &w->ideal[2][2 * i], &e, NULL) == SFM_OK &&
+                 e / 3.0 < tau * tau;
+        if (write_mask)
+            w->mask[i] = (uint8_t)in;
+        cnt += in;
+    }
+    return cnt;
+}
+
+static void keep_better(tv_ws *w, const sfm_camera *const cams[3], int n, double tau,
+                        const sfm_pose cand[3], double cost, sfm_pose best[3], int *best_in,
+                        double *best_cost)
+{
+    int in = metric_inliers(w, cams, n, tau, cand, 0);
+    if (in > *best_in || (in == *best_in && cost < *best_cost)) {
+        *best_in = in;
         *best_cost = cost;
-        memcpy(best, est, sizeof est);
+        memcpy(best, cand, 3 * sizeof(sfm_pose));
     }
 }
 
@@ -216,19 +258,6 @@ static int gather(tv_ws *w, const sfm_camera *const cams[3], int n, int cnt)
         m++;
     }
     return m;
-}
-
-/* P = K [R | t] */
-static void metric_camera(const sfm_camera *c, const sfm_pose *p, double P[12])
-{
-    const double K[9] = {c->fx, 0, c->cx, 0, c->fy, c->cy, 0, 0, 1};
-    for (int r = 0; r < 3; r++)
-        for (int col = 0; col < 4; col++) {
-            double s = 0;
-            for (int k = 0; k < 3; k++)
-                s += K[r * 3 + k] * (col < 3 ? p->R[k * 3 + col] : p->t[k]);
-            P[r * 4 + col] = s;
-        }
 }
 
 static int finite_all(const double *v, int n)
@@ -274,12 +303,26 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     if (cnt < 0)
         return cnt;
 
+    /* Candidate starts, each scaled and polished, then judged by how many of
+     * all n triplets the metric cameras explain (ties: lower cost):
+     * (a) the essential matrices of the tensor's fundamental matrices, on
+     *     the trifocal inliers;
+     * (b) calibrated 5-point RANSAC over all n pairs (1, 2) and (1, 3), on
+     *     the triplets inlier to both. The calibrated model has no planar
+     *     ambiguity of the projective kind, so (b) is right where a
+     *     dominant plane made trifocal RANSAC settle on a plane-induced
+     *     tensor, or made its fundamental matrices poorly determined. */
+    double tau = opt != NULL ? opt->threshold : 1.0;
+    sfm_ransac_options ro;
+    if (opt != NULL)
+        ro = *opt;
+    else
+        sfm_ransac_default_options(&ro);
+    sfm_pose best[3], cand[3];
+    int best_in = -1;
+    double best_cost = INFINITY, cost;
+
     int m = gather(&w, cams, n, cnt);
-    /* Candidate starts: (a) the essential matrices of the tensor's
-     * fundamental matrices; (b) calibrated 5-point RANSAC on the inlier pairs
-     * (1, 2) and (1, 3), which stays correct on near-planar scenes where the
-     * projective fundamental matrices are poorly determined. Each is scaled,
-     * polished, and the lower final cost wins. */
     double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];
     int st = sfm_trifocal_fundamentals(T, F21, F31, NULL);
     if (st < 0)
@@ -289,62 +332,49 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     K_of(cam3, K3);
     essential(F21, K1, K2, E21);
     essential(F31, K1, K3, E31);
-    const double *b1 = w.bear, *b2 = &w.bear[(size_t)cnt * 3], *b3 = &w.bear[(size_t)2 * cnt * 3];
-    sfm_pose best[3];
-    double best_cost = INFINITY;
+    const double *b1 = w.bear, *b2 = &w.bear[(size_t)m * 3], *b3 = &w.bear[(size_t)2 * m * 3];
     sfm_pose c2[4], c3[4];
     if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) == 4 &&
-        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) == 4)
-        try_start(&w, cams, m, &c2[0], &c3[0], best, &best_cost);
-    for (int j = 0; j < m; j++)
-        for (int v = 0; v < 3; v++) {
-            const double *b = &w.bear[((size_t)v * m + j) * 3];
-            w.pix[v][2 * j] = cams[v]->fx * b[0] + cams[v]->cx;
-            w.pix[v][2 * j + 1] = cams[v]->fy * b[1] + cams[v]->cy;
-        }
+        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) == 4 &&
+        try_start(&w, cams, m, &c2[0], &c3[0], cand, &cost))
+        keep_better(&w, cams, n, tau, cand, cost, best, &best_in, &best_cost);
+
     sfm_camera pin[3];
     for (int v = 0; v < 3; v++) {
         pin[v] = *cams[v];
         pin[v].model = SFM_CAMERA_PINHOLE;
     }
-    sfm_ransac_options ro;
-    if (opt != NULL)
-        ro = *opt;
-    else
-        sfm_ransac_default_options(&ro);
     sfm_pose p12, p13;
-    if (sfm_ransac_relpose(w.pix[0], w.pix[1], m, &pin[0], &pin[1], &ro, &p12, NULL, NULL, NULL,
-                           w.rel_ws, w.rel_size) > 0 &&
-        sfm_ransac_relpose(w.pix[0], w.pix[2], m, &pin[0], &pin[2], &ro, &p13, NULL, NULL, NULL,
-                           w.rel_ws, w.rel_size) > 0)
-        try_start(&w, cams, m, &p12, &p13, best, &best_cost);
-    if (!isfinite(best_cost))
+    sfm_ransac_stats s12;
+    int n12 = sfm_ransac_relpose(w.ideal[0], w.ideal[1], n, &pin[0], &pin[1], &ro, &p12, NULL, w.m12,
+                                 &s12, w.rel_ws, w.rel_size);
+    /* Rotation alone explains views 1 and 2: |t2|, the scale gauge, and with
+     * it every translation are unobservable. */
+    if (n12 > 0 && (s12.flags & SFM_RANSAC_FLAG_PURE_ROTATION))
         return SFM_E_SINGULAR;
-    /* The calibrated model is tighter than the projective one: re-collect
-     * the inliers under the metric cameras (same per-view threshold on the
-     * optimally triangulated three-view error) and polish once more. */
-    double tau = opt != NULL ? opt->threshold : ro.threshold;
-    double Pm[3][12];
-    for (int v = 0; v < 3; v++)
-        metric_camera(cams[v], &best[v], Pm[v]);
-    int cnt2 = 0;
-    for (int i = 0; i < n; i++) {
-        double e;
-        int in = sfm_trifocal_point_error(Pm[0], Pm[1], Pm[2], &w.ideal[0][2 * i], &w.ideal[1][2 * i],
-                                          &w.ideal[2][2 * i], &e, NULL) == SFM_OK &&
-                 e / 3.0 < tau * tau;
-        w.mask[i] = (uint8_t)in;
-        cnt2 += in;
+    if (n12 > 0 && sfm_ransac_relpose(w.ideal[0], w.ideal[2], n, &pin[0], &pin[2], &ro, &p13, NULL,
+                                      w.m13, NULL, w.rel_ws, w.rel_size) > 0) {
+        int mb = 0;
+        for (int i = 0; i < n; i++) {
+            w.mask[i] = (uint8_t)(w.m12[i] && w.m13[i]);
+            mb += w.mask[i];
+        }
+        if (mb >= SFM_TRIFOCAL_MIN_POINTS) {
+            m = gather(&w, cams, n, mb);
+            if (try_start(&w, cams, m, &p12, &p13, cand, &cost))
+                keep_better(&w, cams, n, tau, cand, cost, best, &best_in, &best_cost);
+        }
     }
-    if (cnt2 >= SFM_TRIFOCAL_MIN_POINTS) {
-        m = gather(&w, cams, n, cnt2);
-        sfm_pose again[3];
-        memcpy(again, best, sizeof again);
-        double cost;
-        if (polish(&w, cams, m, again, &cost) == SFM_OK)
-            memcpy(best, again, sizeof again);
-        cnt = cnt2;
-    }
+    if (best_in < SFM_TRIFOCAL_MIN_POINTS)
+        return SFM_E_SINGULAR;
+
+    /* Final inliers under the chosen metric cameras, and one more polish. */
+    int cnt2 = metric_inliers(&w, cams, n, tau, best, 1);
+    m = gather(&w, cams, n, cnt2);
+    memcpy(cand, best, sizeof cand);
+    if (polish(&w, cams, m, cand, &cost) == SFM_OK)
+        memcpy(best, cand, sizeof cand);
+    cnt = cnt2;
     memcpy(poses, best, 3 * sizeof(sfm_pose));
     if (inlier_mask != NULL)
         memcpy(inlier_mask, w.mask, (size_t)n);

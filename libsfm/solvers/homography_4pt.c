@@ -16,40 +16,37 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
-/* Twice the signed area of triangle (a, b, c). */
-static double tri(const double *a, const double *b, const double *c)
-{
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-/* Triple products of the four points: d[0] = det[q1 q2 q3] and d[i] =
- * det with column i replaced by q4. Returns 0 when a triple is collinear
- * relative to the squared spread of the points. */
+/* Triple products of the four points a, b, c, e: d[0] = det[q1 q2 q3] and
+ * d[i] = det with column i replaced by q4, all from the differences to a
+ * (d[1] by the identity d[0] = d[1] + d[2] + d[3]). Returns 0 when a triple
+ * is collinear relative to the squared spread of the points about a. A
+ * non-finite coordinate makes the spread NaN or infinite, so the test fails
+ * for it too. */
 static inline int triples(const double *p, double d[4])
 {
-    const double *a = p, *b = p + 2, *c = p + 4, *e = p + 6;
-    d[0] = tri(a, b, c);
-    d[1] = tri(e, b, c);
-    d[2] = tri(a, e, c);
-    d[3] = tri(a, b, e);
-    double s = 0.0;
-    for (int i = 1; i < 4; i++) {
-        double dx = p[2 * i] - p[0], dy = p[2 * i + 1] - p[1];
-        s += dx * dx + dy * dy;
-    }
-    double tol = 1e-12 * s;
-    return fabs(d[0]) > tol && fabs(d[1]) > tol && fabs(d[2]) > tol && fabs(d[3]) > tol;
+    const double bx = p[2] - p[0], by = p[3] - p[1];
+    const double cx = p[4] - p[0], cy = p[5] - p[1];
+    const double ex = p[6] - p[0], ey = p[7] - p[1];
+    d[0] = bx * cy - by * cx;
+    d[2] = ex * cy - ey * cx;
+    d[3] = bx * ey - by * ex;
+    d[1] = d[0] - d[2] - d[3];
+    const double tol = 1e-12 * ((bx * bx + by * by) + (cx * cx + cy * cy) + (ex * ex + ey * ey));
+    double m0 = fabs(d[0]), m1 = fabs(d[1]), m2 = fabs(d[2]), m3 = fabs(d[3]);
+    m0 = m1 < m0 ? m1 : m0;
+    m2 = m3 < m2 ? m3 : m2;
+    m0 = m2 < m0 ? m2 : m0;
+    return m0 > tol;
 }
 
 int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H)
 {
     if (!p1 || !p2 || !H)
         return SFM_E_ARGUMENT;
-    /* Non-finite input makes a triple product NaN or the tolerance infinite,
-     * so it always ends on the degenerate path, which tells the two apart:
-     * the finiteness scan costs nothing on the common path. */
+    /* Non-finite input always ends on the degenerate path, which tells the
+     * two apart: the finiteness scan costs nothing on the common path. */
     double d1[4], d2[4];
-    if (!triples(p1, d1) || !triples(p2, d2)) {
+    if (!triples(p2, d2) || !triples(p1, d1)) {
         if (!sfm__all_finite(p1, 8) || !sfm__all_finite(p2, 8))
             return SFM_E_NONFINITE;
         return 0;
@@ -67,25 +64,29 @@ int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H)
         k1 * (v2 - v0), k1 * (u0 - u2), k1 * (u2 * v0 - u0 * v2), /* q3 x q1 */
         k2 * (v0 - v1), k2 * (u1 - u0), k2 * (u0 * v1 - u1 * v0), /* q1 x q2 */
     };
-    /* H = [r1 r2 r3] C with r_i = (u'_i, v'_i, 1): the last row is a sum. */
-    double h[9];
-    for (int c = 0; c < 3; c++) {
-        h[c] = p2[0] * C[c] + p2[2] * C[3 + c] + p2[4] * C[6 + c];
-        h[3 + c] = p2[1] * C[c] + p2[3] * C[3 + c] + p2[5] * C[6 + c];
-        h[6 + c] = C[c] + C[3 + c] + C[6 + c];
-    }
-    /* det(H) = det[r1 r2 r3] k0 k1 k2 det(M1)^2 = d2[0] k0 k1 k2 d1[0]^2:
-     * its sign without forming the product (which could overflow). */
-    int neg = (d2[0] < 0.0) ^ (k0 < 0.0) ^ (k1 < 0.0) ^ (k2 < 0.0);
-    double s = 0.0;
-    for (int i = 0; i < 9; i++)
-        s += h[i] * h[i];
-    if (!(s > 0.0) || !isfinite(s))
-        return 0;
-    s = 1.0 / sqrt(s);
-    if (neg)
-        s = -s;
-    for (int i = 0; i < 9; i++)
-        H->m[i] = h[i] * s;
+    /* H = [r1 r2 r3] C with r_i = (u'_i, v'_i, 1): the last row is a sum.
+     * Written out (no arrays) so that everything stays in registers. */
+    const double a0 = p2[0], a1 = p2[2], a2 = p2[4], b0 = p2[1], b1 = p2[3], b2 = p2[5];
+    const double h0 = a0 * C[0] + a1 * C[3] + a2 * C[6];
+    const double h1 = a0 * C[1] + a1 * C[4] + a2 * C[7];
+    const double h2 = a0 * C[2] + a1 * C[5] + a2 * C[8];
+    const double h3 = b0 * C[0] + b1 * C[3] + b2 * C[6];
+    const double h4 = b0 * C[1] + b1 * C[4] + b2 * C[7];
+    const double h5 = b0 * C[2] + b1 * C[5] + b2 * C[8];
+    const double h6 = C[0] + C[3] + C[6];
+    const double h7 = C[1] + C[4] + C[7];
+    const double h8 = C[2] + C[5] + C[8];
+    /* det(H) = d2[0] k0 k1 k2 d1[0]^2, of the sign of d2[0] d2[1] d2[2] d2[3]
+     * (k0 k1 k2 = d2[1] d2[2] d2[3] (d1[1] d1[2] d1[3])^2). The product's sign
+     * bit is exact even when it overflows or underflows to a signed zero. */
+    const double sgn = (d2[0] * d2[1]) * (d2[2] * d2[3]);
+    double s = ((h0 * h0 + h1 * h1) + (h2 * h2 + h3 * h3)) +
+               ((h4 * h4 + h5 * h5) + (h6 * h6 + h7 * h7)) + h8 * h8;
+    if (!(s > 0.0 && s <= 1.7976931348623157e308))
+        return 0; /* zero, or overflow of the unnormalized entries */
+    s = copysign(1.0 / sqrt(s), sgn);
+    H->m[0] = h0 * s; H->m[1] = h1 * s; H->m[2] = h2 * s;
+    H->m[3] = h3 * s; H->m[4] = h4 * s; H->m[5] = h5 * s;
+    H->m[6] = h6 * s; H->m[7] = h7 * s; H->m[8] = h8 * s;
     return 1;
 }

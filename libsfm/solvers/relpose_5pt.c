@@ -135,39 +135,81 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
     }
 }
 
+/* p(x) for descending coefficients p[0..deg], deg <= 10: Horner's rule
+ * entered at the step for the degree (no loop counter; the same operations in
+ * the same order as the plain loop). */
+static inline double horner(const double *p, int deg, double x)
+{
+    double y = *p++;
+    switch (10 - deg) {
+    case 0: y = y * x + *p++; /* fall through */
+    case 1: y = y * x + *p++; /* fall through */
+    case 2: y = y * x + *p++; /* fall through */
+    case 3: y = y * x + *p++; /* fall through */
+    case 4: y = y * x + *p++; /* fall through */
+    case 5: y = y * x + *p++; /* fall through */
+    case 6: y = y * x + *p++; /* fall through */
+    case 7: y = y * x + *p++; /* fall through */
+    case 8: y = y * x + *p++; /* fall through */
+    case 9: y = y * x + *p; /* fall through */
+    default: break;
+    }
+    return y;
+}
+
+/* Sign changes, zeros skipped, of the values y[0..n-1]. */
+static inline int sign_changes(const double *y, int n)
+{
+    int v = 0, prev = -1; /* prev: sign bit of the last nonzero value, -1 before */
+    for (int k = 0; k < n; k++)
+        if (y[k] != 0.0) {
+            int neg = y[k] < 0.0;
+            v += neg != prev;
+            prev = neg;
+        }
+    return v - (prev >= 0); /* the first nonzero value is no change */
+}
+
 static int sturm_var(const sturm_seq *S, double x)
 {
-    int v = 0;
-    double prev = 0.0;
-    for (int k = 0; k < S->n; k++) {
-        const double *p = S->s[k];
-        double y = p[0];
-        for (int i = 1; i <= S->deg[k]; i++)
-            y = y * x + p[i];
-        if (y != 0.0) {
-            if (prev != 0.0 && (y > 0.0) != (prev > 0.0))
-                v++;
-            prev = y;
-        }
+    double y[STURM_MAX + 1];
+    if (S->n == STURM_MAX + 1) {
+        /* the generic sequence: degrees 10, 9, ..., 0 (each evaluation
+         * written out for its degree) */
+        y[0] = horner(S->s[0], 10, x); y[1] = horner(S->s[1], 9, x);
+        y[2] = horner(S->s[2], 8, x); y[3] = horner(S->s[3], 7, x);
+        y[4] = horner(S->s[4], 6, x); y[5] = horner(S->s[5], 5, x);
+        y[6] = horner(S->s[6], 4, x); y[7] = horner(S->s[7], 3, x);
+        y[8] = horner(S->s[8], 2, x); y[9] = horner(S->s[9], 1, x);
+        y[10] = S->s[10][0];
+        return sign_changes(y, STURM_MAX + 1);
     }
-    return v;
+    for (int k = 0; k < S->n; k++)
+        y[k] = horner(S->s[k], S->deg[k], x);
+    return sign_changes(y, S->n);
 }
 
 static double peval(const double *c, int d, double x)
 {
-    double y = c[0];
-    for (int i = 1; i <= d; i++)
-        y = y * x + c[i];
-    return y;
+    return horner(c, d, x);
 }
 
-/* p and p' at x */
-static double peval_d(const double *c, int d, double x, double *dp)
+/* p and p' at x (Horner, entered at the step for the degree as above) */
+static inline double peval_d(const double *p, int d, double x, double *dp)
 {
-    double y = c[0], dy = 0.0;
-    for (int i = 1; i <= d; i++) {
-        dy = dy * x + y;
-        y = y * x + c[i];
+    double y = *p++, dy = 0.0;
+    switch (10 - d) {
+    case 0: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 1: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 2: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 3: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 4: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 5: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 6: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 7: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 8: dy = dy * x + y; y = y * x + *p++; /* fall through */
+    case 9: dy = dy * x + y; y = y * x + *p; /* fall through */
+    default: break;
     }
     *dp = dy;
     return y;
@@ -177,7 +219,7 @@ static double peval_d(const double *c, int d, double x, double *dp)
  * safeguarded by bisection (a bisection step whenever Newton would leave the
  * bracket or not halve the previous step, as "rtsafe" in Numerical Recipes
  * 9.4), started from the false-position point. */
-static double polish(const double *p, int d, double a, double b, double fa, double fb)
+static inline double polish(const double *p, int d, double a, double b, double fa, double fb)
 {
     /* a few plain bisections first: the isolating interval can be wide */
     for (int k = 0; k < PRE_BISECT; k++) {
@@ -257,7 +299,9 @@ static int sturm_roots(const double *c, int d, double *roots)
                 continue;
             }
             if ((fa > 0.0) != (fb > 0.0)) {
-                roots[nr++] = polish(S.s[0], d, a, b, fa, fb);
+                /* degree 10, the usual case, with the Horner steps fixed */
+                roots[nr++] = d == 10 ? polish(S.s[0], 10, a, b, fa, fb)
+                                      : polish(S.s[0], d, a, b, fa, fb);
                 continue;
             }
         }
@@ -299,24 +343,46 @@ static void polymul(const double *a, int da, const double *b, int db, double *c)
 #define REFINE_TOL 1e-11
 #endif
 /* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
- * largest coefficient). Returns 1 when the residual is already at rounding
- * level (no step taken), else 0. */
-static int refine(double M0[10][20], double *px, double *py, double *pz)
+ * largest coefficient), given transposed: M0T[k][r] is the coefficient of
+ * monomial k in constraint r, so that the products below run over the ten
+ * constraints in contiguous memory (each sum still adds its terms in
+ * monomial order). Returns 1 when the residual is already at rounding level
+ * (no step taken), else 0. */
+/* f = M0T^T v: f[r] = sum over k, in order, of M0T[k][r] v[k]. Written as
+ * pairs of adjacent rows so that the compiler can use two-lane arithmetic. */
+static inline void axpy10(double M0T[20][10], const double *v, double *f)
+{
+    double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0, f6 = 0.0, f7 = 0.0,
+           f8 = 0.0, f9 = 0.0;
+    for (int k = 0; k < 20; k++) {
+        const double *c = M0T[k], w = v[k];
+        f0 += c[0] * w; f1 += c[1] * w;
+        f2 += c[2] * w; f3 += c[3] * w;
+        f4 += c[4] * w; f5 += c[5] * w;
+        f6 += c[6] * w; f7 += c[7] * w;
+        f8 += c[8] * w; f9 += c[9] * w;
+    }
+    f[0] = f0; f[1] = f1; f[2] = f2; f[3] = f3; f[4] = f4;
+    f[5] = f5; f[6] = f6; f[7] = f7; f[8] = f8; f[9] = f9;
+}
+
+static int refine(double M0T[20][10], double *px, double *py, double *pz)
 {
     double x = *px, y = *py, z = *pz;
     double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
                     x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
-    double mmax = 0.0, fmax_ = 0.0, fr[10];
-    for (int k = 0; k < 20; k++)
-        if (fabs(m[k]) > mmax)
-            mmax = fabs(m[k]);
+    /* The largest monomial magnitude: max(1, |x|, |y|, |z|)^3. */
+    double mm = 1.0, ax = fabs(x), ay = fabs(y), az = fabs(z);
+    mm = ax > mm ? ax : mm;
+    mm = ay > mm ? ay : mm;
+    mm = az > mm ? az : mm;
+    const double mmax = mm * mm * mm;
+    double fr[10];
+    axpy10(M0T, m, fr);
+    double fmax_ = 0.0;
     for (int r = 0; r < 10; r++) {
-        double f = 0.0;
-        for (int k = 0; k < 20; k++)
-            f += M0[r][k] * m[k];
-        fr[r] = f;
-        if (fabs(f) > fmax_)
-            fmax_ = fabs(f);
+        double af = fabs(fr[r]);
+        fmax_ = af > fmax_ ? af : fmax_;
     }
     if (fmax_ <= REFINE_TOL * mmax)
         return 1;
@@ -326,14 +392,13 @@ static int refine(double M0[10][20], double *px, double *py, double *pz)
                      z * z, z, 1, 0, 0, 0, 0};
     double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
                      3 * z * z, 2 * z, 1, 0};
+    double ja[10], jb[10], jc[10];
+    axpy10(M0T, mx, ja);
+    axpy10(M0T, my, jb);
+    axpy10(M0T, mz, jc);
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
-        double f = fr[r], a = 0, b = 0, c = 0;
-        for (int k = 0; k < 20; k++) {
-            a += M0[r][k] * mx[k];
-            b += M0[r][k] * my[k];
-            c += M0[r][k] * mz[k];
-        }
+        double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
         Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
@@ -356,11 +421,12 @@ static int refine(double M0[10][20], double *px, double *py, double *pz)
 
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
- * copy in M0 and reduces M by Gauss-Jordan. Returns the smallest pivot
+ * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
  * magnitude (rows scaled to unit max norm), 0 when singular. */
-static double build_reduce(const double *N, int perm, double e[9][4], double M0[10][20],
-                           double M[10][20])
+static double build_reduce(const double *N, int perm, double e[9][4], double M0T[20][10],
+                           double Bred[6][10])
 {
+    double M[10][20];
     for (int k = 0; k < 9; k++)
         for (int j = 0; j < 4; j++)
             e[k][j] = N[9 * ((j + perm) & 3) + k];
@@ -412,77 +478,92 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0[
                 addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
 
     /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
-     * first scaled to unit largest entry (M0 keeps the scaled, unreduced rows
-     * for the polish). */
+     * first scaled to unit largest entry (M0T keeps the scaled, unreduced
+     * rows, transposed, for the polish). */
     for (int r = 0; r < 10; r++) {
-        double mx = 0.0;
-        for (int c = 0; c < 20; c++)
-            if (fabs(M[r][c]) > mx)
-                mx = fabs(M[r][c]);
+        double m0 = 0.0, m1 = 0.0; /* two lanes of the maximum */
+        for (int c = 0; c < 20; c += 2) {
+            double a0 = fabs(M[r][c]), a1 = fabs(M[r][c + 1]);
+            m0 = a0 > m0 ? a0 : m0;
+            m1 = a1 > m1 ? a1 : m1;
+        }
+        double mx = m1 > m0 ? m1 : m0;
         if (!(mx > 0.0))
             return 0.0;
         mx = 1.0 / mx;
-        for (int c = 0; c < 20; c++)
-            M[r][c] *= mx;
+        for (int c = 0; c < 20; c++) {
+            double v = M[r][c] * mx;
+            M[r][c] = v;
+            M0T[c][r] = v;
+        }
     }
-    memcpy(M0, M, 10 * 20 * sizeof(double));
+    /* Rows are swapped through the pointers R. */
+    double *R[10];
+    for (int r = 0; r < 10; r++)
+        R[r] = M[r];
     double minpiv = INFINITY;
     for (int c = 0; c < 10; c++) {
         int piv = c;
-        for (int r = c + 1; r < 10; r++)
-            if (fabs(M[r][c]) > fabs(M[piv][c]))
-                piv = r;
-        if (!(fabs(M[piv][c]) > 1e-12))
-            return 0.0; /* degenerate (e.g. pure rotation: a continuum of E) */
-        if (fabs(M[piv][c]) < minpiv)
-            minpiv = fabs(M[piv][c]);
-        if (piv != c)
-            for (int k = c; k < 20; k++) {
-                double t = M[c][k];
-                M[c][k] = M[piv][k];
-                M[piv][k] = t;
-            }
-        /* Full-width updates from a local copy of the pivot row: fixed trip
-         * counts and no aliasing, so the compiler vectorizes them; entries
-         * left of column c are zero in every row involved. */
-        double inv = 1.0 / M[c][c], pr[20];
-        for (int k = 0; k < 20; k++)
-            pr[k] = M[c][k] * inv;
-        for (int k = 0; k < 20; k++)
-            M[c][k] = pr[k];
+        double pmax = fabs(R[c][c]);
         for (int r = c + 1; r < 10; r++) {
-            double f = M[r][c];
-            for (int k = 0; k < 20; k++)
-                M[r][k] -= f * pr[k];
+            double a = fabs(R[r][c]);
+            if (a > pmax) {
+                pmax = a;
+                piv = r;
+            }
+        }
+        if (!(pmax > 1e-12))
+            return 0.0; /* degenerate (e.g. pure rotation: a continuum of E) */
+        if (pmax < minpiv)
+            minpiv = pmax;
+        double *rc = R[piv];
+        R[piv] = R[c];
+        R[c] = rc;
+        /* Updates from a local copy of the pivot row (no aliasing, so the
+         * compiler vectorizes them). Columns left of c are never read again;
+         * the updates start at the even column at or before c. */
+        double inv = 1.0 / rc[c], pr[20];
+        for (int k = 0; k < 20; k++)
+            pr[k] = rc[k] * inv;
+        for (int k = 0; k < 20; k++)
+            rc[k] = pr[k];
+        const int k0 = c & ~1;
+        for (int r = c + 1; r < 10; r++) {
+            double *rr = R[r], f = rr[c];
+            for (int k = k0; k < 20; k++)
+                rr[k] -= f * pr[k];
         }
     }
     /* Back substitution, only for the rows 4..9 used below (each needs only
-     * the rows after it): row i becomes x_i + B_i . (last ten monomials). */
+     * the rows after it): row i becomes x_i + B_i . (last ten monomials),
+     * B_i stored in Bred[i - 4]. */
+    for (int k = 0; k < 10; k++)
+        Bred[5][k] = R[9][10 + k];
     for (int i = 8; i >= 4; i--) {
         double ri[10];
         for (int k = 0; k < 10; k++)
-            ri[k] = M[i][10 + k];
+            ri[k] = R[i][10 + k];
         for (int j = i + 1; j < 10; j++) {
-            double f = M[i][j];
+            double f = R[i][j];
             for (int k = 0; k < 10; k++)
-                ri[k] -= f * M[j][10 + k];
+                ri[k] -= f * Bred[j - 4][k];
         }
         for (int k = 0; k < 10; k++)
-            M[i][10 + k] = ri[k];
+            Bred[i - 4][k] = ri[k];
     }
     return minpiv;
 }
 
 /* Steps 3 (end) and 4 for one reduced system: solutions written to out as
  * unit-norm 9-vectors; returns their number. */
-static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
+static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
                          double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
      * are the coefficients of xz^2 xz x yz^2 yz y z^3 z^2 z 1. */
     double pa[3][4], pb[3][4], pc[3][5];
     for (int k = 0; k < 3; k++) {
-        const double *Be = M[4 + 2 * k] + 10, *Bf = M[5 + 2 * k] + 10;
+        const double *Be = Bred[2 * k], *Bf = Bred[2 * k + 1];
         pa[k][0] = -Bf[0];
         pa[k][1] = Be[0] - Bf[1];
         pa[k][2] = Be[1] - Bf[2];
@@ -556,7 +637,7 @@ static int solve_reduced(double e[9][4], double M0[10][20], double M[10][20],
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
         for (int iter = 0; iter < REFINE_ITERS; iter++)
-            if (refine(M0, &x, &y, &z))
+            if (refine(M0T, &x, &y, &z))
                 break;
         double *o = out[ns];
         for (int k = 0; k < 9; k++)
@@ -590,16 +671,16 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
      * that the first polynomial's rounding turned into a complex pair is
      * found by the second). This takes the ground-truth-found rate from
      * about 99% to above 99.9% on near-planar and distant scenes. */
-    double e[9][4], M0[10][20], M[10][20];
+    double e[9][4], M0T[20][10], Bred[6][10];
     double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
-    double piv = build_reduce(N, 0, e, M0, M);
-    int ns = piv > 0.0 ? solve_reduced(e, M0, M, out) : 0;
+    double piv = build_reduce(N, 0, e, M0T, Bred);
+    int ns = piv > 0.0 ? solve_reduced(e, M0T, Bred, out) : 0;
     if (piv < PERM_RETRY_PIVOT) {
         double p2 = 0.0;
         int best = 0;
         int last = 0;
         for (int perm = 1; perm < 4; perm++) {
-            double pp = build_reduce(N, perm, e, M0, M);
+            double pp = build_reduce(N, perm, e, M0T, Bred);
             last = perm;
             if (pp > p2) {
                 p2 = pp;
@@ -611,8 +692,8 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         if (best > 0) {
             double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
             if (best != last)
-                (void)build_reduce(N, best, e, M0, M);
-            int n2 = solve_reduced(e, M0, M, more);
+                (void)build_reduce(N, best, e, M0T, Bred);
+            int n2 = solve_reduced(e, M0T, Bred, more);
             for (int k = 0; k < n2; k++) {
                 int dup = 0;
                 for (int j = 0; j < ns && !dup; j++) {

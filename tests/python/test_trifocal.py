@@ -118,3 +118,38 @@ def test_three_view_pose_synthetic_scale_and_accuracy():
         # one consistent scale: t3 relative to |t2| = 1
         assert np.linalg.norm(r["t"][v] * s - ts[v]) < 0.02 * np.linalg.norm(ts[v])
     assert np.sum(r["inliers"] & bad) <= 3 and np.sum(r["inliers"] & ~bad) >= 0.95 * np.sum(~bad)
+
+
+def test_three_view_pose_zero_baseline_is_singular():
+    rng = np.random.default_rng(1)
+    x = rng.uniform(0, 1, size=(200, 2)) * [640, 480]
+    K = np.array([[500, 0, 319.5], [0, 500, 239.5], [0, 0, 1.0]])
+    with pytest.raises(libsfm.SfmError) as e:
+        libsfm.estimate_three_view_pose(x, x, x, K, K, K)
+    assert e.value.status == -5
+
+
+def test_three_view_pose_dominant_plane():
+    """80% of the points on one plane: the plane-induced tensor and the
+    planar twin pose must not win over the true geometry."""
+    from scipy.spatial.transform import Rotation
+
+    K = np.array([[500, 0, 319.5], [0, 500, 239.5], [0, 0, 1.0]])
+    Rs = [np.eye(3), Rotation.from_euler("y", -5.71, degrees=True).as_matrix(),
+          Rotation.from_euler("y", -10, degrees=True).as_matrix()]
+    ts = [np.zeros(3), np.array([0.45, 0.0, 0.05]), np.array([0.9, 0.05, 0.1])]
+    for seed in range(1, 6):
+        rng = np.random.default_rng(seed)
+        plane = np.c_[rng.uniform(-2, 2, 80), rng.uniform(-1.5, 1.5, 80), np.full(80, 6.0)]
+        off = np.c_[rng.uniform(-2, 2, 20), rng.uniform(-1.5, 1.5, 20), rng.uniform(3, 9, 20)]
+        X = np.vstack([plane, off])
+        xs = []
+        for R, t in zip(Rs, ts):
+            p = (K @ (R @ X.T + t[:, None])).T
+            xs.append(p[:, :2] / p[:, 2:] + rng.normal(scale=0.3, size=(100, 2)))
+        r = libsfm.estimate_three_view_pose(*xs, K, K, K, threshold_px=1.0, seed=seed)
+        for v in (1, 2):
+            ang = np.degrees(np.arccos(np.clip((np.trace(r["R"][v].T @ Rs[v]) - 1) / 2, -1, 1)))
+            c = r["t"][v] @ ts[v] / np.linalg.norm(r["t"][v]) / np.linalg.norm(ts[v])
+            assert ang < 0.5, (seed, v, ang)
+            assert np.degrees(np.arccos(np.clip(c, -1, 1))) < 5, (seed, v)
