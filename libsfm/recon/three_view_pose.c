@@ -7,6 +7,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/arena.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
@@ -231,14 +232,6 @@ static void metric_camera(const sfm_camera *c, const sfm_pose *p, double P[12])
         }
 }
 
-static int finite_all(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int sfm_recon_three_view_pose(const double *px1, const double *px2, const double *px3, int n,
                               const sfm_camera *cam1, const sfm_camera *cam2, const sfm_camera *cam3,
                               const sfm_ransac_options *opt, sfm_pose poses[3], uint8_t *inlier_mask,
@@ -253,7 +246,7 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
         int st = sfm_camera_validate(cams[v]);
         if (st < 0)
             return st;
-        if (!finite_all(px[v], 2 * n))
+        if (!sfm_la_all_finite(px[v], 2 * n))
             return SFM_E_NONFINITE;
     }
     sfm_arena a;

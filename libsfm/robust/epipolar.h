@@ -13,6 +13,8 @@
 
 #include <math.h>
 
+#include "solvers/small_math.h"
+
 #define SFM_ROBUST_HUGE 1e300
 
 static inline double sfm_sampson_bearing2(const double *E, const double *b1, const double *b2)
@@ -44,33 +46,6 @@ static inline double sfm_sampson_pixel2(const double *F, const double *p1, const
     if (!(D > 1e-300))
         return SFM_ROBUST_HUGE;
     return C * C / D;
-}
-
-static inline void sfm_cross3(const double *a, const double *b, double *c)
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double sfm_dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void sfm_matvec3(const double *M, const double *x, double *y)
-{
-    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
-    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
-    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
-}
-
-/* 3x3 product C = A B (C must not alias A or B). */
-static inline void sfm_matmul3(const double *A, const double *B, double *C)
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
 }
 
 /* Adjugate v of the 3x3 a (a v = det I); returns det. */
