@@ -63,20 +63,6 @@ static inline double sfm_adj3(const double *a, double *v)
     return a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
 }
 
-/* Scales a 3x3 to unit Frobenius norm; 0 (m untouched) when it is zero. */
-static inline int sfm_normalise9(double *m)
-{
-    double s = 0.0;
-    for (int k = 0; k < 9; k++)
-        s += m[k] * m[k];
-    if (!(s > 0.0))
-        return 0;
-    s = 1.0 / sqrt(s);
-    for (int k = 0; k < 9; k++)
-        m[k] *= s;
-    return 1;
-}
-
 /* Squared distance of y from the homography's transfer of x (pixels). */
 static inline double sfm_transfer2(const double *H, const double *x, const double *y)
 {
