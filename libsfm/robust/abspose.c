@@ -7,6 +7,9 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "core/linalg_util.h"
+#include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "robust/reproj_lm.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
@@ -24,10 +27,8 @@ static int solve_p3p(void *ctx, const int *s, double *models)
     const abs_ctx *c = ctx;
     double x[9], X[9];
     sfm_pose P[SFM_P3P_MAX_SOLUTIONS];
-    for (int k = 0; k < 3; k++) {
-        memcpy(x + 3 * k, c->b + 3 * s[k], 3 * sizeof(double));
-        memcpy(X + 3 * k, c->X + 3 * s[k], 3 * sizeof(double));
-    }
+    sfm_robust_gather(c->b, 3, s, 3, x);
+    sfm_robust_gather(c->X, 3, s, 3, X);
     int ns = sfm_p3p(x, X, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
@@ -60,8 +61,7 @@ static void layout(sfm_arena *a, int n, size_t es, double **b, void **eng)
 
 static size_t engine_size(int n)
 {
-    sfm_ransac_dims d = {n, 3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL};
-    return sfm_ransac_workspace_size(&d);
+    return sfm_robust_engine_size(n, 3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL);
 }
 
 size_t sfm_ransac_abspose_workspace_size(int n)
@@ -85,23 +85,14 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     if (n < 3 || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
     sfm_ransac_options eopt;
-    if (opt != NULL)
-        eopt = *opt;
-    else
-        sfm_ransac_default_options(&eopt);
-    if (!isfinite(eopt.threshold) || !isfinite(eopt.confidence))
-        return SFM_E_NONFINITE;
-    if (!(eopt.threshold > 0.0))
-        return SFM_E_ARGUMENT;
-    int st = sfm_camera_validate(cam);
+    int st = sfm_robust_options(opt, &eopt);
     if (st < 0)
         return st;
-    for (int i = 0; i < 2 * n; i++)
-        if (!isfinite(px[i]))
-            return SFM_E_NONFINITE;
-    for (int i = 0; i < 3 * n; i++)
-        if (!isfinite(X[i]))
-            return SFM_E_NONFINITE;
+    st = sfm_camera_validate(cam);
+    if (st < 0)
+        return st;
+    if (!sfm_la_all_finite(px, 2 * (size_t)n) || !sfm_la_all_finite(X, 3 * (size_t)n))
+        return SFM_E_NONFINITE;
     size_t need = sfm_ransac_abspose_workspace_size(n);
     if (ws_size < need)
         return SFM_E_WORKSPACE;

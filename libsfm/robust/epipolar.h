@@ -65,6 +65,54 @@ static inline void sfm_matvec3(const double *M, const double *x, double *y)
     y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
 }
 
+/* 3x3 product C = A B (C must not alias A or B). */
+static inline void sfm_matmul3(const double *A, const double *B, double *C)
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+}
+
+/* Adjugate v of the 3x3 a (a v = det I); returns det. */
+static inline double sfm_adj3(const double *a, double *v)
+{
+    v[0] = a[4] * a[8] - a[5] * a[7];
+    v[1] = a[2] * a[7] - a[1] * a[8];
+    v[2] = a[1] * a[5] - a[2] * a[4];
+    v[3] = a[5] * a[6] - a[3] * a[8];
+    v[4] = a[0] * a[8] - a[2] * a[6];
+    v[5] = a[2] * a[3] - a[0] * a[5];
+    v[6] = a[3] * a[7] - a[4] * a[6];
+    v[7] = a[1] * a[6] - a[0] * a[7];
+    v[8] = a[0] * a[4] - a[1] * a[3];
+    return a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
+}
+
+/* Scales a 3x3 to unit Frobenius norm; 0 (m untouched) when it is zero. */
+static inline int sfm_normalise9(double *m)
+{
+    double s = 0.0;
+    for (int k = 0; k < 9; k++)
+        s += m[k] * m[k];
+    if (!(s > 0.0))
+        return 0;
+    s = 1.0 / sqrt(s);
+    for (int k = 0; k < 9; k++)
+        m[k] *= s;
+    return 1;
+}
+
+/* Squared distance of y from the homography's transfer of x (pixels). */
+static inline double sfm_transfer2(const double *H, const double *x, const double *y)
+{
+    double w = H[6] * x[0] + H[7] * x[1] + H[8];
+    if (w == 0.0)
+        return SFM_ROBUST_HUGE;
+    double u = (H[0] * x[0] + H[1] * x[1] + H[2]) / w - y[0];
+    double v = (H[3] * x[0] + H[4] * x[1] + H[5]) / w - y[1];
+    return u * u + v * v;
+}
+
 /* E = [t]x R. */
 static inline void sfm_essential_from_pose(const double *R, const double *t, double *E)
 {

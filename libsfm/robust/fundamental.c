@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
 
@@ -30,35 +31,19 @@ typedef struct f_ctx {
     double tau2;
 } f_ctx;
 
-static void normalise9(double *F)
-{
-    double s = 0.0;
-    for (int k = 0; k < 9; k++)
-        s += F[k] * F[k];
-    if (s > 0.0) {
-        s = 1.0 / sqrt(s);
-        for (int k = 0; k < 9; k++)
-            F[k] *= s;
-    }
-}
-
 static int solve7(void *ctx, const int *s, double *models)
 {
     const f_ctx *c = ctx;
     double a[14], b[14];
-    for (int k = 0; k < 7; k++) {
-        a[2 * k] = c->p1[2 * s[k]];
-        a[2 * k + 1] = c->p1[2 * s[k] + 1];
-        b[2 * k] = c->p2[2 * s[k]];
-        b[2 * k + 1] = c->p2[2 * s[k] + 1];
-    }
+    sfm_robust_gather(c->p1, 2, s, 7, a);
+    sfm_robust_gather(c->p2, 2, s, 7, b);
     sfm_mat3 F[SFM_RELPOSE_7PT_MAX_SOLUTIONS];
     int ns = sfm_relpose_7pt(a, b, F);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     for (int k = 0; k < ns; k++) {
         memcpy(models + FMODEL * k, F[k].m, 9 * sizeof(double));
-        normalise9(models + FMODEL * k);
+        sfm_normalise9(models + FMODEL * k);
         models[FMODEL * k + 9] = 0.0;
     }
     return ns;
@@ -77,15 +62,13 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     f_ctx *c = ctx;
     if (n < 8)
         return -1;
-    for (int j = 0; j < n; j++) {
-        memcpy(c->g1 + 2 * j, c->p1 + 2 * inl[j], 2 * sizeof(double));
-        memcpy(c->g2 + 2 * j, c->p2 + 2 * inl[j], 2 * sizeof(double));
-    }
+    sfm_robust_gather(c->p1, 2, inl, n, c->g1);
+    sfm_robust_gather(c->p2, 2, inl, n, c->g2);
     sfm_mat3 F;
     if (sfm_fundamental_8pt(c->g1, c->g2, n, &F) != 1)
         return -1;
     memcpy(m, F.m, sizeof F.m);
-    normalise9(m);
+    sfm_normalise9(m);
     return 0; /* keeps m[9]: the refit stays in the same family */
 }
 
@@ -97,16 +80,6 @@ static double score(const f_ctx *c, const double *F)
         s += r2 < c->tau2 ? r2 : c->tau2;
     }
     return s;
-}
-
-static double h_transfer2(const double *H, const double *x, const double *y)
-{
-    double w = H[6] * x[0] + H[7] * x[1] + H[8];
-    if (w == 0.0)
-        return 1e300;
-    double u = (H[0] * x[0] + H[1] * x[1] + H[2]) / w - y[0];
-    double v = (H[3] * x[0] + H[4] * x[1] + H[5]) / w - y[1];
-    return u * u + v * v;
 }
 
 /* e' with e'^T F = 0: the largest cross product of two columns of F. */
@@ -141,16 +114,7 @@ static int left_epipole(const double *F, double *e)
 
 static int inv3(const double *a, double *v)
 {
-    v[0] = a[4] * a[8] - a[5] * a[7];
-    v[1] = a[2] * a[7] - a[1] * a[8];
-    v[2] = a[1] * a[5] - a[2] * a[4];
-    v[3] = a[5] * a[6] - a[3] * a[8];
-    v[4] = a[0] * a[8] - a[2] * a[6];
-    v[5] = a[2] * a[3] - a[0] * a[5];
-    v[6] = a[3] * a[7] - a[4] * a[6];
-    v[7] = a[1] * a[6] - a[0] * a[7];
-    v[8] = a[0] * a[4] - a[1] * a[3];
-    double det = a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
+    double det = sfm_adj3(a, v);
     if (!(fabs(det) > 1e-300))
         return 0;
     for (int k = 0; k < 9; k++)
@@ -206,7 +170,7 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
             continue;
         int cnt = 0;
         for (int j = 0; j < 7; j++)
-            cnt += h_transfer2(H, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < c->tau2;
+            cnt += sfm_transfer2(H, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < c->tau2;
         found = cnt >= 5;
     }
     if (!found)
@@ -214,7 +178,7 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
     /* plane and parallax: pairs of points the homography does not explain */
     int off = 0;
     for (int i = 0; i < c->n; i++)
-        if (!(h_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2))
+        if (!(sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2))
             c->idx[off++] = i;
     if (off < 2)
         return 0;
@@ -245,7 +209,7 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
             nrm += F[k] * F[k];
         if (!(nrm > 1e-300) || !isfinite(nrm))
             continue;
-        normalise9(F);
+        sfm_normalise9(F);
         double sc = score(c, F);
         if (sc < best) {
             best = sc;

@@ -7,6 +7,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
 
@@ -20,51 +22,21 @@ typedef struct h_ctx {
 /* Unit Frobenius norm and the inverse (adjugate, scaled); 0 when singular. */
 static int finish_model(const double *H, double *m)
 {
-    double s = 0.0;
-    for (int k = 0; k < 9; k++)
-        s += H[k] * H[k];
-    if (!(s > 0.0))
+    memmove(m, H, 9 * sizeof(double));
+    if (!sfm_normalise9(m))
         return 0;
-    s = 1.0 / sqrt(s);
-    for (int k = 0; k < 9; k++)
-        m[k] = H[k] * s;
-    const double *a = m;
-    double *v = m + 9;
-    v[0] = a[4] * a[8] - a[5] * a[7];
-    v[1] = a[2] * a[7] - a[1] * a[8];
-    v[2] = a[1] * a[5] - a[2] * a[4];
-    v[3] = a[5] * a[6] - a[3] * a[8];
-    v[4] = a[0] * a[8] - a[2] * a[6];
-    v[5] = a[2] * a[3] - a[0] * a[5];
-    v[6] = a[3] * a[7] - a[4] * a[6];
-    v[7] = a[1] * a[6] - a[0] * a[7];
-    v[8] = a[0] * a[4] - a[1] * a[3];
-    double det = a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
+    double det = sfm_adj3(m, m + 9);
     if (!(fabs(det) > 1e-15))
         return 0;
     return 1;
-}
-
-static double transfer2(const double *H, const double *x, const double *y)
-{
-    double w = H[6] * x[0] + H[7] * x[1] + H[8];
-    if (w == 0.0)
-        return 1e300;
-    double u = (H[0] * x[0] + H[1] * x[1] + H[2]) / w - y[0];
-    double v = (H[3] * x[0] + H[4] * x[1] + H[5]) / w - y[1];
-    return u * u + v * v;
 }
 
 static int solve4(void *ctx, const int *s, double *models)
 {
     const h_ctx *c = ctx;
     double a[8], b[8];
-    for (int k = 0; k < 4; k++) {
-        a[2 * k] = c->p1[2 * s[k]];
-        a[2 * k + 1] = c->p1[2 * s[k] + 1];
-        b[2 * k] = c->p2[2 * s[k]];
-        b[2 * k + 1] = c->p2[2 * s[k] + 1];
-    }
+    sfm_robust_gather(c->p1, 2, s, 4, a);
+    sfm_robust_gather(c->p2, 2, s, 4, b);
     sfm_mat3 H;
     int ns = sfm_homography_4pt(a, b, &H);
     if (ns < 0)
@@ -77,8 +49,8 @@ static int solve4(void *ctx, const int *s, double *models)
 static double residual(void *ctx, const double *m, int i)
 {
     const h_ctx *c = ctx;
-    double f = transfer2(m, c->p1 + 2 * i, c->p2 + 2 * i);
-    double b = transfer2(m + 9, c->p2 + 2 * i, c->p1 + 2 * i);
+    double f = sfm_transfer2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    double b = sfm_transfer2(m + 9, c->p2 + 2 * i, c->p1 + 2 * i);
     return f > b ? f : b;
 }
 
@@ -89,10 +61,8 @@ static double residual(void *ctx, const double *m, int i)
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     h_ctx *c = ctx;
-    for (int j = 0; j < n; j++) {
-        memcpy(c->g1 + 2 * j, c->p1 + 2 * inl[j], 2 * sizeof(double));
-        memcpy(c->g2 + 2 * j, c->p2 + 2 * inl[j], 2 * sizeof(double));
-    }
+    sfm_robust_gather(c->p1, 2, inl, n, c->g1);
+    sfm_robust_gather(c->p2, 2, inl, n, c->g2);
     sfm_mat3 H;
     if (sfm_homography_dlt(c->g1, c->g2, n, &H) != 1)
         return -1;

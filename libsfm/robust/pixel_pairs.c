@@ -4,6 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
+#include "robust/estimator.h"
+
 static void layout(sfm_arena *a, int n, size_t es, pixel_pairs *pp)
 {
     pp->p1 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
@@ -15,17 +18,11 @@ static void layout(sfm_arena *a, int n, size_t es, pixel_pairs *pp)
     pp->eng_size = es;
 }
 
-static size_t engine_size(int n, int sample, int max_models, int model_size)
-{
-    sfm_ransac_dims d = {n, sample, max_models, model_size};
-    return sfm_ransac_workspace_size(&d);
-}
-
 size_t sfm_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size)
 {
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    size_t es = engine_size(n, sample, max_models, model_size);
+    size_t es = sfm_robust_engine_size(n, sample, max_models, model_size);
     if (es == 0)
         return 0;
     sfm_arena a;
@@ -64,25 +61,19 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
         return SFM_E_ARGUMENT;
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    if (opt != NULL)
-        *eopt = *opt;
-    else
-        sfm_ransac_default_options(eopt);
-    if (!isfinite(eopt->threshold) || !isfinite(eopt->confidence))
-        return SFM_E_NONFINITE;
-    if (!(eopt->threshold > 0.0))
-        return SFM_E_ARGUMENT;
+    int st = sfm_robust_options(opt, eopt);
+    if (st < 0)
+        return st;
     if (cam1 != NULL) {
-        int st = sfm_camera_validate(cam1);
+        st = sfm_camera_validate(cam1);
         if (st < 0)
             return st;
         st = sfm_camera_validate(cam2);
         if (st < 0)
             return st;
     }
-    for (int i = 0; i < 2 * n; i++)
-        if (!isfinite(px1[i]) || !isfinite(px2[i]))
-            return SFM_E_NONFINITE;
+    if (!sfm_la_all_finite(px1, 2 * (size_t)n) || !sfm_la_all_finite(px2, 2 * (size_t)n))
+        return SFM_E_NONFINITE;
     size_t need = sfm_pixel_pairs_workspace_size(n, sample, max_models, model_size);
     if (need == 0)
         return SFM_E_ARGUMENT;
@@ -90,7 +81,7 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
         return SFM_E_WORKSPACE;
     sfm_arena a;
     sfm_arena_init(&a, ws, ws_size);
-    layout(&a, n, engine_size(n, sample, max_models, model_size), pp);
+    layout(&a, n, sfm_robust_engine_size(n, sample, max_models, model_size), pp);
     if (!sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
     if (cam1 == NULL) {
@@ -98,7 +89,7 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
         memcpy(pp->p2, px2, 2 * (size_t)n * sizeof(double));
         return SFM_OK;
     }
-    int st = ideal(cam1, px1, n, pp->p1);
+    st = ideal(cam1, px1, n, pp->p1);
     if (st < 0)
         return st;
     return ideal(cam2, px2, n, pp->p2);

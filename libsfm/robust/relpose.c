@@ -8,6 +8,7 @@
  */
 #include <string.h>
 
+#include "robust/estimator.h"
 #include "robust/twoview.h"
 #include "sfm/sfm_solvers.h"
 
@@ -16,10 +17,8 @@ static int solve5(void *ctx, const int *s, double *models)
     twoview_ctx *c = ctx;
     double x1[15], x2[15];
     sfm_mat3 E[SFM_RELPOSE_5PT_MAX_SOLUTIONS];
-    for (int k = 0; k < 5; k++) {
-        memcpy(x1 + 3 * k, c->b1 + 3 * s[k], 3 * sizeof(double));
-        memcpy(x2 + 3 * k, c->b2 + 3 * s[k], 3 * sizeof(double));
-    }
+    sfm_robust_gather(c->b1, 3, s, 5, x1);
+    sfm_robust_gather(c->b2, 3, s, 5, x2);
     int ns = sfm_relpose_5pt(x1, x2, E);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
@@ -51,20 +50,6 @@ int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_ca
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, NULL, NULL, eopt.threshold};
-    sfm_ransac_estimator est = {5,
-                                SFM_RELPOSE_5PT_MAX_SOLUTIONS,
-                                SFM_RANSAC_RELPOSE_MODEL,
-                                solve5,
-                                sfm_twoview_residual,
-                                sfm_twoview_refine,
-                                NULL,
-                                NULL,
-                                &c};
-    double model[SFM_RANSAC_RELPOSE_MODEL];
-    sfm_ransac_stats es;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &es, w.eng, w.eng_size);
-    if (ni < 0)
-        return ni;
-    return sfm_twoview_finish(&c, &w, model, eopt.threshold, focal, 0, ni, &es, pose, E,
-                              inlier_mask, stats);
+    return sfm_twoview_run(&c, &w, &eopt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, solve5, focal, pose,
+                           E, inlier_mask, stats);
 }

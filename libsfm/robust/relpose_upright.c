@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "robust/estimator.h"
 #include "robust/twoview.h"
 #include "sfm/sfm_pose.h"
 
@@ -14,10 +15,8 @@ static int solve3(void *ctx, const int *s, double *models)
     twoview_ctx *c = ctx;
     double x1[9], x2[9];
     sfm_pose P[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
-    for (int k = 0; k < 3; k++) {
-        memcpy(x1 + 3 * k, c->b1 + 3 * s[k], 3 * sizeof(double));
-        memcpy(x2 + 3 * k, c->b2 + 3 * s[k], 3 * sizeof(double));
-    }
+    sfm_robust_gather(c->b1, 3, s, 3, x1);
+    sfm_robust_gather(c->b2, 3, s, 3, x2);
     int ns = sfm_relpose_upright_3pt(x1, x2, c->d1, c->d2, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
@@ -67,20 +66,6 @@ int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, u1, u2, eopt.threshold};
-    sfm_ransac_estimator est = {3,
-                                SFM_UPRIGHT_3PT_MAX_SOLUTIONS,
-                                SFM_RANSAC_RELPOSE_MODEL,
-                                solve3,
-                                sfm_twoview_residual,
-                                sfm_twoview_refine,
-                                NULL,
-                                NULL,
-                                &c};
-    double model[SFM_RANSAC_RELPOSE_MODEL];
-    sfm_ransac_stats es;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &es, w.eng, w.eng_size);
-    if (ni < 0)
-        return ni;
-    return sfm_twoview_finish(&c, &w, model, eopt.threshold, focal, 1, ni, &es, pose, E,
-                              inlier_mask, stats);
+    return sfm_twoview_run(&c, &w, &eopt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, solve3, focal, pose,
+                           E, inlier_mask, stats);
 }

@@ -40,13 +40,6 @@ static double cost(const double *b, const double *X, const int *idx, int n, cons
     return c;
 }
 
-static void mul3(const double *A, const double *B, double *C)
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
-}
-
 int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
                          int iters, double R[9], double t[3])
 {
@@ -105,7 +98,7 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
             double dR[9], Rn[9], tn[3];
             if (sfm_rot_from_axis_angle(x, dR) != SFM_OK)
                 return -1;
-            mul3(dR, R, Rn);
+            sfm_matmul3(dR, R, Rn);
             tn[0] = t[0] + x[3];
             tn[1] = t[1] + x[4];
             tn[2] = t[2] + x[5];

@@ -36,14 +36,6 @@ static double cost(const double *b1, const double *b2, const int *idx, int n, co
     return c;
 }
 
-/* 3x3 product C = A B. */
-static void mul3(const double *A, const double *B, double *C)
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
-}
-
 static void skew(const double *v, double *S)
 {
     S[0] = 0.0;
@@ -82,14 +74,14 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
                 w[k] = 1.0;
             }
             skew(w, S);
-            mul3(St, S, tmp);
-            mul3(tmp, R, dE[k]);
+            sfm_matmul3(St, S, tmp);
+            sfm_matmul3(tmp, R, dE[k]);
         }
         sfm_tangent_basis(t, e1, e2);
         skew(e1, S);
-        mul3(S, R, dE[nr]);
+        sfm_matmul3(S, R, dE[nr]);
         skew(e2, S);
-        mul3(S, R, dE[nr + 1]);
+        sfm_matmul3(S, R, dE[nr + 1]);
 
         double H[MAXP * MAXP], g[MAXP];
         memset(H, 0, sizeof H);
@@ -152,7 +144,7 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
             }
             if (sfm_rot_from_axis_angle(w, dR) != SFM_OK)
                 return -1;
-            mul3(dR, R, Rn);
+            sfm_matmul3(dR, R, Rn);
             for (int k = 0; k < 3; k++)
                 tn[k] = t[k] + x[nr] * e1[k] + x[nr + 1] * e2[k];
             double l = sqrt(sfm_dot3(tn, tn));

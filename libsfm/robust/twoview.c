@@ -4,7 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "robust/cheirality.h"
+#include "robust/estimator.h"
 #include "robust/epipolar.h"
 #include "robust/sampson_lm.h"
 #include "robust/twoview_degeneracy.h"
@@ -23,8 +25,7 @@ static void layout(sfm_arena *a, int n, size_t eng_size, twoview_ws *w)
 
 static size_t engine_size(int n, int sample, int max_models)
 {
-    sfm_ransac_dims d = {n, sample, max_models, SFM_RANSAC_RELPOSE_MODEL};
-    return sfm_ransac_workspace_size(&d);
+    return sfm_robust_engine_size(n, sample, max_models, SFM_RANSAC_RELPOSE_MODEL);
 }
 
 size_t sfm_twoview_workspace_size(int n, int sample, int max_models)
@@ -41,15 +42,6 @@ size_t sfm_twoview_workspace_size(int n, int sample, int max_models)
     return sfm_arena_required(&a);
 }
 
-static int check_options(const sfm_ransac_options *opt)
-{
-    if (!isfinite(opt->threshold) || !isfinite(opt->confidence))
-        return SFM_E_NONFINITE;
-    if (!(opt->threshold > 0.0))
-        return SFM_E_ARGUMENT;
-    return SFM_OK;
-}
-
 int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
                       const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
                       int max_models, void *ws, size_t ws_size, twoview_ws *w,
@@ -59,12 +51,7 @@ int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_cam
         return SFM_E_ARGUMENT;
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    if (opt != NULL) {
-        *eopt = *opt;
-    } else {
-        sfm_ransac_default_options(eopt);
-    }
-    int st = check_options(eopt);
+    int st = sfm_robust_options(opt, eopt);
     if (st < 0)
         return st;
     st = sfm_camera_validate(cam1);
@@ -73,9 +60,8 @@ int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_cam
     st = sfm_camera_validate(cam2);
     if (st < 0)
         return st;
-    for (int i = 0; i < 2 * n; i++)
-        if (!isfinite(px1[i]) || !isfinite(px2[i]))
-            return SFM_E_NONFINITE;
+    if (!sfm_la_all_finite(px1, 2 * (size_t)n) || !sfm_la_all_finite(px2, 2 * (size_t)n))
+        return SFM_E_NONFINITE;
     size_t need = sfm_twoview_workspace_size(n, sample, max_models);
     if (need == 0)
         return SFM_E_ARGUMENT;
@@ -108,14 +94,8 @@ double sfm_twoview_residual(void *ctx, const double *model, int i)
 
 void sfm_twoview_set_pose(double *model, const double R[9], const double t[3])
 {
-    double E[9];
-    sfm_essential_from_pose(R, t, E);
-    double s = 0.0;
-    for (int k = 0; k < 9; k++)
-        s += E[k] * E[k];
-    s = s > 0.0 ? 1.0 / sqrt(s) : 1.0;
-    for (int k = 0; k < 9; k++)
-        model[TV_E + k] = E[k] * s;
+    sfm_essential_from_pose(R, t, model + TV_E);
+    sfm_normalise9(model + TV_E);
     memmove(model + TV_R, R, 9 * sizeof(double));
     memmove(model + TV_T, t, 3 * sizeof(double));
     model[TV_VALID] = 1.0;
@@ -181,15 +161,9 @@ int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model,
     /* outputs from here on: nothing can fail any more */
     memcpy(pose->R, R, sizeof R);
     memcpy(pose->t, t, sizeof t);
-    if (E != NULL)
-        sfm_essential_from_pose(R, t, E);
     if (E != NULL) {
-        double s = 0.0;
-        for (int k = 0; k < 9; k++)
-            s += E[k] * E[k];
-        s = 1.0 / sqrt(s);
-        for (int k = 0; k < 9; k++)
-            E[k] *= s;
+        sfm_essential_from_pose(R, t, E);
+        sfm_normalise9(E);
     }
     if (mask != NULL)
         for (int i = 0; i < c->n; i++)
@@ -200,4 +174,27 @@ int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model,
         stats->flags = flags;
     }
     return n_inl;
+}
+
+int sfm_twoview_run(twoview_ctx *c, twoview_ws *w, const sfm_ransac_options *eopt, int sample,
+                    int max_models, int (*solve)(void *ctx, const int *s, double *models),
+                    double focal, sfm_pose *pose, double E[9], uint8_t *mask,
+                    sfm_ransac_stats *stats)
+{
+    sfm_ransac_estimator est = {sample,
+                                max_models,
+                                SFM_RANSAC_RELPOSE_MODEL,
+                                solve,
+                                sfm_twoview_residual,
+                                sfm_twoview_refine,
+                                NULL,
+                                NULL,
+                                c};
+    double model[SFM_RANSAC_RELPOSE_MODEL];
+    sfm_ransac_stats es;
+    int ni = sfm_ransac_run(&est, c->n, eopt, model, NULL, &es, w->eng, w->eng_size);
+    if (ni < 0)
+        return ni;
+    return sfm_twoview_finish(c, w, model, eopt->threshold, focal, c->d2 != NULL, ni, &es, pose,
+                              E, mask, stats);
 }

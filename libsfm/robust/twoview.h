@@ -49,4 +49,13 @@ int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model,
                        double focal, int upright, int n_inl, const sfm_ransac_stats *est,
                        sfm_pose *pose, double E[9], uint8_t *mask, sfm_ransac_stats *stats);
 
+/* After a successful setup: runs the engine with solve over samples of
+ * `sample` bearings (at most max_models models each), the shared residual
+ * and LO, then sfm_twoview_finish (upright when c->d2 is set). Returns the
+ * inlier count or a status. */
+int sfm_twoview_run(twoview_ctx *c, twoview_ws *w, const sfm_ransac_options *eopt, int sample,
+                    int max_models, int (*solve)(void *ctx, const int *s, double *models),
+                    double focal, sfm_pose *pose, double E[9], uint8_t *mask,
+                    sfm_ransac_stats *stats);
+
 #endif
