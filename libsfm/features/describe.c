@@ -98,13 +98,17 @@ static void steer(int stride, double c, double s, int32_t *restrict o1, int32_t 
     }
 }
 
+void sfm_feat_steer_bin(int stride, int bin, int32_t *table)
+{
+    const double a = 6.283185307179586 * (double)bin / (double)SFM_FEAT_ANGLE_BINS;
+    steer(stride, cos(a), sin(a), table + (size_t)bin * 2 * SFM_BRIEF_PAIRS,
+          table + (size_t)bin * 2 * SFM_BRIEF_PAIRS + SFM_BRIEF_PAIRS);
+}
+
 void sfm_feat_steer_table(int stride, int32_t *table)
 {
-    for (int b = 0; b < SFM_FEAT_ANGLE_BINS; b++) {
-        const double a = 6.283185307179586 * (double)b / (double)SFM_FEAT_ANGLE_BINS;
-        steer(stride, cos(a), sin(a), table + (size_t)b * 2 * SFM_BRIEF_PAIRS,
-              table + (size_t)b * 2 * SFM_BRIEF_PAIRS + SFM_BRIEF_PAIRS);
-    }
+    for (int b = 0; b < SFM_FEAT_ANGLE_BINS; b++)
+        sfm_feat_steer_bin(stride, b, table);
 }
 
 int sfm_feat_angle_bin(double c, double s)

@@ -16,13 +16,16 @@ void sfm_feat_disc_mask(uint8_t *mask);
 void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, const uint8_t *mask, double *c, double *s);
 
 /* Orientations are quantised to this many bins (5.6 degrees) so that the
- * steered pattern comes from a table built once per pyramid level. */
+ * steered pattern comes from a table built per pyramid level (a bin at its
+ * first use). */
 #define SFM_FEAT_ANGLE_BINS 64
 #define SFM_FEAT_STEER_TABLE_LEN (SFM_FEAT_ANGLE_BINS * 512)
 
 /* Fills table[SFM_FEAT_STEER_TABLE_LEN]: for bin b, the 256 + 256 pixel
  * offsets (for this stride) of the pattern rotated by 2 pi b / BINS. */
 void sfm_feat_steer_table(int stride, int32_t *table);
+/* One bin of that table (the same entries sfm_feat_steer_table writes). */
+void sfm_feat_steer_bin(int stride, int bin, int32_t *table);
 
 /* Nearest bin of the direction (c, s). */
 int sfm_feat_angle_bin(double c, double s);

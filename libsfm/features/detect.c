@@ -302,8 +302,10 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
     }
 }
 
-static int emit(const sfm_feat_level *lv, const uint8_t *smooth, const int32_t *steer, const uint8_t *disc,
-                int level, const cand *c, sfm_keypoint *kp, uint8_t *desc)
+/* steered: bit b set once bin b of the level's steering table is written
+ * (bins are filled on first use). */
+static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int32_t *steer, uint64_t *steered,
+                const uint8_t *disc, int level, const cand *c, sfm_keypoint *kp, uint8_t *desc)
 {
     double rx, ry, co, si;
     /* gradient lines must meet within REFINE_RMS level-0 pixels (rms) */
@@ -311,6 +313,10 @@ static int emit(const sfm_feat_level *lv, const uint8_t *smooth, const int32_t *
     (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
     sfm_feat_orientation(smooth, lv->w, c->x, c->y, disc, &co, &si);
     const int bin = sfm_feat_angle_bin(co, si);
+    if (!(*steered >> bin & 1u)) {
+        sfm_feat_steer_bin(lv->w, bin, steer);
+        *steered |= (uint64_t)1 << bin;
+    }
     sfm_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
     kp->y = (ry + 0.5) * lv->sy - 0.5;
@@ -381,7 +387,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             sort_cands(cc, ly.count[ci]);
         }
         sfm_feat_smooth(lv.data, lv.w, lv.h, lv.stride, ly.smooth, ly.tmp);
-        sfm_feat_steer_table(lv.w, ly.steer);
+        uint64_t steered = 0;
         /* every cell's kept candidates compete by Harris measure */
         int n = 0;
         for (int ci = 0; ci < cells; ci++)
@@ -390,7 +396,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
         sort_by_harris(ly.slots, ly.rank, n);
         const int take = n < budget ? n : budget;
         for (int i = 0; i < take; i++, n_out++)
-            emit(&lv, ly.smooth, ly.steer, disc, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
+            emit(&lv, ly.smooth, ly.steer, &steered, disc, l, &ly.slots[ly.rank[i]], &kps[n_out], desc + (size_t)n_out * SFM_FEATURES_DESC_BYTES);
         const int taken = take;
         carry = budget - taken;
     }

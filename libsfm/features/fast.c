@@ -144,10 +144,35 @@ static uint8_t score1(const uint8_t *p, const int *off, int t)
     return (uint8_t)(best > t ? best : 0);
 }
 
-/* Blocks with at most this many compass candidates test them one by one
- * (measured on Herz-Jesu-P8 under callgrind: 2 and 7 cost more instructions
- * than 4). */
-#define CANDS_SCALAR 4
+/* 1 when the 16-bit cyclic mask holds 9 contiguous set bits. */
+static int has_arc9(unsigned m)
+{
+    unsigned x = m | (m << 16);
+    unsigned r2 = x & (x >> 1);
+    unsigned r4 = r2 & (r2 >> 2);
+    unsigned r8 = r4 & (r4 >> 4);
+    unsigned r9 = r8 & (x >> 8);
+    return (r9 & 0xFFFFu) != 0;
+}
+
+static uint8_t full_test(const uint8_t *p, const int *off, int t)
+{
+    const int c = p[0], hi = c + t, lo = c - t;
+    unsigned mb = 0, md = 0;
+    for (int k = 0; k < 16; k++) {
+        int v = p[off[k]];
+        mb |= (unsigned)(v > hi) << k;
+        md |= (unsigned)(v < lo) << k;
+    }
+    return (has_arc9(mb) | has_arc9(md)) ? score1(p, off, t) : 0;
+}
+
+/* Blocks with at most this many compass candidates test them one by one:
+ * the exact segment test on bit masks first, the byte-lane score only for
+ * corners (its byte stores feeding wide loads cost more time than
+ * instructions suggest). Measured on Herz-Jesu-P8 (thread CPU time): 2 was
+ * at least as fast as 0, 1, 3 and 6. */
+#define CANDS_SCALAR 2
 
 void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, int t, uint8_t *score)
 {
@@ -171,7 +196,7 @@ void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, in
         if (cands <= CANDS_SCALAR) {
             for (int k = 0; k < 16; k++)
                 if (m[k])
-                    score[x + k] = score1(row + x + k, off, t);
+                    score[x + k] = full_test(row + x + k, off, t);
             continue;
         }
         uint8_t s[16];
@@ -187,6 +212,6 @@ void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, in
         const int v0 = p[off[0]], v8 = p[off[8]];
         if (!(v0 > hi || v0 < lo || v8 > hi || v8 < lo))
             continue;
-        score[x] = score1(p, off, t);
+        score[x] = full_test(p, off, t);
     }
 }

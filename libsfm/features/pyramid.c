@@ -72,10 +72,11 @@ void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
         for (; x < sw; x++)
             row[x] = (uint16_t)(r0[x] * (256u - wy) + r1[x] * wy);
         uint8_t *d = dst + (size_t)y * (size_t)dw;
+        /* a (256 - w) + b w = 256 a + (b - a) w, exactly, in one product */
         for (x = 0; x < dw; x++) {
             const int o = xofs[x];
-            const uint32_t wx = xw[x];
-            d[x] = (uint8_t)(((uint32_t)row[o] * (256u - wx) + (uint32_t)row[o + 1] * wx + 32768u) >> 16);
+            const int32_t p0 = row[o], p1 = row[o + 1];
+            d[x] = (uint8_t)((p0 * 256 + (p1 - p0) * (int32_t)xw[x] + 32768) >> 16);
         }
     }
 }

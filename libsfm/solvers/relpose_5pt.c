@@ -253,7 +253,11 @@ static inline double polish(const double *p, int d, double a, double b, double f
             dxold = dx;
             dx = f / df;
         }
-        if (fabs(xn - x) <= 1e-14 * (fabs(x) + 1e-10) || !(b - a > 4e-16 * (fabs(a) + fabs(b))))
+        /* Newton converges quadratically at a simple root: after a step of
+         * 1e-8 (relative) the error is at rounding level. Close roots
+         * converge more slowly; the Gauss-Newton polish on the original
+         * constraints below takes care of them. */
+        if (fabs(xn - x) <= 1e-8 * (fabs(x) + 1e-10) || !(b - a > 4e-16 * (fabs(a) + fabs(b))))
             return xn;
         x = xn;
     }
