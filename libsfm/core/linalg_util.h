@@ -46,4 +46,30 @@ static inline double sfm_la_pow2_scale(double maxabs)
     return ldexp(1.0, -e);
 }
 
+/* One step of cyclic Jacobi (the 2x2 symmetric Schur rotation): for
+ * zeta = (a_qq - a_pp) / (2 a_pq), the tangent t of the smaller angle that
+ * zeroes a_pq, with c = 1 / sqrt(1 + t^2), s = t c. Returns t. */
+static inline double sfm_la_jacobi_angle(double zeta, double *c, double *s)
+{
+    double t;
+    if (fabs(zeta) > 1e150)
+        t = 0.5 / zeta;
+    else
+        t = copysign(1.0, zeta) / (fabs(zeta) + sqrt(1.0 + zeta * zeta));
+    *c = 1.0 / sqrt(1.0 + t * t);
+    *s = t * *c;
+    return t;
+}
+
+/* The plane rotation (x, y) <- (c x - s y, s x + c y) of n pairs, x[k inc]
+ * and y[k inc]. */
+static inline void sfm_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
+{
+    for (int k = 0; k < n; k++) {
+        double a = x[(size_t)k * inc], b = y[(size_t)k * inc];
+        x[(size_t)k * inc] = c * a - s * b;
+        y[(size_t)k * inc] = s * a + c * b;
+    }
+}
+
 #endif

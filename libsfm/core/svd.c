@@ -100,26 +100,11 @@ static int jacobi_sweeps(double *W, int R, int C, double *Vm, double zero2)
                     continue;
                 rotated = 1;
                 /* rotation that zeroes gamma: tan of the smaller angle */
-                double zeta = (beta - alpha) / (2.0 * gamma);
-                double t;
-                if (fabs(zeta) > 1e150)
-                    t = 0.5 / zeta;
-                else
-                    t = copysign(1.0, zeta) / (fabs(zeta) + sqrt(1.0 + zeta * zeta));
-                double c = 1.0 / sqrt(1.0 + t * t), s = c * t;
-                for (int k = 0; k < R; k++) {
-                    double x = ci[k], y = cj[k];
-                    ci[k] = c * x - s * y;
-                    cj[k] = s * x + c * y;
-                }
-                if (Vm != NULL) {
-                    double *vi = Vm + (size_t)i * C, *vj = Vm + (size_t)j * C;
-                    for (int k = 0; k < C; k++) {
-                        double x = vi[k], y = vj[k];
-                        vi[k] = c * x - s * y;
-                        vj[k] = s * x + c * y;
-                    }
-                }
+                double c, s;
+                sfm_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
+                sfm_la_rotate(ci, cj, R, 1, c, s);
+                if (Vm != NULL)
+                    sfm_la_rotate(Vm + (size_t)i * C, Vm + (size_t)j * C, C, 1, c, s);
             }
         }
         if (!rotated)

@@ -86,13 +86,8 @@ int sfm_sym_eig(const double *A, int n, double *w_out, double *V, void *ws, size
                     fabs(apq) <= DBL_EPSILON * sqrt(fabs(app)) * sqrt(fabs(aqq)))
                     continue;
                 rotated = 1;
-                double theta = (aqq - app) / (2.0 * apq);
-                double t;
-                if (fabs(theta) > 1e150)
-                    t = 0.5 / theta;
-                else
-                    t = copysign(1.0, theta) / (fabs(theta) + sqrt(1.0 + theta * theta));
-                double c = 1.0 / sqrt(1.0 + t * t), s = t * c;
+                double c, s;
+                double t = sfm_la_jacobi_angle((aqq - app) / (2.0 * apq), &c, &s);
                 /* A <- J^T A J with J = [[c, s], [-s, c]] in the (p, q) plane */
                 for (int k = 0; k < n; k++) {
                     double akp = a[(size_t)k * n + p], akq = a[(size_t)k * n + q];
