@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "core/linalg_util.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
@@ -260,14 +261,6 @@ static int gather(tv_ws *w, const sfm_camera *const cams[3], int n, int cnt)
     return m;
 }
 
-static int finite_all(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int sfm_recon_three_view_pose(const double *px1, const double *px2, const double *px3, int n,
                               const sfm_camera *cam1, const sfm_camera *cam2, const sfm_camera *cam3,
                               const sfm_ransac_options *opt, sfm_pose poses[3], uint8_t *inlier_mask,
@@ -282,7 +275,7 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
         int st = sfm_camera_validate(cams[v]);
         if (st < 0)
             return st;
-        if (!finite_all(px[v], 2 * n))
+        if (!sfm_la_all_finite(px[v], 2 * n))
             return SFM_E_NONFINITE;
     }
     sfm_arena a;

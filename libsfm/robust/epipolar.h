@@ -13,6 +13,8 @@
 
 #include <math.h>
 
+#include "solvers/small_math.h"
+
 #define SFM_ROBUST_HUGE 1e300
 
 static inline double sfm_sampson_bearing2(const double *E, const double *b1, const double *b2)
@@ -46,33 +48,6 @@ static inline double sfm_sampson_pixel2(const double *F, const double *p1, const
     return C * C / D;
 }
 
-static inline void sfm_cross3(const double *a, const double *b, double *c)
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double sfm_dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void sfm_matvec3(const double *M, const double *x, double *y)
-{
-    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
-    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
-    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
-}
-
-/* 3x3 product C = A B (C must not alias A or B). */
-static inline void sfm_matmul3(const double *A, const double *B, double *C)
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
-}
-
 /* Adjugate v of the 3x3 a (a v = det I); returns det. */
 static inline double sfm_adj3(const double *a, double *v)
 {
@@ -86,20 +61,6 @@ static inline double sfm_adj3(const double *a, double *v)
     v[7] = a[1] * a[6] - a[0] * a[7];
     v[8] = a[0] * a[4] - a[1] * a[3];
     return a[0] * v[0] + a[1] * v[3] + a[2] * v[6];
-}
-
-/* Scales a 3x3 to unit Frobenius norm; 0 (m untouched) when it is zero. */
-static inline int sfm_normalise9(double *m)
-{
-    double s = 0.0;
-    for (int k = 0; k < 9; k++)
-        s += m[k] * m[k];
-    if (!(s > 0.0))
-        return 0;
-    s = 1.0 / sqrt(s);
-    for (int k = 0; k < 9; k++)
-        m[k] *= s;
-    return 1;
 }
 
 /* Squared distance of y from the homography's transfer of x (pixels). */

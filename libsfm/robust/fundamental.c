@@ -18,6 +18,7 @@
 #include "robust/estimator.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
+#include "solvers/normalize.h"
 
 #define FMODEL 10
 /* Pairs of off-plane points tried by plane-and-parallax. */
@@ -43,7 +44,7 @@ static int solve7(void *ctx, const int *s, double *models)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     for (int k = 0; k < ns; k++) {
         memcpy(models + FMODEL * k, F[k].m, 9 * sizeof(double));
-        sfm_normalise9(models + FMODEL * k);
+        sfm__normalize9(models + FMODEL * k);
         models[FMODEL * k + 9] = 0.0;
     }
     return ns;
@@ -68,7 +69,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     if (sfm_fundamental_8pt(c->g1, c->g2, n, &F) != 1)
         return -1;
     memcpy(m, F.m, sizeof F.m);
-    sfm_normalise9(m);
+    sfm__normalize9(m);
     return 0; /* keeps m[9]: the refit stays in the same family */
 }
 
@@ -209,7 +210,7 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
             nrm += F[k] * F[k];
         if (!(nrm > 1e-300) || !isfinite(nrm))
             continue;
-        sfm_normalise9(F);
+        sfm__normalize9(F);
         double sc = score(c, F);
         if (sc < best) {
             best = sc;

@@ -11,6 +11,7 @@
 #include "robust/estimator.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
+#include "solvers/normalize.h"
 
 #define HMODEL 18
 
@@ -23,7 +24,7 @@ typedef struct h_ctx {
 static int finish_model(const double *H, double *m)
 {
     memmove(m, H, 9 * sizeof(double));
-    if (!sfm_normalise9(m))
+    if (sfm__normalize9(m))
         return 0;
     double det = sfm_adj3(m, m + 9);
     if (!(fabs(det) > 1e-15))

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/arena.h"
 #include "robust/trifocal_refine.h"
 #include "sfm/sfm_ransac_trifocal.h"
@@ -103,14 +104,6 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
     return 0;
 }
 
-static int finite_all(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
                         const sfm_ransac_options *opt, double T[27], double *P,
                         uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
@@ -118,7 +111,7 @@ int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, in
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL || n < SAMPLE ||
         n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    if (!finite_all(x1, 2 * n) || !finite_all(x2, 2 * n) || !finite_all(x3, 2 * n))
+    if (!sfm_la_all_finite(x1, 2 * n) || !sfm_la_all_finite(x2, 2 * n) || !sfm_la_all_finite(x3, 2 * n))
         return SFM_E_NONFINITE;
     sfm_ransac_options o;
     if (opt != NULL)

@@ -10,6 +10,7 @@
 #include "robust/epipolar.h"
 #include "robust/sampson_lm.h"
 #include "robust/twoview_degeneracy.h"
+#include "solvers/normalize.h"
 
 static void layout(sfm_arena *a, int n, size_t eng_size, twoview_ws *w)
 {
@@ -95,7 +96,7 @@ double sfm_twoview_residual(void *ctx, const double *model, int i)
 void sfm_twoview_set_pose(double *model, const double R[9], const double t[3])
 {
     sfm_essential_from_pose(R, t, model + TV_E);
-    sfm_normalise9(model + TV_E);
+    sfm__normalize9(model + TV_E);
     memmove(model + TV_R, R, 9 * sizeof(double));
     memmove(model + TV_T, t, 3 * sizeof(double));
     model[TV_VALID] = 1.0;
@@ -163,7 +164,7 @@ int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model,
     memcpy(pose->t, t, sizeof t);
     if (E != NULL) {
         sfm_essential_from_pose(R, t, E);
-        sfm_normalise9(E);
+        sfm__normalize9(E);
     }
     if (mask != NULL)
         for (int i = 0; i < c->n; i++)

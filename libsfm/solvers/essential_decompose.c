@@ -20,27 +20,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_pose.h"
-
-static int all_finite(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
-static inline void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+#include "solvers/small_math.h"
 
 /* Cyclic Jacobi on a symmetric 3x3 A (overwritten): eigenvalues w (unsorted),
  * eigenvectors as the columns of V. */
@@ -97,10 +79,10 @@ static int count_front(const double R[9], const double t[3], const double *x1, c
                        R[3] * a[0] + R[4] * a[1] + R[5] * a[2],
                        R[6] * a[0] + R[7] * a[1] + R[8] * a[2]};
         double r[3], tb[3], tv[3];
-        cross3(v, b, r);
-        cross3(t, b, tb);
-        cross3(t, v, tv);
-        double s1 = -dot3(tb, r), s2 = -dot3(tv, r);
+        sfm_cross3(v, b, r);
+        sfm_cross3(t, b, tb);
+        sfm_cross3(t, v, tv);
+        double s1 = -sfm_dot3(tb, r), s2 = -sfm_dot3(tv, r);
         if (s1 > 0.0 && s2 > 0.0)
             cnt++;
     }
@@ -112,7 +94,8 @@ int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2
 {
     if (!E || !poses || n < 0 || (n > 0 && (!x1 || !x2)))
         return SFM_E_ARGUMENT;
-    if (!all_finite(E, 9) || (n > 0 && (!all_finite(x1, 3 * n) || !all_finite(x2, 3 * n))))
+    if (!sfm_la_all_finite(E, 9) ||
+        (n > 0 && (!sfm_la_all_finite(x1, 3 * (size_t)n) || !sfm_la_all_finite(x2, 3 * (size_t)n))))
         return SFM_E_NONFINITE;
 
     /* scale E to unit Frobenius norm (no under/overflow in E^T E) */
@@ -156,26 +139,26 @@ int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2
     if (!(w[i1] > 1e-20 * w[i0]))
         return 0;
     double v1[3] = {V[i0], V[3 + i0], V[6 + i0]}, v2[3] = {V[i1], V[3 + i1], V[6 + i1]}, v3[3];
-    cross3(v1, v2, v3);
+    sfm_cross3(v1, v2, v3);
     double u1[3], u2[3], u3[3];
     for (int k = 0; k < 3; k++) {
         u1[k] = Es[3 * k] * v1[0] + Es[3 * k + 1] * v1[1] + Es[3 * k + 2] * v1[2];
         u2[k] = Es[3 * k] * v2[0] + Es[3 * k + 1] * v2[1] + Es[3 * k + 2] * v2[2];
     }
-    double n1 = sqrt(dot3(u1, u1));
+    double n1 = sqrt(sfm_dot3(u1, u1));
     if (!(n1 > 0.0))
         return 0;
     for (int k = 0; k < 3; k++)
         u1[k] /= n1;
-    double pr = dot3(u1, u2);
+    double pr = sfm_dot3(u1, u2);
     for (int k = 0; k < 3; k++)
         u2[k] -= pr * u1[k];
-    double n2 = sqrt(dot3(u2, u2));
+    double n2 = sqrt(sfm_dot3(u2, u2));
     if (!(n2 > 0.0))
         return 0;
     for (int k = 0; k < 3; k++)
         u2[k] /= n2;
-    cross3(u1, u2, u3);
+    sfm_cross3(u1, u2, u3);
 
     /* R = U W V^T = u2 v1^T - u1 v2^T + u3 v3^T; U W^T V^T = -u2 v1^T + u1 v2^T + u3 v3^T */
     sfm_pose out[4];

@@ -8,6 +8,7 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -24,7 +25,7 @@ int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F)
 {
     if (!p1 || !p2 || !F || n < 8)
         return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(p1, 2 * n) || !sfm__all_finite(p2, 2 * n))
+    if (!sfm_la_all_finite(p1, 2 * n) || !sfm_la_all_finite(p2, 2 * n))
         return SFM_E_NONFINITE;
     double t1[3], t2[3];
     if (sfm__hartley_2d(p1, n, t1) || sfm__hartley_2d(p2, n, t2))

@@ -13,6 +13,7 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
@@ -47,7 +48,7 @@ int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H)
      * two apart: the finiteness scan costs nothing on the common path. */
     double d1[4], d2[4];
     if (!triples(p2, d2) || !triples(p1, d1)) {
-        if (!sfm__all_finite(p1, 8) || !sfm__all_finite(p2, 8))
+        if (!sfm_la_all_finite(p1, 8) || !sfm_la_all_finite(p2, 8))
             return SFM_E_NONFINITE;
         return 0;
     }

@@ -38,15 +38,6 @@ void sfm__hartley_matrix(const double t[3], double T[9])
     T[6] = 0.0;  T[7] = 0.0;  T[8] = 1.0;
 }
 
-int sfm__all_finite(const double *v, int n)
-{
-    /* x - x is 0 for finite x and NaN for NaN/Inf: one branch at the end. */
-    double acc = 0.0;
-    for (int i = 0; i < n; i++)
-        acc += v[i] - v[i];
-    return acc == 0.0;
-}
-
 int sfm__normalize9(double M[9])
 {
     double s = 0.0;

@@ -16,9 +16,6 @@ int sfm__hartley_2d(const double *p, int n, double t[3]);
 /* Full 3x3 matrix of a normalization stored as t[3]. */
 void sfm__hartley_matrix(const double t[3], double T[9]);
 
-/* 1 when every one of the n doubles is finite. */
-int sfm__all_finite(const double *v, int n);
-
 /* Scale M (9 entries) to unit Frobenius norm. Returns 0, or -1 when M is
  * zero or not finite (M is then left as is). */
 int sfm__normalize9(double M[9]);

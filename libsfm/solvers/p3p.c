@@ -23,60 +23,7 @@
 #include <string.h>
 
 #include "sfm/sfm_pose.h"
-
-/* 1 when all nine values are finite: x * 0 is NaN exactly for NaN, +-Inf. */
-static inline int all_finite9(const double *v)
-{
-    return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
-               ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
-           0.0;
-}
-
-static inline void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* One real root of the monic cubic x^3 + b x^2 + c x + d: Cardano with a
- * single cube root when one root is real (u v = -p/3, u taken on the side
- * without cancellation), the trigonometric form for three; then two Newton
- * steps. */
-static double cubic_one_root(double b, double c, double d)
-{
-    double b3 = b * (1.0 / 3.0);
-    double p = c - b * b3;
-    double q = (2.0 * b3 * b3 - c) * b3 + d;
-    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
-    double x;
-    if (disc >= 0.0) {
-        double s = sqrt(disc);
-        double u = cbrt(-0.5 * q - copysign(s, q));
-        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
-    } else {
-        /* p < 0 here */
-        double r = sqrt(-p * (1.0 / 3.0));
-        double arg = -0.5 * q / (r * r * r);
-        if (arg > 1.0)
-            arg = 1.0;
-        if (arg < -1.0)
-            arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3;
-    }
-    for (int it = 0; it < 2; it++) {
-        double f = ((x + b) * x + c) * x + d;
-        double df = (3.0 * x + 2.0 * b) * x + c;
-        if (df != 0.0)
-            x -= f / df;
-    }
-    return x;
-}
+#include "solvers/small_math.h"
 
 /* det of a symmetric 3x3 given by its six entries (00,01,02,11,12,22). */
 #define SYM_DET(m) \
@@ -99,7 +46,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
 {
     if (!x || !X || !poses)
         return SFM_E_ARGUMENT;
-    if (!(all_finite9(x) && all_finite9(X)))
+    if (!(sfm_all_finite9(x) && sfm_all_finite9(X)))
         return SFM_E_NONFINITE;
 
     double y[3][3];
@@ -116,15 +63,15 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double X12[3] = {X[0] - X[3], X[1] - X[4], X[2] - X[5]};
     double X13[3] = {X[0] - X[6], X[1] - X[7], X[2] - X[8]};
     double X23[3] = {X[3] - X[6], X[4] - X[7], X[5] - X[8]};
-    double a12 = dot3(X12, X12), a13 = dot3(X13, X13), a23 = dot3(X23, X23);
+    double a12 = sfm_dot3(X12, X12), a13 = sfm_dot3(X13, X13), a23 = sfm_dot3(X23, X23);
     double Xn[3];
-    cross3(X12, X13, Xn);
-    double xn2 = dot3(Xn, Xn);
+    sfm_cross3(X12, X13, Xn);
+    double xn2 = sfm_dot3(Xn, Xn);
     /* Coincident or collinear world points: no unique pose. */
     if (!(xn2 > 1e-24 * a12 * a13) || !(a23 > 0.0))
         return 0;
 
-    double b12 = dot3(y[0], y[1]), b13 = dot3(y[0], y[2]), b23 = dot3(y[1], y[2]);
+    double b12 = sfm_dot3(y[0], y[1]), b13 = sfm_dot3(y[0], y[2]), b23 = sfm_dot3(y[1], y[2]);
     /* Coincident bearings: depths undetermined. */
     if (b12 > 1.0 - 1e-15 || b13 > 1.0 - 1e-15 || b23 > 1.0 - 1e-15)
         return 0;
@@ -143,13 +90,13 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
         if (c3 == 0.0)
             return 0;
         double ic = 1.0 / c3;
-        double g = cubic_one_root(c2 * ic, c1 * ic, c0 * ic);
+        double g = sfm_cubic_largest_root(c2 * ic, c1 * ic, c0 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = D1[k] + g * D2[k];
         Dq = fabs(g) >= 1.0 ? D1 : D2;
     } else {
         double ic = 1.0 / c0;
-        double g = cubic_one_root(c1 * ic, c2 * ic, c3 * ic);
+        double g = sfm_cubic_largest_root(c1 * ic, c2 * ic, c3 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = g * D1[k] + D2[k];
         Dq = fabs(g) >= 1.0 ? D2 : D1;
@@ -160,13 +107,13 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double r0[3] = {D0[0], D0[1], D0[2]}, r1[3] = {D0[1], D0[3], D0[4]},
            r2[3] = {D0[2], D0[4], D0[5]};
     double nb[3];
-    cross3(r0, r1, nb);
-    double mb = dot3(nb, nb);
-    if (!(mb > 1e-4 * dot3(r0, r0) * dot3(r1, r1))) {
+    sfm_cross3(r0, r1, nb);
+    double mb = sfm_dot3(nb, nb);
+    if (!(mb > 1e-4 * sfm_dot3(r0, r0) * sfm_dot3(r1, r1))) {
         double n02[3], n12[3];
-        cross3(r0, r2, n02);
-        cross3(r1, r2, n12);
-        double m02 = dot3(n02, n02), m12 = dot3(n12, n12);
+        sfm_cross3(r0, r2, n02);
+        sfm_cross3(r1, r2, n12);
+        double m02 = sfm_dot3(n02, n02), m12 = sfm_dot3(n12, n12);
         if (m02 > mb) {
             memcpy(nb, n02, sizeof nb);
             mb = m02;
@@ -206,14 +153,14 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             e1[1] = D0[4] + sn * nb[1] * nb[2];
             e1[2] = d2;
         }
-        double m1 = dot3(e1, e1);
+        double m1 = sfm_dot3(e1, e1);
         if (!(m1 > 0.0))
             return 0;
         double inv = 1.0 / sqrt(m1);
         e1[0] *= inv;
         e1[1] *= inv;
         e1[2] *= inv;
-        cross3(nb, e1, e2);
+        sfm_cross3(nb, e1, e2);
         double ne = 1.0 / sqrt(mb);
         e2[0] *= ne;
         e2[1] *= ne;
@@ -230,7 +177,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double F1[3] = {X12[0] * i1, X12[1] * i1, X12[2] * i1};
     double F3[3] = {Xn[0] * i3, Xn[1] * i3, Xn[2] * i3};
     double F2[3];
-    cross3(F3, F1, F2);
+    sfm_cross3(F3, F1, F2);
 
     /* Full symmetric Dq for indexed access. */
     const double Dm[9] = {Dq[0], Dq[1], Dq[2], Dq[1], Dq[3], Dq[4], Dq[2], Dq[4], Dq[5]};
@@ -312,12 +259,12 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             double Y13[3] = {Y1[0] - l[2] * y[2][0], Y1[1] - l[2] * y[2][1],
                              Y1[2] - l[2] * y[2][2]};
             double G3[3], G2[3];
-            cross3(G1, Y13, G3);
+            sfm_cross3(G1, Y13, G3);
             double s3 = i3 / i1;
             G3[0] *= s3;
             G3[1] *= s3;
             G3[2] *= s3;
-            cross3(G3, G1, G2);
+            sfm_cross3(G3, G1, G2);
             double *R = poses[nsol].R, *t = poses[nsol].t;
 #define P3P_RROW(rw)                                                           \
     R[3 * (rw)] = G1[rw] * F1[0] + G2[rw] * F2[0] + G3[rw] * F3[0];            \

@@ -24,6 +24,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -657,7 +658,7 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E)
         return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(x1, 15) || !sfm__all_finite(x2, 15))
+    if (!sfm_la_all_finite(x1, 15) || !sfm_la_all_finite(x2, 15))
         return SFM_E_NONFINITE;
 
     /* 1. Null space. */

@@ -9,6 +9,7 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
@@ -31,7 +32,7 @@ int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F)
 {
     if (!p1 || !p2 || !F)
         return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(p1, 14) || !sfm__all_finite(p2, 14))
+    if (!sfm_la_all_finite(p1, 14) || !sfm_la_all_finite(p2, 14))
         return SFM_E_NONFINITE;
     double t1[3], t2[3];
     if (sfm__hartley_2d(p1, 7, t1) || sfm__hartley_2d(p2, 7, t2))

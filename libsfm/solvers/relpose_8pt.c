@@ -9,6 +9,7 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -17,7 +18,7 @@ int sfm_relpose_8pt(const double *x1, const double *x2, int n, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E || n < 8)
         return SFM_E_ARGUMENT;
-    if (!sfm__all_finite(x1, 3 * n) || !sfm__all_finite(x2, 3 * n))
+    if (!sfm_la_all_finite(x1, 3 * n) || !sfm_la_all_finite(x2, 3 * n))
         return SFM_E_NONFINITE;
     double e[9];
     if (n == 8) {

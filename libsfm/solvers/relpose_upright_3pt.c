@@ -34,6 +34,7 @@
 #include <string.h>
 
 #include "sfm/sfm_pose.h"
+#include "solvers/small_math.h"
 
 /* Newton steps on the determinant per root; relative tolerance under which
  * a negative discriminant is taken as zero. */
@@ -45,31 +46,6 @@
 #ifndef NEWTON_SKIP
 #define NEWTON_SKIP 1e-13
 #endif
-
-/* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
-static inline int all_finite3(const double *v)
-{
-    return (v[0] * 0.0 + v[1] * 0.0) + v[2] * 0.0 == 0.0;
-}
-
-static inline int all_finite9(const double *v)
-{
-    return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
-               ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
-           0.0;
-}
-
-static inline void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static inline double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /* A rotation Q (rows u, d, w) with Q d = e_y, for unit d. */
 static void align_to_y(const double d[3], double Q[9])
@@ -90,12 +66,12 @@ static void align_to_y(const double d[3], double Q[9])
         u[1] = d[0];
         u[2] = 0.0;
     }
-    double inv = 1.0 / sqrt(dot3(u, u));
+    double inv = 1.0 / sqrt(sfm_dot3(u, u));
     u[0] *= inv;
     u[1] *= inv;
     u[2] *= inv;
     double w[3];
-    cross3(u, d, w);
+    sfm_cross3(u, d, w);
     Q[0] = u[0];
     Q[1] = u[1];
     Q[2] = u[2];
@@ -105,38 +81,6 @@ static void align_to_y(const double d[3], double Q[9])
     Q[6] = w[0];
     Q[7] = w[1];
     Q[8] = w[2];
-}
-
-/* Largest real root of the monic cubic x^3 + b x^2 + c x + d: Cardano with
- * one cube root (u v = -p/3, u on the side without cancellation) when one
- * root is real, else the largest of the trigonometric form; two Newton steps. */
-static double cubic_largest_root(double b, double c, double d)
-{
-    double b3 = b * (1.0 / 3.0);
-    double p = c - b * b3;
-    double q = (2.0 * b3 * b3 - c) * b3 + d;
-    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
-    double x;
-    if (disc >= 0.0) {
-        double s = sqrt(disc);
-        double u = cbrt(-0.5 * q - copysign(s, q));
-        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
-    } else {
-        double r = sqrt(-p * (1.0 / 3.0));
-        double arg = -0.5 * q / (r * r * r);
-        if (arg > 1.0)
-            arg = 1.0;
-        if (arg < -1.0)
-            arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3; /* the largest of three */
-    }
-    for (int it = 0; it < 2; it++) {
-        double f = ((x + b) * x + c) * x + d;
-        double df = (3.0 * x + 2.0 * b) * x + c;
-        if (df != 0.0)
-            x -= f / df;
-    }
-    return x;
 }
 
 /* Real roots of the monic x^2 + b x + c appended to r; returns the new count. */
@@ -174,7 +118,7 @@ static int quartic_roots(double b, double c, double d, double e, double r[4])
     double y[4];
     int n = 0;
     /* resolvent: m^3 + p m^2 + (p^2/4 - r) m - q^2/8 = 0, largest root m >= 0 */
-    double m = cubic_largest_root(p, 0.25 * p * p - rr, -0.125 * q * q);
+    double m = sfm_cubic_largest_root(p, 0.25 * p * p - rr, -0.125 * q * q);
     double scale = fabs(p) + sqrt(fabs(rr));
     if (m > 1e-14 * scale && m > 0.0) {
         double s = sqrt(2.0 * m);
@@ -212,8 +156,8 @@ static int quartic_roots(double b, double c, double d, double e, double r[4])
 static inline double det_rows(const double a[3], const double b[3], const double c[3])
 {
     double t[3];
-    cross3(b, c, t);
-    return dot3(a, t);
+    sfm_cross3(b, c, t);
+    return sfm_dot3(a, t);
 }
 
 int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double d1[3],
@@ -221,9 +165,9 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
 {
     if (!x1 || !x2 || !d1 || !d2 || !poses)
         return SFM_E_ARGUMENT;
-    if (!(all_finite9(x1) && all_finite9(x2) && all_finite3(d1) && all_finite3(d2)))
+    if (!(sfm_all_finite9(x1) && sfm_all_finite9(x2) && sfm_all_finite3(d1) && sfm_all_finite3(d2)))
         return SFM_E_NONFINITE;
-    double n1 = dot3(d1, d1), n2 = dot3(d2, d2);
+    double n1 = sfm_dot3(d1, d1), n2 = sfm_dot3(d2, d2);
     if (!(n1 > 0.0) || !(n2 > 0.0))
         return SFM_E_ARGUMENT;
 
@@ -259,7 +203,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         S1[i] = -(a[0] * b[0] + a[2] * b[2]);
         W0[i] = a[1] * b[2];
         W2[i] = -a[1] * b[0];
-        mag *= dot3(a, a) * dot3(b, b);
+        mag *= sfm_dot3(a, a) * sfm_dot3(b, b);
     }
 #define UP_ROW(r, c, s, i_)                                                    \
     (r)[i_][0] = (c) * P[i_][0] + (s) * P[i_][2] + W0[i_];                     \
@@ -336,13 +280,13 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         }
         /* t' is orthogonal to the three rows */
         double tq[3];
-        cross3(r[0], r[1], tq);
-        double mt = dot3(tq, tq);
-        if (!(mt > 1e-6 * dot3(r[0], r[0]) * dot3(r[1], r[1]))) {
+        sfm_cross3(r[0], r[1], tq);
+        double mt = sfm_dot3(tq, tq);
+        if (!(mt > 1e-6 * sfm_dot3(r[0], r[0]) * sfm_dot3(r[1], r[1]))) {
             double t02[3], t12[3];
-            cross3(r[0], r[2], t02);
-            cross3(r[1], r[2], t12);
-            double m02 = dot3(t02, t02), m12 = dot3(t12, t12);
+            sfm_cross3(r[0], r[2], t02);
+            sfm_cross3(r[1], r[2], t12);
+            double m02 = sfm_dot3(t02, t02), m12 = sfm_dot3(t12, t12);
             if (m02 > mt) {
                 memcpy(tq, t02, sizeof tq);
                 mt = m02;
@@ -363,8 +307,8 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         int vote = 0;
         for (int i = 0; i < 3; i++) {
             double tb[3];
-            cross3(tq, B[i], tb);
-            s1[i] = -dot3(tb, r[i]);
+            sfm_cross3(tq, B[i], tb);
+            s1[i] = -sfm_dot3(tb, r[i]);
             vote += (s1[i] > 0.0) - (s1[i] < 0.0);
         }
         double sg = vote < 0 ? -1.0 : 1.0;
@@ -374,8 +318,8 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         for (int i = 0; i < 3; i++) {
             const double *a = A[i];
             double v[3] = {c * a[0] + s * a[2], a[1], c * a[2] - s * a[0]}, tv[3];
-            cross3(tq, v, tv);
-            behind |= sg * dot3(tv, r[i]) > 0.0;
+            sfm_cross3(tq, v, tv);
+            behind |= sg * sfm_dot3(tv, r[i]) > 0.0;
         }
         if (behind)
             continue;

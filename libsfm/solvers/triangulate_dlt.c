@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "solvers/triangulate_internal.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_triangulate.h"
@@ -163,20 +164,12 @@ int sfm_tri_finish_h(const double Xh_in[4], int nviews, const double *P, double 
     return flags;
 }
 
-static int all_finite(const double *v, long n)
-{
-    for (long i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int sfm_triangulate_dlt(int nviews, const double *P, int npoints, const double *x, double *X,
                         int *flags)
 {
     if (!P || !X || nviews < 2 || npoints < 0 || (npoints > 0 && !x))
         return SFM_E_ARGUMENT;
-    if (!all_finite(P, 12L * nviews) || !all_finite(x, 2L * nviews * npoints))
+    if (!sfm_la_all_finite(P, 12L * nviews) || !sfm_la_all_finite(x, 2L * nviews * npoints))
         return SFM_E_NONFINITE;
     int good = 0;
     for (int j = 0; j < npoints; j++) {

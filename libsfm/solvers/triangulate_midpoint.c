@@ -7,15 +7,8 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_triangulate.h"
-
-static int all_finite(const double *v, long n)
-{
-    for (long i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
 
 int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, const double *f,
                              double *X, int *flags)
@@ -23,9 +16,9 @@ int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, con
     if (!poses || !X || nviews < 2 || npoints < 0 || (npoints > 0 && !f))
         return SFM_E_ARGUMENT;
     for (int v = 0; v < nviews; v++)
-        if (!all_finite(poses[v].R, 9) || !all_finite(poses[v].t, 3))
+        if (!sfm_la_all_finite(poses[v].R, 9) || !sfm_la_all_finite(poses[v].t, 3))
             return SFM_E_NONFINITE;
-    if (!all_finite(f, 3L * nviews * npoints))
+    if (!sfm_la_all_finite(f, 3L * nviews * npoints))
         return SFM_E_NONFINITE;
     for (long i = 0; i < (long)nviews * npoints; i++) {
         const double *b = f + 3 * i;

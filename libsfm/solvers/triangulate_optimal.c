@@ -9,16 +9,9 @@
  */
 #include <math.h>
 
+#include "core/linalg_util.h"
 #include "solvers/triangulate_internal.h"
 #include "sfm/sfm_triangulate.h"
-
-static int all_finite(const double *v, long n)
-{
-    for (long i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
 
 /* det of the 4x4 whose rows are a0, a1 (from P1) and b0, b1 (from P2). */
 static double det4_rows(const double *a0, const double *a1, const double *b0, const double *b1)
@@ -41,7 +34,7 @@ int sfm_fundamental_from_projections(const double P1[12], const double P2[12], d
 {
     if (!P1 || !P2 || !F)
         return SFM_E_ARGUMENT;
-    if (!all_finite(P1, 12) || !all_finite(P2, 12))
+    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12))
         return SFM_E_NONFINITE;
     double G[9], n = 0.0;
     /* F[j][i] = (-1)^(i+j) det[P1 without row i; P2 without row j] */
@@ -73,8 +66,8 @@ int sfm_triangulate_optimal2(const double P1[12], const double P2[12], int npoin
 {
     if (!P1 || !P2 || !X || npoints < 0 || (npoints > 0 && (!x1 || !x2)))
         return SFM_E_ARGUMENT;
-    if (!all_finite(P1, 12) || !all_finite(P2, 12) || !all_finite(x1, 2L * npoints) ||
-        !all_finite(x2, 2L * npoints))
+    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12) || !sfm_la_all_finite(x1, 2L * npoints) ||
+        !sfm_la_all_finite(x2, 2L * npoints))
         return SFM_E_NONFINITE;
     double F[9];
     int st = sfm_fundamental_from_projections(P1, P2, F);

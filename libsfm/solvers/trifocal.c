@@ -10,18 +10,12 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
+#include "solvers/small_math.h"
 #include "solvers/trifocal_internal.h"
-
-static int all_finite(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
 
 /* det of the 4x4 matrix with rows r0..r3. */
 static double det4(const double *r0, const double *r1, const double *r2, const double *r3)
@@ -61,7 +55,7 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
 {
     if (P1 == NULL || P2 == NULL || P3 == NULL || T == NULL)
         return SFM_E_ARGUMENT;
-    if (!all_finite(P1, 12) || !all_finite(P2, 12) || !all_finite(P3, 12))
+    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12) || !sfm_la_all_finite(P3, 12))
         return SFM_E_NONFINITE;
     double out[27];
     for (int i = 0; i < 3; i++) {
@@ -114,7 +108,7 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
 {
     if (T == NULL || e2 == NULL || e3 == NULL)
         return SFM_E_ARGUMENT;
-    if (!all_finite(T, 27))
+    if (!sfm_la_all_finite(T, 27))
         return SFM_E_NONFINITE;
     double U[9], V[9], a[3], b[3];
     for (int i = 0; i < 3; i++) {
@@ -147,13 +141,6 @@ static void skew(const double v[3], double S[9])
     S[0] = 0;     S[1] = -v[2]; S[2] = v[1];
     S[3] = v[2];  S[4] = 0;     S[5] = -v[0];
     S[6] = -v[1]; S[7] = v[0];  S[8] = 0;
-}
-
-static void mul33(const double A[9], const double B[9], double C[9])
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[r * 3 + c] = A[r * 3] * B[c] + A[r * 3 + 1] * B[3 + c] + A[r * 3 + 2] * B[6 + c];
 }
 
 /* Cameras from T and its epipoles (both unit norm). */
@@ -210,9 +197,9 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
         }
     }
     skew(e2, Ex);
-    mul33(Ex, M2, a);
+    sfm_matmul3(Ex, M2, a);
     skew(e3, Ex);
-    mul33(Ex, M3, b);
+    sfm_matmul3(Ex, M3, b);
     if (sfm_trifocal_normalize(a, 9) != SFM_OK || sfm_trifocal_normalize(b, 9) != SFM_OK)
         return SFM_E_SINGULAR;
     if (F32 != NULL) {
@@ -236,8 +223,8 @@ int sfm_trifocal_transfer(const double T[27], const double F21[9], const double 
 {
     if (T == NULL || x1 == NULL || x2 == NULL || x3 == NULL)
         return SFM_E_ARGUMENT;
-    if (!all_finite(T, 27) || !all_finite(x1, 2) || !all_finite(x2, 2) ||
-        (F21 != NULL && !all_finite(F21, 9)))
+    if (!sfm_la_all_finite(T, 27) || !sfm_la_all_finite(x1, 2) || !sfm_la_all_finite(x2, 2) ||
+        (F21 != NULL && !sfm_la_all_finite(F21, 9)))
         return SFM_E_NONFINITE;
     double F[9];
     if (F21 != NULL) {
@@ -275,7 +262,7 @@ int sfm_trifocal_transfer_line(const double T[27], const double l2[3], const dou
 {
     if (T == NULL || l2 == NULL || l3 == NULL || l1 == NULL)
         return SFM_E_ARGUMENT;
-    if (!all_finite(T, 27) || !all_finite(l2, 3) || !all_finite(l3, 3))
+    if (!sfm_la_all_finite(T, 27) || !sfm_la_all_finite(l2, 3) || !sfm_la_all_finite(l3, 3))
         return SFM_E_NONFINITE;
     double out[3];
     for (int i = 0; i < 3; i++) {

@@ -13,6 +13,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/arena.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_trifocal.h"
@@ -163,21 +164,13 @@ static int algebraic_step(tf_ws *w, double t[NU])
     return sfm_trifocal_normalize(t, NU);
 }
 
-static int all_finite(const double *v, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
-}
-
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
                      void *ws, size_t ws_size)
 {
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL ||
         n < SFM_TRIFOCAL_MIN_POINTS)
         return SFM_E_ARGUMENT;
-    if (!all_finite(x1, 2 * n) || !all_finite(x2, 2 * n) || !all_finite(x3, 2 * n))
+    if (!sfm_la_all_finite(x1, 2 * n) || !sfm_la_all_finite(x2, 2 * n) || !sfm_la_all_finite(x3, 2 * n))
         return SFM_E_NONFINITE;
     sfm_arena a;
     tf_ws w;
@@ -264,7 +257,7 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
                     acc += H1[r * 3 + i] * tmp2[r * 9 + j * 3 + k];
                 out[i * 9 + j * 3 + k] = acc;
             }
-    if (sfm_trifocal_normalize(out, NU) != SFM_OK || !all_finite(out, NU))
+    if (sfm_trifocal_normalize(out, NU) != SFM_OK || !sfm_la_all_finite(out, NU))
         return SFM_E_SINGULAR;
     int m = 0;
     for (int k = 1; k < NU; k++)

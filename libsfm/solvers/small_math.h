@@ -1,0 +1,87 @@
+/*
+ * Internal: small inline helpers of the minimal solvers, shared with the
+ * estimators above them: branch-free finiteness of short vectors, 3-vector
+ * and 3x3 products, and the one real root of a monic cubic that P3P and the upright
+ * 3-point solver need.
+ */
+#ifndef SFM_SOLVERS_SMALL_MATH_H
+#define SFM_SOLVERS_SMALL_MATH_H
+
+#include <math.h>
+
+/* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
+static inline int sfm_all_finite3(const double *v)
+{
+    return (v[0] * 0.0 + v[1] * 0.0) + v[2] * 0.0 == 0.0;
+}
+
+static inline int sfm_all_finite9(const double *v)
+{
+    return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
+               ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
+           0.0;
+}
+
+static inline void sfm_cross3(const double *a, const double *b, double *c)
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double sfm_dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* y = M x for a row-major 3x3 M. */
+static inline void sfm_matvec3(const double *M, const double *x, double *y)
+{
+    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
+    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
+    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
+}
+
+/* 3x3 product C = A B (C must not alias A or B). */
+static inline void sfm_matmul3(const double *A, const double *B, double *C)
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+}
+
+/* A real root of the monic cubic x^3 + b x^2 + c x + d, the largest when
+ * there are three: Cardano with a single cube root when one root is real
+ * (u v = -p/3, u taken on the side without cancellation), else the largest
+ * of the trigonometric form; then two Newton steps. */
+static inline double sfm_cubic_largest_root(double b, double c, double d)
+{
+    double b3 = b * (1.0 / 3.0);
+    double p = c - b * b3;
+    double q = (2.0 * b3 * b3 - c) * b3 + d;
+    double disc = 0.25 * q * q + p * p * p * (1.0 / 27.0);
+    double x;
+    if (disc >= 0.0) {
+        double s = sqrt(disc);
+        double u = cbrt(-0.5 * q - copysign(s, q));
+        x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
+    } else {
+        /* p < 0 here */
+        double r = sqrt(-p * (1.0 / 3.0));
+        double arg = -0.5 * q / (r * r * r);
+        if (arg > 1.0)
+            arg = 1.0;
+        if (arg < -1.0)
+            arg = -1.0;
+        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3;
+    }
+    for (int it = 0; it < 2; it++) {
+        double f = ((x + b) * x + c) * x + d;
+        double df = (3.0 * x + 2.0 * b) * x + c;
+        if (df != 0.0)
+            x -= f / df;
+    }
+    return x;
+}
+
+#endif
