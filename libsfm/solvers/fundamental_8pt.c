@@ -12,6 +12,7 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
+#include "solvers/small_math.h"
 
 static void epi_row(const double a[3], const double b[3], double r[9])
 {
@@ -69,9 +70,7 @@ int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F)
             Fn[3 * r + c] = U[3 * r] * S[0] * V[3 * c] + U[3 * r + 1] * S[1] * V[3 * c + 1];
     sfm__hartley_matrix(t1, T1);
     sfm__hartley_matrix(t2, T2);
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            M[3 * r + c] = Fn[3 * r] * T1[c] + Fn[3 * r + 1] * T1[3 + c] + Fn[3 * r + 2] * T1[6 + c];
+    sfm_matmul3(Fn, T1, M);
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
             G[3 * r + c] = T2[r] * M[c] + T2[3 + r] * M[3 + c] + T2[6 + r] * M[6 + c];

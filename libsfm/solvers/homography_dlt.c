@@ -10,6 +10,7 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
+#include "solvers/small_math.h"
 
 static void dlt_rows(const double *p1, const double *p2, int i, const double t1[3],
                      const double t2[3], double r0[9], double r1[9])
@@ -64,12 +65,8 @@ int sfm_homography_dlt(const double *p1, const double *p2, int n, sfm_mat3 *H)
     Ti[0] = is; Ti[1] = 0.0; Ti[2] = -t2[1] * is;
     Ti[3] = 0.0; Ti[4] = is; Ti[5] = -t2[2] * is;
     Ti[6] = 0.0; Ti[7] = 0.0; Ti[8] = 1.0;
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            M[3 * r + c] = h[3 * r] * T1[c] + h[3 * r + 1] * T1[3 + c] + h[3 * r + 2] * T1[6 + c];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            G[3 * r + c] = Ti[3 * r] * M[c] + Ti[3 * r + 1] * M[3 + c] + Ti[3 * r + 2] * M[6 + c];
+    sfm_matmul3(h, T1, M);
+    sfm_matmul3(Ti, M, G);
     double det = G[0] * (G[4] * G[8] - G[5] * G[7]) - G[1] * (G[3] * G[8] - G[5] * G[6]) +
                  G[2] * (G[3] * G[7] - G[4] * G[6]);
     if (sfm__normalize9(G) || det == 0.0)

@@ -107,24 +107,9 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double r0[3] = {D0[0], D0[1], D0[2]}, r1[3] = {D0[1], D0[3], D0[4]},
            r2[3] = {D0[2], D0[4], D0[5]};
     double nb[3];
-    sfm_cross3(r0, r1, nb);
-    double mb = sfm_dot3(nb, nb);
-    if (!(mb > 1e-4 * sfm_dot3(r0, r0) * sfm_dot3(r1, r1))) {
-        double n02[3], n12[3];
-        sfm_cross3(r0, r2, n02);
-        sfm_cross3(r1, r2, n12);
-        double m02 = sfm_dot3(n02, n02), m12 = sfm_dot3(n12, n12);
-        if (m02 > mb) {
-            memcpy(nb, n02, sizeof nb);
-            mb = m02;
-        }
-        if (m12 > mb) {
-            memcpy(nb, n12, sizeof nb);
-            mb = m12;
-        }
-        if (!(mb > 0.0))
-            return 0;
-    }
+    double mb = sfm_rank2_null3(r0, r1, r2, 1e-4, nb);
+    if (!(mb > 0.0))
+        return 0;
     double tr = D0[0] + D0[3] + D0[5];
     double mi = (D0[0] * D0[3] - D0[1] * D0[1]) + (D0[0] * D0[5] - D0[2] * D0[2]) +
                 (D0[3] * D0[5] - D0[4] * D0[4]);

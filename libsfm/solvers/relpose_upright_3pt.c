@@ -280,24 +280,9 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         }
         /* t' is orthogonal to the three rows */
         double tq[3];
-        sfm_cross3(r[0], r[1], tq);
-        double mt = sfm_dot3(tq, tq);
-        if (!(mt > 1e-6 * sfm_dot3(r[0], r[0]) * sfm_dot3(r[1], r[1]))) {
-            double t02[3], t12[3];
-            sfm_cross3(r[0], r[2], t02);
-            sfm_cross3(r[1], r[2], t12);
-            double m02 = sfm_dot3(t02, t02), m12 = sfm_dot3(t12, t12);
-            if (m02 > mt) {
-                memcpy(tq, t02, sizeof tq);
-                mt = m02;
-            }
-            if (m12 > mt) {
-                memcpy(tq, t12, sizeof tq);
-                mt = m12;
-            }
-            if (!(mt > 0.0))
-                continue;
-        }
+        double mt = sfm_rank2_null3(r[0], r[1], r[2], 1e-6, tq);
+        if (!(mt > 0.0))
+            continue;
         /* Sign of t' and cheirality. With v_i = Ry a_i and r_i = v_i x b_i,
          * the depths along a_i (frame 1) and b_i (frame 2) have the signs of
          * -(t' x b_i).r_i and -(t' x v_i).r_i. The sign of t' follows the

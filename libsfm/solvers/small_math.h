@@ -50,6 +50,35 @@ static inline void sfm_matmul3(const double *A, const double *B, double *C)
             C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
 }
 
+/* A vector n orthogonal to the rows r0, r1, r2 of a rank-2 3x3: r0 x r1, or,
+ * when |r0 x r1|^2 <= rel |r0|^2 |r1|^2 (r0, r1 nearly parallel), the longest
+ * of the three cross products. Returns |n|^2 (not > 0: rank below 2). */
+static inline double sfm_rank2_null3(const double *r0, const double *r1, const double *r2,
+                                     double rel, double n[3])
+{
+    sfm_cross3(r0, r1, n);
+    double m = sfm_dot3(n, n);
+    if (!(m > rel * sfm_dot3(r0, r0) * sfm_dot3(r1, r1))) {
+        double n02[3], n12[3];
+        sfm_cross3(r0, r2, n02);
+        sfm_cross3(r1, r2, n12);
+        double m02 = sfm_dot3(n02, n02), m12 = sfm_dot3(n12, n12);
+        if (m02 > m) {
+            n[0] = n02[0];
+            n[1] = n02[1];
+            n[2] = n02[2];
+            m = m02;
+        }
+        if (m12 > m) {
+            n[0] = n12[0];
+            n[1] = n12[1];
+            n[2] = n12[2];
+            m = m12;
+        }
+    }
+    return m;
+}
+
 /* A real root of the monic cubic x^3 + b x^2 + c x + d, the largest when
  * there are three: Cardano with a single cube root when one root is real
  * (u v = -p/3, u taken on the side without cancellation), else the largest
