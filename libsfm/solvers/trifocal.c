@@ -12,6 +12,7 @@
 
 #include "core/linalg_util.h"
 #include "sfm/sfm_linalg.h"
+#include "sfm/sfm_rotation.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/small_math.h"
@@ -136,13 +137,6 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
     return SFM_OK;
 }
 
-static void skew(const double v[3], double S[9])
-{
-    S[0] = 0;     S[1] = -v[2]; S[2] = v[1];
-    S[3] = v[2];  S[4] = 0;     S[5] = -v[0];
-    S[6] = -v[1]; S[7] = v[0];  S[8] = 0;
-}
-
 /* Cameras from T and its epipoles (both unit norm). */
 static void cameras_from(const double T[27], const double e2[3], const double e3[3], double P2[12],
                          double P3[12])
@@ -196,9 +190,9 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
             M3[r * 3 + i] = Ti[r] * e2[0] + Ti[3 + r] * e2[1] + Ti[6 + r] * e2[2];
         }
     }
-    skew(e2, Ex);
+    sfm_skew(e2, Ex);
     sfm_matmul3(Ex, M2, a);
-    skew(e3, Ex);
+    sfm_skew(e3, Ex);
     sfm_matmul3(Ex, M3, b);
     if (sfm_trifocal_normalize(a, 9) != SFM_OK || sfm_trifocal_normalize(b, 9) != SFM_OK)
         return SFM_E_SINGULAR;

@@ -16,6 +16,8 @@
 #include "core/linalg_util.h"
 #include "core/arena.h"
 #include "sfm/sfm_linalg.h"
+#include "sfm/sfm_rotation.h"
+#include "solvers/normalize.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
 
@@ -60,25 +62,14 @@ size_t sfm_trifocal_7pt_workspace_size(void)
     return sfm_arena_required(&a);
 }
 
-/* Similarity H = [s 0 -s cx; 0 s -s cy; 0 0 1] moving the centroid to the
- * origin and the mean distance to sqrt(2) (Hartley normalization). */
+/* The normalizing similarity of one view as a matrix (shared Hartley
+ * normalization of the solvers). */
 static int normalizer(const double *x, int n, double H[9])
 {
-    double cx = 0, cy = 0, d = 0;
-    for (int i = 0; i < n; i++) {
-        cx += x[2 * i];
-        cy += x[2 * i + 1];
-    }
-    cx /= n;
-    cy /= n;
-    for (int i = 0; i < n; i++)
-        d += hypot(x[2 * i] - cx, x[2 * i + 1] - cy);
-    d /= n;
-    if (!(d > 0) || !isfinite(d))
+    double t[3];
+    if (sfm__hartley_2d(x, n, t) != 0)
         return SFM_E_SINGULAR;
-    double s = sqrt(2.0) / d;
-    const double h[9] = {s, 0, -s * cx, 0, s, -s * cy, 0, 0, 1};
-    memcpy(H, h, sizeof h);
+    sfm__hartley_matrix(t, H);
     return SFM_OK;
 }
 
@@ -87,13 +78,6 @@ static void apply(const double H[9], const double *x, double p[3])
     p[0] = H[0] * x[0] + H[2];
     p[1] = H[4] * x[1] + H[5];
     p[2] = 1.0;
-}
-
-static void skew(const double v[3], double S[9])
-{
-    S[0] = 0;     S[1] = -v[2]; S[2] = v[1];
-    S[3] = v[2];  S[4] = 0;     S[5] = -v[0];
-    S[6] = -v[1]; S[7] = v[0];  S[8] = 0;
 }
 
 /* Folds the rows buf[NU .. rows) into the triangular factor held in the
@@ -189,8 +173,8 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
         apply(H1, &x1[2 * p], u);
         apply(H2, &x2[2 * p], v);
         apply(H3, &x3[2 * p], q);
-        skew(v, Sv);
-        skew(q, Sq);
+        sfm_skew(v, Sv);
+        sfm_skew(q, Sq);
         if (rows + 4 > ROWS)
             rows = fold(&w, rows);
         for (int s = 0; s < 2; s++)
