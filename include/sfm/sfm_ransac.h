@@ -59,7 +59,7 @@ extern "C" {
 /* Estimator flags (sfm_ransac_stats.flags). */
 #define SFM_RANSAC_FLAG_PLANAR 1          /* relative pose: inliers dominated by one plane */
 #define SFM_RANSAC_FLAG_PURE_ROTATION 2   /* relative pose: no measurable translation */
-#define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: a plane-and-parallax model won */
+#define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: inliers dominated by one plane */
 
 /*
  * The estimator table. ctx is the estimator's own data (points, scratch); the
@@ -285,13 +285,18 @@ SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const s
 
 /*
  * Fundamental matrix from n >= 8 pixel pairs: 7-point samples, Sampson error
- * in pixels, LO by a normalized 8-point least-squares refit on the inliers,
- * DEGENSAC (Chum, Werner & Matas, CVPR 2005): when the best sample has five
- * or more points on one homography, F is re-estimated by plane and parallax
- * and SFM_RANSAC_FLAG_DEGENSAC is raised when that model wins.
+ * in pixels, LO by a normalized 8-point least-squares refit on the inliers
+ * followed by a few Levenberg-Marquardt steps on their Sampson error (rank 2
+ * kept by the orthonormal representation of Bartoli & Sturm, Cauchy loss of
+ * scale threshold), on the points within two thresholds, and the same as a
+ * final polish; DEGENSAC (Chum, Werner & Matas, CVPR 2005): when a
+ * so-far-best sample has five or more points on one homography, F is
+ * re-estimated by plane and parallax. SFM_RANSAC_FLAG_DEGENSAC is raised
+ * when at least half of the returned F's inliers lie on one plane (a
+ * dominant plane: F then rests on the few points off it).
  * cam1, cam2 may be NULL (pixels used as given); otherwise pixels are first
  * undistorted to the cameras' ideal pinhole pixels (F then relates those).
- * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (1).
+ * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (2).
  */
 /* Static size: SFM_RANSAC_FUNDAMENTAL_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);

@@ -1,6 +1,6 @@
 /* Nonlinear refinement of the fundamental matrix (Sampson error, orthonormal
  * representation) against the linear fit it starts from, on noisy synthetic
- * scenes with known truth. */
+ * scenes with known truth; and DEGENSAC on a dominant plane. */
 #include <math.h>
 #include <string.h>
 
@@ -127,4 +127,121 @@ SFM_TEST(fundamental_lm_beats_linear_against_truth)
         SFM_CHECK(sum_elm <= sum_elin);
         SFM_CHECK(2 * wins_d > seeds);
     }
+}
+
+#define ND 200
+static double D1[2 * ND], D2[2 * ND], E1[2 * ND], E2[2 * ND], G1[2 * ND], G2[2 * ND];
+static unsigned char DT[ND];
+static unsigned char DWS[SFM_RANSAC_FUNDAMENTAL_WS_SIZE(ND)];
+
+/* True F = K^-T [t]x R K^-1 (unit Frobenius norm). */
+static void true_f(const double *R, const double *tr, double *F)
+{
+    double E[9], tmp[9];
+    for (int c = 0; c < 3; c++) {
+        E[c] = tr[1] * R[6 + c] - tr[2] * R[3 + c];
+        E[3 + c] = tr[2] * R[c] - tr[0] * R[6 + c];
+        E[6 + c] = tr[0] * R[3 + c] - tr[1] * R[c];
+    }
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            tmp[3 * r + c] = 0.0;
+            for (int k = 0; k < 3; k++)
+                tmp[3 * r + c] += KI[3 * k + r] * E[3 * k + c];
+        }
+    double n = 0.0;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            F[3 * r + c] = 0.0;
+            for (int k = 0; k < 3; k++)
+                F[3 * r + c] += tmp[3 * r + k] * KI[3 * k + c];
+            n += F[3 * r + c] * F[3 * r + c];
+        }
+    for (int k = 0; k < 9; k++)
+        F[k] /= sqrt(n);
+}
+
+/*
+ * A dominant plane: of ND matches, noff general-position inliers, nout
+ * outliers and the rest on one plane, with 0.5 px noise. Noise-free copies in
+ * E1/E2 (the outliers' second pixels are replaced in both).
+ */
+static void dominant_plane(sfm_test_ctx *t, int noff, int nout, double R[9], double tr[3])
+{
+    sfm_camera cam = scene_pinhole();
+    double R2[9], t2[3];
+    sfm_rng keep = t->rng;
+    scene_twoview(t, &cam, ND, 0.0, 0.0, 1, E1, E2, DT, R, tr);
+    sfm_rng after = t->rng;
+    t->rng = keep;
+    /* the same stream start gives the same motion, general points */
+    scene_twoview(t, &cam, ND, 0.0, 0.0, 0, G1, G2, DT, R2, t2);
+    t->rng = after;
+    memcpy(E1, G1, 2 * sizeof(double) * (size_t)noff);
+    memcpy(E2, G2, 2 * sizeof(double) * (size_t)noff);
+    for (int i = 0; i < 2 * ND; i++) {
+        D1[i] = E1[i] + sfm_test_normal(t, 0.5);
+        D2[i] = E2[i] + sfm_test_normal(t, 0.5);
+    }
+    for (int i = ND - nout; i < ND; i++) {
+        D2[2 * i] = E2[2 * i] = sfm_test_uniform(t, 0, SCENE_W);
+        D2[2 * i + 1] = E2[2 * i + 1] = sfm_test_uniform(t, 0, SCENE_H);
+    }
+}
+
+SFM_TEST(fundamental_degensac_flag_dominant_plane)
+{
+    int trials = SFM_TEST_ITERS(12), flagged = 0, good = 0;
+    double worst = 0.0, worst_e = 0.0;
+    for (int k = 0; k < trials; k++) {
+        double R[9], tr[3], F[9], Ft[9];
+        const int noff = ND / 10, nout = ND / 5;
+        dominant_plane(t, noff, nout, R, tr);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+        opt.threshold = 1.5;
+        sfm_ransac_stats st;
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+                                        sizeof DWS);
+        SFM_CHECK(ni >= 8);
+        if (ni < 8)
+            continue;
+        flagged += (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;
+        /* against the truth: the off-plane points (noise-free) lie on the
+         * epipolar lines of F, and the epipoles agree */
+        double d[ND];
+        for (int i = 0; i < noff; i++)
+            d[i] = sym_epi(F, E1 + 2 * i, E2 + 2 * i);
+        double med = scene_median(d, noff), ee = epipole_err_deg(F, R, tr);
+        true_f(R, tr, Ft);
+        double et = epipole_err_deg(Ft, R, tr);
+        SFM_CHECK(et < 1e-6);
+        good += med < 1.0 && ee < 5.0;
+        worst = med > worst ? med : worst;
+        worst_e = ee > worst_e ? ee : worst_e;
+    }
+    FH_LOG("dominant plane: DEGENSAC flag in %d of %d runs; %d runs fit the off-plane points "
+           "(worst median %.3f px, worst epipole %.2f deg)",
+           flagged, trials, good, worst, worst_e);
+    SFM_CHECK_MSG(flagged == trials, "flag raised in %d of %d", flagged, trials);
+    SFM_CHECK_MSG(good == trials, "%d of %d runs fit the off-plane points", good, trials);
+}
+
+SFM_TEST(fundamental_degensac_flag_quiet_on_general_scene)
+{
+    sfm_camera cam = scene_pinhole();
+    int trials = SFM_TEST_ITERS(12), flagged = 0;
+    for (int k = 0; k < trials; k++) {
+        double R[9], tr[3], F[9];
+        scene_twoview(t, &cam, ND, 0.3, 0.5, 0, D1, D2, DT, R, tr);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+        opt.threshold = 1.5;
+        sfm_ransac_stats st;
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+                                        sizeof DWS);
+        SFM_CHECK(ni >= 8);
+        flagged += ni >= 8 && (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;
+    }
+    SFM_CHECK_MSG(flagged == 0, "flag raised in %d of %d general scenes", flagged, trials);
 }
