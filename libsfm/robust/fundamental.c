@@ -20,7 +20,7 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
-#define FMODEL 10
+#define FMODEL SFM_RANSAC_FUNDAMENTAL_MODEL
 /* Pairs of off-plane points tried by plane-and-parallax. */
 #define DEGENSAC_PAIRS 100
 
