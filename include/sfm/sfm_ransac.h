@@ -311,7 +311,8 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
  * pixels (Hartley & Zisserman 4.2.6: the first-order distance of a pair to
  * the homography, noise in both images), LO and final polish by a
  * normalized DLT refit followed by a few Levenberg-Marquardt steps on the
- * Sampson error (8 degrees of freedom, Cauchy loss of scale threshold).
+ * Sampson error (8 degrees of freedom, Cauchy loss of scale twice the
+ * threshold).
  * cam1, cam2 may be NULL, as for the fundamental matrix. H: p2h ~ H p1h,
  * unit Frobenius norm. opt->wide_mult is ignored (2: LO and polish refit on
  * the points within two thresholds).

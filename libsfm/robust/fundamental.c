@@ -45,7 +45,7 @@
 /* Homographies tried on the final inliers when DEGENSAC found no plane. */
 #define PLANE_TRIES 50
 /* LM steps per refinement round. */
-#define F_LM_STEPS 8
+#define F_LM_STEPS 6
 
 typedef struct f_ctx {
     const double *p1, *p2;

@@ -230,7 +230,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
                 accepted = 1;
                 improved = 1;
                 lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
-                if (rel < 1e-10)
+                if (rel < 1e-6)
                     it = iters;
             } else {
                 lambda *= 10.0;

@@ -22,7 +22,7 @@
 
 #define HMODEL SFM_RANSAC_HOMOGRAPHY_MODEL
 /* LM steps per refinement round. */
-#define H_LM_STEPS 8
+#define H_LM_STEPS 4
 
 typedef struct h_ctx {
     const double *p1, *p2;
@@ -69,8 +69,10 @@ static double residual(void *ctx, const double *m, int i)
  * on the points within 2 thresholds (the estimator forces wide_mult 2): a
  * random point falls inside a disc of 2 tau around its transfer with
  * probability ~ 4 pi tau^2 / image area, so the band adds true inliers and
- * almost no outliers; the Cauchy loss of scale tau keeps those few from
- * pulling. */
+ * almost no outliers; a Cauchy loss keeps those few from pulling. Its scale
+ * is 2 tau: the Sampson errors of true inliers reach tau (3 sigma), and a
+ * scale of tau would down-weight them too (on synthetic planes that cost
+ * about 2 % of accuracy against the truth). */
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     h_ctx *c = ctx;
@@ -85,7 +87,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
         sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
             sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
         memcpy(H, L.m, sizeof H);
-    (void)sfm_robust_homography_lm(c->g1, c->g2, n, c->tau, H_LM_STEPS, H);
+    (void)sfm_robust_homography_lm(c->g1, c->g2, n, 2.0 * c->tau, H_LM_STEPS, H);
     double tmp[HMODEL];
     if (!finish_model(H, tmp))
         return -1;
