@@ -166,7 +166,9 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
     c = homography_count(p1, p2, m, bestH, tol, sel);
     if (c >= need)
         return SFM_RANSAC_FLAG_PLANAR;
-    if (c < 4)
+    /* a homography from four noisy points of a dominant plane still
+     * explains most of it: below half the quota there is no plane to refit */
+    if (c < 4 || 2 * c < need)
         return 0;
     /* refit on the best support, compacted to the front of p1 / p2 */
     for (int k = 0; k < c; k++) {
