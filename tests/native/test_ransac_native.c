@@ -52,10 +52,11 @@ SFM_TEST(ransac_native_relpose_large_outlier_levels)
 
 /* The hardest benchmark setting: 75 % outliers, 1 px noise, a 1 px
  * threshold and at most 1000 samples, where a clean sample turns up about
- * once per run and its noisy model usually fits only part of the inliers.
- * Before the LO's inner RANSAC these scenes gave median errors of
- * 0.52 / 3.2 degrees (rotation / translation, N = 200) and 0.18 / 0.67
- * (N = 1000); with it 0.33 / 1.08 and 0.17 / 0.35. */
+ * once per run (probability 0.62) and its noisy model usually fits only part
+ * of the inliers. A run succeeds when its rotation is within 1 degree and
+ * its translation direction within 5 degrees of the truth. Before the LO's
+ * inner RANSAC (and the other changes that came with it) 20 (N = 200) and
+ * 23 (N = 1000) of these 40 scenes succeeded; after, 26 and 35. */
 SFM_TEST(ransac_native_relpose_75_percent_outliers_1px_threshold)
 {
     const int sizes[2] = {200, NB};
@@ -65,9 +66,9 @@ SFM_TEST(ransac_native_relpose_75_percent_outliers_1px_threshold)
     size_t wsn = sfm_ransac_relpose_workspace_size(NB);
     unsigned char *ws = malloc(wsn);
     for (int s = 0; s < 2; s++) {
-        enum { TRIALS = 20 };
-        double er[TRIALS], et[TRIALS];
-        int n = sizes[s];
+        enum { TRIALS = 40 };
+        double er[TRIALS];
+        int n = sizes[s], ok = 0;
         for (int k = 0; k < TRIALS; k++) {
             double R[9], tr[3];
             scene_twoview(t, &cam, n, 0.75, 1.0, 0, p1, p2, truth, R, tr);
@@ -79,13 +80,12 @@ SFM_TEST(ransac_native_relpose_75_percent_outliers_1px_threshold)
             sfm_pose a;
             int na = sfm_ransac_relpose(p1, p2, n, &cam, &cam, &opt, &a, NULL, NULL, NULL, ws, wsn);
             er[k] = na > 0 ? scene_rot_err_deg(a.R, R) : 180;
-            et[k] = na > 0 ? scene_dir_err_deg(a.t, tr) : 180;
+            ok += na > 0 && er[k] < 1.0 && scene_dir_err_deg(a.t, tr) < 5.0;
         }
-        double mr = scene_median(er, TRIALS), mt = scene_median(et, TRIALS);
-        SFM_TEST_LOG("N=%d outliers 75%% thr 1px, 1000 samples: median rotation %.3f deg, "
-                     "translation %.3f deg", n, mr, mt);
-        SFM_CHECK(mr < (n == NB ? 0.25 : 0.45));
-        SFM_CHECK(mt < (n == NB ? 0.6 : 2.0));
+        double mr = scene_median(er, TRIALS);
+        SFM_TEST_LOG("N=%d outliers 75%% thr 1px, 1000 samples: %d of %d succeed, median "
+                     "rotation error %.3f deg", n, ok, TRIALS, mr);
+        SFM_CHECK(ok >= (n == NB ? 30 : 23));
     }
     free(ws);
 }
