@@ -50,7 +50,9 @@
 
 #include "sfm/sfm_common.h"
 #include "sfm/sfm_camera.h"
+#include "sfm/sfm_pose.h"
 #include "sfm/sfm_rng.h"
+#include "sfm/sfm_solvers.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -73,7 +75,7 @@ extern "C" {
 /* Estimator flags (sfm_ransac_stats.flags). */
 #define SFM_RANSAC_FLAG_PLANAR 1          /* relative pose: inliers dominated by one plane */
 #define SFM_RANSAC_FLAG_PURE_ROTATION 2   /* relative pose: no measurable translation */
-#define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: a plane-and-parallax model won */
+#define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: inliers dominated by one plane */
 
 /*
  * The estimator table. ctx is the estimator's own data (points, scratch); the
@@ -211,6 +213,43 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
 #define SFM_RANSAC_RELPOSE_MODEL 22
 #define SFM_RANSAC_ABSPOSE_MODEL 12
 #define SFM_RANSAC_MAT3_MODEL 9
+#define SFM_RANSAC_FUNDAMENTAL_MODEL 10 /* F, plane-and-parallax mark */
+#define SFM_RANSAC_HOMOGRAPHY_MODEL 18  /* H, H^-1 */
+
+/*
+ * Workspace sizes as constant expressions, for static buffers (a
+ * microcontroller without a heap): SFM_RANSAC_<EST>_WS_SIZE(n) is at least
+ * sfm_ransac_<est>_workspace_size(n) for every valid n (equal as the layouts
+ * stand; a unit test holds each pair in step). Each is the engine's
+ * workspace plus the estimator's own arrays, every block rounded to 16 bytes,
+ * plus 15 bytes of alignment slack.
+ */
+/* two-view (calibrated): bearings 2 x 3n, pixels 2 x 2n, two index lists */
+#define SFM_RANSAC_TWOVIEW_WS_SIZE(n, k, m)                                     \
+    (SFM_RANSAC_R16(sizeof(double) * 3u * (size_t)(n)) * 2u +                   \
+     SFM_RANSAC_R16(sizeof(double) * 2u * (size_t)(n)) * 2u +                   \
+     SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 2u +                           \
+     SFM_RANSAC_R16(SFM_RANSAC_WS_SIZE(n, k, m, SFM_RANSAC_RELPOSE_MODEL)) + 15u)
+/* uncalibrated pairs: pixels and gather scratch 4 x 2n, one index list */
+#define SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, k, m, s)                              \
+    (SFM_RANSAC_R16(sizeof(double) * 2u * (size_t)(n)) * 4u +                   \
+     SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) +                                \
+     SFM_RANSAC_R16(SFM_RANSAC_WS_SIZE(n, k, m, s)) + 15u)
+#define SFM_RANSAC_RELPOSE_WS_SIZE(n)                                           \
+    SFM_RANSAC_TWOVIEW_WS_SIZE(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS)
+#define SFM_RANSAC_RELPOSE_UPRIGHT_WS_SIZE(n)                                   \
+    SFM_RANSAC_TWOVIEW_WS_SIZE(n, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS)
+/* absolute pose: bearings 3n */
+#define SFM_RANSAC_ABSPOSE_WS_SIZE(n)                                           \
+    (SFM_RANSAC_R16(sizeof(double) * 3u * (size_t)(n)) +                        \
+     SFM_RANSAC_R16(SFM_RANSAC_WS_SIZE(n, 3, SFM_P3P_MAX_SOLUTIONS,             \
+                                       SFM_RANSAC_ABSPOSE_MODEL)) + 15u)
+#define SFM_RANSAC_FUNDAMENTAL_WS_SIZE(n)                                       \
+    SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, 7, SFM_RELPOSE_7PT_MAX_SOLUTIONS,         \
+                                   SFM_RANSAC_FUNDAMENTAL_MODEL)
+#define SFM_RANSAC_HOMOGRAPHY_WS_SIZE(n)                                        \
+    SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, 4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS,      \
+                                   SFM_RANSAC_HOMOGRAPHY_MODEL)
 
 /*
  * Relative pose from n >= 5 pixel pairs: 5-point samples (Nister), SPRT +
@@ -224,6 +263,7 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  * homography explains them (the pose may be one of two twisted solutions).
  * The pose is still written: check the flags before trusting t.
  */
+/* Static size: SFM_RANSAC_RELPOSE_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_relpose_workspace_size(int n);
 SFM_API int sfm_ransac_relpose(const double *px1, const double *px2, int n,
                                const sfm_camera *cam1, const sfm_camera *cam2,
@@ -238,6 +278,7 @@ SFM_API int sfm_ransac_relpose(const double *px1, const double *px2, int n,
  * (rotation about d2 and the translation direction), final pose by
  * cheirality. Same flags as sfm_ransac_relpose.
  */
+/* Static size: SFM_RANSAC_RELPOSE_UPRIGHT_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_relpose_upright_workspace_size(int n);
 SFM_API int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
                                        const sfm_camera *cam1, const sfm_camera *cam2,
@@ -253,6 +294,7 @@ SFM_API int sfm_ransac_relpose_upright(const double *px1, const double *px2, int
  * pinhole camera), LO by Levenberg-Marquardt on that error over the inliers.
  * pose: x_cam = R X + t.
  */
+/* Static size: SFM_RANSAC_ABSPOSE_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_abspose_workspace_size(int n);
 SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camera *cam,
                                const sfm_ransac_options *opt, sfm_pose *pose,
@@ -261,14 +303,20 @@ SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const s
 
 /*
  * Fundamental matrix from n >= 8 pixel pairs: 7-point samples, Sampson error
- * in pixels, LO by a normalized 8-point least-squares refit on the inliers,
- * DEGENSAC (Chum, Werner & Matas, CVPR 2005): when the best sample has five
- * or more points on one homography, F is re-estimated by plane and parallax
- * and SFM_RANSAC_FLAG_DEGENSAC is raised when that model wins.
+ * in pixels, LO by a normalized 8-point least-squares refit on the inliers
+ * followed by a few Levenberg-Marquardt steps on their Sampson error (rank 2
+ * kept by the orthonormal representation of Bartoli & Sturm, Cauchy loss of
+ * scale threshold), on the points within two thresholds, and the same as a
+ * final polish; DEGENSAC (Chum, Werner & Matas, CVPR 2005): when a
+ * so-far-best sample has five or more points on one homography, F is
+ * re-estimated by plane and parallax. SFM_RANSAC_FLAG_DEGENSAC is raised
+ * when at least half of the returned F's inliers lie on one plane (a
+ * dominant plane: F then rests on the few points off it).
  * cam1, cam2 may be NULL (pixels used as given); otherwise pixels are first
  * undistorted to the cameras' ideal pinhole pixels (F then relates those).
- * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (1).
+ * F: p2h^T F p1h = 0, unit Frobenius norm. opt->wide_mult is ignored (2).
  */
+/* Static size: SFM_RANSAC_FUNDAMENTAL_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);
 SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
                                    const sfm_camera *cam1, const sfm_camera *cam2,
@@ -283,6 +331,7 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
  * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored
  * (2: LO and polish refit on the points within two thresholds).
  */
+/* Static size: SFM_RANSAC_HOMOGRAPHY_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_homography_workspace_size(int n);
 SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,
                                   const sfm_camera *cam1, const sfm_camera *cam2,

@@ -1,35 +1,60 @@
 /*
  * Fundamental matrix by RANSAC over 7-point samples, scored on the Sampson
- * error in pixels, LO by a normalised 8-point least-squares refit on the
- * inliers, and DEGENSAC (Chum, Werner & Matas, "Two-view geometry estimation
- * unaffected by a dominant plane", CVPR 2005): for every so-far-best sample,
- * five triplets of its points each define a homography compatible with F,
- * H = A - e' (M^-1 b)^T with A = [e']x F (Hartley & Zisserman 13.2.2, result
- * 13.6); when one of them explains five or more of the seven points the
- * sample is H-degenerate, and F is re-estimated by plane and parallax: from
- * H and two points off the plane, e' = (H x1 x x1') x (H x2 x x2') and
- * F = [e']x H.
+ * error in pixels; LO by a normalised 8-point least-squares refit on the
+ * points handed over, then a few Levenberg-Marquardt steps on their Sampson
+ * error (fundamental_lm.c: rank 2 kept exactly, Cauchy loss of scale tau);
+ * and DEGENSAC (Chum, Werner & Matas, "Two-view geometry estimation
+ * unaffected by a dominant plane", CVPR 2005).
+ *
+ * DEGENSAC: every so-far-best sample is tested for H-degeneracy: when a
+ * homography through four of its seven points explains five or more of them
+ * (forward transfer within 2 tau), the sample is H-degenerate and the 7-point
+ * F may be any member of the family [e']x H. (The test of the paper, a
+ * homography from three points and F itself, H = [e']x F - e' (M^-1 b)^T,
+ * Hartley & Zisserman result 13.6, inherits the noise of an F fitted to
+ * nearly coplanar points and misses most degenerate samples once the points
+ * carry half a pixel of noise.) H is refitted (DLT) on every point within
+ * 2 tau of it, and F is re-estimated by plane and parallax: from H and two points
+ * off the plane, e' = (H x1 x x1') x (H x2 x x2') and F = [e']x H; the best
+ * of DEGENSAC_PAIRS pairs by MSAC replaces the model when it scores better.
+ *
  * Model: F[9], then 1 when plane-and-parallax produced it, else 0.
+ * SFM_RANSAC_FLAG_DEGENSAC is raised when at least half of the final F's
+ * inliers lie on one plane (DEGENSAC's, or one found among those inliers),
+ * so a chance coplanar sample in a general scene does not raise it.
+ *
+ * LO and the final polish run on the points within two thresholds (Cauchy
+ * loss of scale tau): with noise near the threshold, a refit on the points
+ * within tau only keeps those that already agree with the model and settles
+ * near it.
  */
 #include <math.h>
 #include <string.h>
 
 #include "robust/epipolar.h"
 #include "robust/estimator.h"
+#include "robust/fundamental_lm.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
-#define FMODEL 10
+#define FMODEL SFM_RANSAC_FUNDAMENTAL_MODEL
+#define F_PP 9 /* plane-and-parallax mark */
 /* Pairs of off-plane points tried by plane-and-parallax. */
 #define DEGENSAC_PAIRS 100
+/* Homographies tried on the final inliers when DEGENSAC found no plane. */
+#define PLANE_TRIES 50
+/* LM steps per refinement round. */
+#define F_LM_STEPS 8
 
 typedef struct f_ctx {
     const double *p1, *p2;
     double *g1, *g2;
     int *idx;
     int n;
-    double tau2;
+    double tau, tau2;
+    double plane[9]; /* the best-supported plane DEGENSAC found */
+    int plane_on;    /* its support (0: none found) */
 } f_ctx;
 
 static int solve7(void *ctx, const int *s, double *models)
@@ -43,9 +68,10 @@ static int solve7(void *ctx, const int *s, double *models)
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     for (int k = 0; k < ns; k++) {
-        memcpy(models + FMODEL * k, F[k].m, 9 * sizeof(double));
-        sfm__normalize9(models + FMODEL * k);
-        models[FMODEL * k + 9] = 0.0;
+        double *m = models + FMODEL * k;
+        memcpy(m, F[k].m, 9 * sizeof(double));
+        sfm__normalize9(m);
+        m[F_PP] = 0.0;
     }
     return ns;
 }
@@ -56,8 +82,8 @@ static double residual(void *ctx, const double *m, int i)
     return sfm_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
-/* A linear refit, unweighted: it runs on the inliers at tau only (the
- * estimator forces wide_mult 1: no wide band, no final polish). */
+/* Linear refit, then LM from whichever of it and the current model has the
+ * lower robust cost. Only F changes: the plane-and-parallax mark stays. */
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     f_ctx *c = ctx;
@@ -65,12 +91,16 @@ static int refine(void *ctx, const int *inl, int n, double *m)
         return -1;
     sfm_robust_gather(c->p1, 2, inl, n, c->g1);
     sfm_robust_gather(c->p2, 2, inl, n, c->g2);
-    sfm_mat3 F;
-    if (sfm_fundamental_8pt(c->g1, c->g2, n, &F) != 1)
-        return -1;
-    memcpy(m, F.m, sizeof F.m);
-    sfm__normalize9(m);
-    return 0; /* keeps m[9]: the refit stays in the same family */
+    double F[9];
+    memcpy(F, m, sizeof F);
+    sfm_mat3 L;
+    if (sfm_fundamental_8pt(c->g1, c->g2, n, &L) == 1 && sfm__normalize9(L.m) == 0 &&
+        sfm_robust_fundamental_cost(c->g1, c->g2, n, c->tau, L.m) <
+            sfm_robust_fundamental_cost(c->g1, c->g2, n, c->tau, F))
+        memcpy(F, L.m, sizeof F);
+    (void)sfm_robust_fundamental_lm(c->g1, c->g2, n, c->tau, F_LM_STEPS, F);
+    memcpy(m, F, sizeof F);
+    return 0;
 }
 
 static double score(const f_ctx *c, const double *F)
@@ -83,104 +113,80 @@ static double score(const f_ctx *c, const double *F)
     return s;
 }
 
-/* e' with e'^T F = 0: the largest cross product of two columns of F. */
-static int left_epipole(const double *F, double *e)
+/* A homography through four of the seven sample points that explains five
+ * or more of them within 2 tau (a homography from four noisy points
+ * extrapolates with errors of the order of the noise, well beyond it near
+ * the edges of the sample); 0 when the sample is not H-degenerate. */
+static int degenerate_h(const f_ctx *c, const int *s, double *H)
 {
-    double c[3][3], best = 0.0;
-    for (int k = 0; k < 3; k++) {
-        c[k][0] = F[k];
-        c[k][1] = F[3 + k];
-        c[k][2] = F[6 + k];
-    }
-    const int pa[3][2] = {{0, 1}, {0, 2}, {1, 2}};
-    for (int p = 0; p < 3; p++) {
-        double x[3];
-        sfm_cross3(c[pa[p][0]], c[pa[p][1]], x);
-        double l = sfm_dot3(x, x);
-        if (l > best) {
-            best = l;
-            e[0] = x[0];
-            e[1] = x[1];
-            e[2] = x[2];
-        }
-    }
-    if (!(best > 0.0))
-        return 0;
-    best = 1.0 / sqrt(best);
-    e[0] *= best;
-    e[1] *= best;
-    e[2] *= best;
-    return 1;
+    const double lim = 4.0 * c->tau2;
+    int best = 4;
+    for (int a = 0; a < 7; a++)
+        for (int b = a + 1; b < 7; b++)
+            for (int d = b + 1; d < 7; d++)
+                for (int e = d + 1; e < 7; e++) {
+                    const int q[4] = {s[a], s[b], s[d], s[e]};
+                    double x[8], y[8];
+                    sfm_robust_gather(c->p1, 2, q, 4, x);
+                    sfm_robust_gather(c->p2, 2, q, 4, y);
+                    sfm_mat3 G;
+                    if (sfm_homography_4pt(x, y, &G) != 1)
+                        continue;
+                    int cnt = 0;
+                    for (int j = 0; j < 7; j++)
+                        cnt += sfm_transfer2(G.m, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < lim;
+                    if (cnt > best) {
+                        best = cnt;
+                        memcpy(H, G.m, sizeof G.m);
+                        if (cnt == 7)
+                            return 1;
+                    }
+                }
+    return best > 4;
 }
 
-static int inv3(const double *a, double *v)
+/* H refitted (DLT) on every point within 2 tau of it, twice (kept as is
+ * when a refit fails), and remembered when it has the largest support so
+ * far. 2 tau: a plane point with noise sigma in both images transfers
+ * within tau = 3 sigma with probability ~ 0.99 under the true H only; under
+ * an H from four noisy points, a band of tau loses a good part of the plane.
+ * Leaves the points off the plane (beyond 2 tau) in c->idx; returns their
+ * count. */
+static int plane_refit(f_ctx *c, double *H)
 {
-    double det = sfm_adj3(a, v);
-    if (!(fabs(det) > 1e-300))
-        return 0;
-    for (int k = 0; k < 9; k++)
-        v[k] /= det;
-    return 1;
-}
-
-/* The homography of the triplet tri compatible with F (result 13.6). */
-static int compatible_h(const f_ctx *c, const double *F, const double *e, const int *s,
-                        const int *tri, double *H)
-{
-    double A[9], M[9], Mi[9], bvec[3];
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++) {
-            /* A = [e]x F */
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3;
-            A[3 * r + k] = e[r1] * F[3 * r2 + k] - e[r2] * F[3 * r1 + k];
-        }
-    for (int j = 0; j < 3; j++) {
-        const double *p = c->p1 + 2 * s[tri[j]], *q = c->p2 + 2 * s[tri[j]];
-        double x[3] = {p[0], p[1], 1.0}, y[3] = {q[0], q[1], 1.0}, Ax[3], u[3], w[3];
-        M[3 * j] = x[0];
-        M[3 * j + 1] = x[1];
-        M[3 * j + 2] = 1.0;
-        sfm_matvec3(A, x, Ax);
-        sfm_cross3(y, Ax, u);
-        sfm_cross3(y, e, w);
-        double ww = sfm_dot3(w, w);
-        if (!(ww > 1e-300))
-            return 0;
-        bvec[j] = sfm_dot3(u, w) / ww;
+    const double lim = 4.0 * c->tau2;
+    for (int round = 0; round < 2; round++) {
+        int on = 0;
+        for (int i = 0; i < c->n; i++)
+            if (sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim)
+                c->idx[on++] = i;
+        if (on < 5)
+            break;
+        sfm_robust_gather(c->p1, 2, c->idx, on, c->g1);
+        sfm_robust_gather(c->p2, 2, c->idx, on, c->g2);
+        sfm_mat3 G;
+        if (sfm_homography_dlt(c->g1, c->g2, on, &G) != 1 || sfm__normalize9(G.m) != 0)
+            break;
+        memcpy(H, G.m, sizeof G.m);
     }
-    if (!inv3(M, Mi))
-        return 0;
-    double v[3];
-    sfm_matvec3(Mi, bvec, v);
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++)
-            H[3 * r + k] = A[3 * r + k] - e[r] * v[k];
-    return 1;
+    int off = 0;
+    for (int i = 0; i < c->n; i++)
+        if (!(sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim))
+            c->idx[off++] = i;
+    if (c->n - off > c->plane_on) {
+        c->plane_on = c->n - off;
+        memcpy(c->plane, H, sizeof c->plane);
+    }
+    return off;
 }
 
 static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
 {
     f_ctx *c = ctx;
-    static const int triplets[5][3] = {{0, 1, 2}, {3, 4, 5}, {0, 1, 6}, {3, 4, 6}, {2, 5, 6}};
-    double e[3], H[9];
-    if (!left_epipole(model, e))
+    double H[9];
+    if (!degenerate_h(c, s, H))
         return 0;
-    int found = 0;
-    for (int k = 0; k < 5 && !found; k++) {
-        if (!compatible_h(c, model, e, s, triplets[k], H))
-            continue;
-        int cnt = 0;
-        for (int j = 0; j < 7; j++)
-            cnt += sfm_transfer2(H, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < c->tau2;
-        found = cnt >= 5;
-    }
-    if (!found)
-        return 0;
-    /* plane and parallax: pairs of points the homography does not explain */
-    int off = 0;
-    for (int i = 0; i < c->n; i++)
-        if (!(sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2))
-            c->idx[off++] = i;
+    int off = plane_refit(c, H);
     if (off < 2)
         return 0;
     double best = score(c, model), bestF[9];
@@ -205,12 +211,8 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
                 int r1 = (r + 1) % 3, r2 = (r + 2) % 3;
                 F[3 * r + k] = ep[r1] * H[3 * r2 + k] - ep[r2] * H[3 * r1 + k];
             }
-        double nrm = 0.0;
-        for (int k = 0; k < 9; k++)
-            nrm += F[k] * F[k];
-        if (!(nrm > 1e-300) || !isfinite(nrm))
+        if (sfm__normalize9(F) != 0)
             continue;
-        sfm__normalize9(F);
         double sc = score(c, F);
         if (sc < best) {
             best = sc;
@@ -221,8 +223,54 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
     if (!improved)
         return 0;
     memcpy(model, bestF, sizeof bestF);
-    model[9] = 1.0;
+    model[F_PP] = 1.0;
     return 1;
+}
+
+/* Points of the list idx[0..m) within 2 tau of H. */
+static int plane_support(const f_ctx *c, const double *H, const int *idx, int m)
+{
+    int on = 0;
+    for (int j = 0; j < m; j++)
+        on += sfm_transfer2(H, c->p1 + 2 * idx[j], c->p2 + 2 * idx[j]) < 4.0 * c->tau2;
+    return on;
+}
+
+/* A dominant plane: at least half of the inliers of the final F within
+ * 2 tau of one homography: DEGENSAC's plane when it found one, else the best
+ * of PLANE_TRIES homographies through four inliers drawn with rng (the final
+ * F may come from a sample with few plane points, which DEGENSAC never
+ * sees). */
+static int dominant_plane(f_ctx *c, const double *m, sfm_rng *rng)
+{
+    int in = 0;
+    for (int i = 0; i < c->n; i++)
+        if (sfm_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2)
+            c->idx[in++] = i;
+    if (in < 8)
+        return 0;
+    if (c->plane_on > 0 && 2 * plane_support(c, c->plane, c->idx, in) >= in)
+        return 1;
+    for (int it = 0; it < PLANE_TRIES; it++) {
+        int q[4];
+        for (int k = 0; k < 4; k++) {
+            int v, dup;
+            do {
+                v = c->idx[sfm_rng_bounded(rng, (uint32_t)in)];
+                dup = 0;
+                for (int j = 0; j < k; j++)
+                    dup |= q[j] == v;
+            } while (dup);
+            q[k] = v;
+        }
+        double x[8], y[8];
+        sfm_robust_gather(c->p1, 2, q, 4, x);
+        sfm_robust_gather(c->p2, 2, q, 4, y);
+        sfm_mat3 G;
+        if (sfm_homography_4pt(x, y, &G) == 1 && 2 * plane_support(c, G.m, c->idx, in) >= in)
+            return 1;
+    }
+    return 0;
 }
 
 size_t sfm_ransac_fundamental_workspace_size(int n)
@@ -245,8 +293,17 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
                                    FMODEL, ws, ws_size, &pp, &eopt);
     if (st < 0)
         return st;
-    eopt.wide_mult = 1.0;
-    f_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2, pp.idx, n, eopt.threshold * eopt.threshold};
+    eopt.wide_mult = 2.0;
+    f_ctx c;
+    memset(&c, 0, sizeof c);
+    c.p1 = pp.p1;
+    c.p2 = pp.p2;
+    c.g1 = pp.g1;
+    c.g2 = pp.g2;
+    c.idx = pp.idx;
+    c.n = n;
+    c.tau = eopt.threshold;
+    c.tau2 = eopt.threshold * eopt.threshold;
     sfm_ransac_estimator est = {7, SFM_RELPOSE_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
                                 refine, NULL, fix_best, &c};
     double model[FMODEL];
@@ -256,8 +313,10 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
         return ni;
     memcpy(F, model, 9 * sizeof(double));
     if (stats != NULL) {
+        sfm_rng rng;
+        sfm_rng_seed(&rng, eopt.seed ^ 0x9e3779b97f4a7c15u);
         *stats = s;
-        stats->flags = model[9] != 0.0 ? SFM_RANSAC_FLAG_DEGENSAC : 0;
+        stats->flags = dominant_plane(&c, model, &rng) ? SFM_RANSAC_FLAG_DEGENSAC : 0;
     }
     return ni;
 }

@@ -13,7 +13,7 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
-#define HMODEL 18
+#define HMODEL SFM_RANSAC_HOMOGRAPHY_MODEL
 
 typedef struct h_ctx {
     const double *p1, *p2;
@@ -76,7 +76,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
 
 size_t sfm_ransac_homography_workspace_size(int n)
 {
-    return sfm_pixel_pairs_workspace_size(n, 4, 1, HMODEL);
+    return sfm_pixel_pairs_workspace_size(n, 4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL);
 }
 
 int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm_camera *cam1,
@@ -87,13 +87,15 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
         return SFM_E_ARGUMENT;
     pixel_pairs pp;
     sfm_ransac_options eopt;
-    int st = sfm_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 4, 1, HMODEL, ws, ws_size, &pp,
+    int st = sfm_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 4,
+                                   SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, ws, ws_size, &pp,
                                    &eopt);
     if (st < 0)
         return st;
     eopt.wide_mult = 2.0;
     h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2};
-    sfm_ransac_estimator est = {4, 1, HMODEL, solve4, residual, refine, NULL, NULL, &c};
+    sfm_ransac_estimator est = {4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, solve4,
+                                residual, refine, NULL, NULL, &c};
     double model[HMODEL];
     int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, stats, pp.eng, pp.eng_size);
     if (ni < 0)

@@ -78,7 +78,15 @@ static void addmul21(double *c, const double *q, const double *l)
 /* Real roots of the tenth-degree polynomial by a Sturm sequence: bisection
  * until each interval holds one root, then safeguarded Newton on the
  * polynomial itself. Specialized to degree <= 10 with fixed storage (about
- * 1 KB of stack); c: descending coefficients, c[0] != 0. */
+ * 1 KB of stack); c: descending coefficients, c[0] != 0.
+ *
+ * Why not the core's sfm_poly_real_roots: measured with the whole solver
+ * built both ways (x86-64, gcc 12 -O2, solvers_bench under callgrind,
+ * 1000 vs 3000 calls) it costs 70.5k instructions per call against 41.0k
+ * with this copy (about 40k of them inside the core routine), for the same
+ * accuracy: ground truth found in 100% of the bench's problems either way,
+ * and in the unit tests' eight scene classes (3000 each; this copy first)
+ * 20999 vs 20998 of 21000 outside very-far, 2867 vs 2868 very-far. */
 #define STURM_MAX 10
 
 typedef struct sturm_seq {

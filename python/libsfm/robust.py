@@ -213,7 +213,8 @@ def estimate_fundamental(p1, p2, K1=None, K2=None, threshold_px=1.0, quality=Non
     """Fundamental matrix from n >= 8 pixel pairs (7-point RANSAC with
     DEGENSAC). With K1, K2 (and distortion) the pixels are first undistorted
     to ideal pinhole pixels. Returns the common entries plus F (3x3, unit
-    norm, p2h^T F p1h = 0) and degensac (bool: plane-and-parallax won).
+    norm, p2h^T F p1h = 0) and degensac (bool: a dominant plane was found and
+    plane-and-parallax applied; F then rests on the points off the plane).
     Keyword options: seed, confidence, max_iterations, min_iterations,
     lo_rounds, use_sprt."""
     out, F = _uncalibrated(lib.sfm_ransac_fundamental, lib.sfm_ransac_fundamental_workspace_size,

@@ -211,6 +211,57 @@ SFM_TEST(homography_degenerate)
     SFM_CHECK(n == 0 || (n == 1 && finite9(H.m)));
 }
 
+/* Every triple of the four points made collinear (the fourth point of the
+ * triple moved onto the line of the other two), in image 1 or image 2 only,
+ * at scales from 1e-3 to 1e3 and offsets up to 1e4 times the scale (larger
+ * offsets round the moved point off the line by more than the tolerance, so
+ * the points are no longer collinear as doubles): 0 solutions and
+ * H untouched. Each case vanishes a different triple product of one image,
+ * and the test must not depend on the scale or position of the points. */
+SFM_TEST(homography_4pt_collinear_triples)
+{
+    static const int tri[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+    for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
+        double p1[8], p2[8], Ht[9];
+        make_problem(t, it % 4, 4, p1, p2, Ht);
+        const double scale = pow(10.0, sfm_test_uniform(t, -3.0, 3.0));
+        const double off = scale * sfm_test_uniform(t, -1e4, 1e4);
+        for (int i = 0; i < 8; i++) {
+            p1[i] = p1[i] * scale + off;
+            p2[i] = p2[i] * scale - off;
+        }
+        for (int img = 0; img < 2; img++)
+            for (int k = 0; k < 4; k++) {
+                double q[2][8];
+                memcpy(q[0], p1, sizeof p1);
+                memcpy(q[1], p2, sizeof p2);
+                double *p = q[img];
+                const int a = tri[k][0], b = tri[k][1], c = tri[k][2];
+                const double s = sfm_test_uniform(t, -2.0, 2.0);
+                p[2 * c] = p[2 * a] + s * (p[2 * b] - p[2 * a]);
+                p[2 * c + 1] = p[2 * a + 1] + s * (p[2 * b + 1] - p[2 * a + 1]);
+                sfm_mat3 H;
+                sfm_test_fill_canary(&H, sizeof H);
+                SFM_CHECK_EQ_INT(sfm_homography_4pt(q[0], q[1], &H), 0);
+                SFM_CHECK(sfm_test_canary_intact(&H, sizeof H));
+            }
+        /* the unmodified scaled problem still solves exactly */
+        sfm_mat3 H;
+        SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), 1);
+        SFM_CHECK(finite9(H.m));
+    }
+    /* non-finite input in image 2 only (lane 1): status, nothing written */
+    double p1[8], p2[8], Ht[9];
+    make_problem(t, 0, 4, p1, p2, Ht);
+    sfm_mat3 H;
+    sfm_test_fill_canary(&H, sizeof H);
+    p2[7] = INFINITY;
+    SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), SFM_E_NONFINITE);
+    p2[7] = NAN;
+    SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), SFM_E_NONFINITE);
+    SFM_CHECK(sfm_test_canary_intact(&H, sizeof H));
+}
+
 SFM_TEST(homography_contract)
 {
     double p1[8], p2[8], Ht[9], q1[20], q2[20];

@@ -1,0 +1,19 @@
+/* Internal: Levenberg-Marquardt on the Sampson error of a fundamental matrix
+ * in the orthonormal representation (rank 2 kept exactly). */
+#ifndef SFM_ROBUST_FUNDAMENTAL_LM_H
+#define SFM_ROBUST_FUNDAMENTAL_LM_H
+
+/* Robust cost of F over the n pixel pairs p1, p2 (n x 2): the sum of the
+ * Cauchy loss of scale `scale` (pixels; plain squares when scale <= 0) of the
+ * pixel Sampson errors. */
+double sfm_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
+                                   const double F[9]);
+
+/* Minimises that cost over rank-2 F in at most `iters` LM steps (n >= 7).
+ * F is updated in place (unit Frobenius norm). Returns 0 when the cost went
+ * down, 1 when no step lowered it, -1 on a numerical failure (F unchanged).
+ * Stack: under 2 KB; no workspace. */
+int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
+                              double F[9]);
+
+#endif

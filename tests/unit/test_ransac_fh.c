@@ -1,0 +1,247 @@
+/* Nonlinear refinement of the fundamental matrix (Sampson error, orthonormal
+ * representation) against the linear fit it starts from, on noisy synthetic
+ * scenes with known truth; and DEGENSAC on a dominant plane. */
+#include <math.h>
+#include <string.h>
+
+#include "ransac_scene.h"
+#include "robust/fundamental_lm.h"
+#include "sfm/sfm.h"
+#include "sfm_test.h"
+
+#ifdef SFM_TEST_REDUCED
+#define FH_LOG(...) ((void)0)
+#else
+#define FH_LOG(...) SFM_TEST_LOG(__VA_ARGS__)
+#endif
+
+#define NF 100
+#define SEEDS 40
+
+static double A1[2 * NF], A2[2 * NF], C1[2 * NF], C2[2 * NF];
+static unsigned char TR[NF];
+
+static const double KI[9] = {1.0 / 500, 0, -320.0 / 500, 0, 1.0 / 500, -240.0 / 500, 0, 0, 1};
+
+/* Noise-free and noisy copies of one scene (same motion and points). */
+static void scene_pair(sfm_test_ctx *t, int mode, double sigma, double R[9], double tr[3])
+{
+    sfm_camera cam = scene_pinhole();
+    sfm_rng keep = t->rng;
+    scene_twoview(t, &cam, NF, 0.0, 0.0, mode, C1, C2, TR, R, tr);
+    t->rng = keep;
+    scene_twoview(t, &cam, NF, 0.0, sigma, mode, A1, A2, TR, R, tr);
+}
+
+/* Symmetric epipolar distance of a noise-free pair (pixels). */
+static double sym_epi(const double *F, const double *a, const double *b)
+{
+    double l[3], m[3];
+    for (int r = 0; r < 3; r++) {
+        l[r] = F[3 * r] * a[0] + F[3 * r + 1] * a[1] + F[3 * r + 2];
+        m[r] = F[r] * b[0] + F[3 + r] * b[1] + F[6 + r];
+    }
+    double C = l[0] * b[0] + l[1] * b[1] + l[2];
+    return 0.5 * fabs(C) * (1.0 / sqrt(l[0] * l[0] + l[1] * l[1]) +
+                            1.0 / sqrt(m[0] * m[0] + m[1] * m[1]));
+}
+
+static double median_epi(const double *F)
+{
+    double d[NF];
+    for (int i = 0; i < NF; i++)
+        d[i] = sym_epi(F, C1 + 2 * i, C2 + 2 * i);
+    return scene_median(d, NF);
+}
+
+/* Angle (degrees) between the rays of the epipoles of F (right null vector,
+ * first image) and of the truth e1 ~ -R^T t, sign-free. */
+static double epipole_err_deg(const double *F, const double *R, const double *tr)
+{
+    double e[3] = {0.0, 0.0, 0.0};
+    double r0[3] = {F[0], F[1], F[2]}, r1[3] = {F[3], F[4], F[5]}, r2[3] = {F[6], F[7], F[8]};
+    double best = -1.0;
+    const double *rows[3] = {r0, r1, r2};
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++) {
+            double x[3];
+            x[0] = rows[a][1] * rows[b][2] - rows[a][2] * rows[b][1];
+            x[1] = rows[a][2] * rows[b][0] - rows[a][0] * rows[b][2];
+            x[2] = rows[a][0] * rows[b][1] - rows[a][1] * rows[b][0];
+            double l = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+            if (l > best) {
+                best = l;
+                memcpy(e, x, sizeof x);
+            }
+        }
+    double ray[3], truth[3];
+    scene_matvec(KI, e, ray);
+    for (int k = 0; k < 3; k++)
+        truth[k] = -(R[k] * tr[0] + R[3 + k] * tr[1] + R[6 + k] * tr[2]);
+    double a = scene_dir_err_deg(ray, truth);
+    return a > 90.0 ? 180.0 - a : a;
+}
+
+SFM_TEST(fundamental_lm_beats_linear_against_truth)
+{
+    int seeds = SFM_TEST_ITERS(SEEDS), wins_d = 0, wins_e = 0;
+    double sum_lin = 0.0, sum_lm = 0.0, sum_elin = 0.0, sum_elm = 0.0;
+    for (int k = 0; k < seeds; k++) {
+        double R[9], tr[3];
+        scene_pair(t, 0, 1.0, R, tr);
+        sfm_mat3 L;
+        SFM_CHECK_EQ_INT(sfm_fundamental_8pt(A1, A2, NF, &L), 1);
+        double F[9];
+        memcpy(F, L.m, sizeof F);
+        double c0 = sfm_robust_fundamental_cost(A1, A2, NF, 0.0, F);
+        SFM_CHECK(sfm_robust_fundamental_lm(A1, A2, NF, 0.0, 10, F) >= 0);
+        double c1 = sfm_robust_fundamental_cost(A1, A2, NF, 0.0, F);
+        SFM_CHECK(c1 <= c0);
+        /* rank 2 and unit norm by construction */
+        double det = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+                     F[2] * (F[3] * F[7] - F[4] * F[6]);
+        double nrm = 0.0;
+        for (int j = 0; j < 9; j++)
+            nrm += F[j] * F[j];
+        SFM_CHECK(fabs(det) < 1e-12);
+        SFM_CHECK_NEAR(nrm, 1.0, 1e-12);
+        double dl = median_epi(L.m), dm = median_epi(F);
+        double el = epipole_err_deg(L.m, R, tr), em = epipole_err_deg(F, R, tr);
+        sum_lin += dl;
+        sum_lm += dm;
+        sum_elin += el;
+        sum_elm += em;
+        wins_d += dm < dl;
+        wins_e += em < el;
+    }
+    FH_LOG("median sym. epipolar distance to noise-free pairs, mean over %d scenes: linear %.4f "
+           "px, LM %.4f px (LM closer in %d); epipole error linear %.3f deg, LM %.3f deg "
+           "(LM closer in %d)",
+           seeds, sum_lin / seeds, sum_lm / seeds, wins_d, sum_elin / seeds, sum_elm / seeds,
+           wins_e);
+    /* Statistics need the host's scene count; under emulation the point is
+     * that the code runs (the checks above). Over 200 scenes: 17 % closer
+     * in epipolar distance (LM closer in 62 %), epipoles 6 % closer. */
+    if (seeds >= SEEDS) {
+        SFM_CHECK(sum_lm < 0.9 * sum_lin);
+        SFM_CHECK(sum_elm <= sum_elin);
+        SFM_CHECK(2 * wins_d > seeds);
+    }
+}
+
+#define ND 200
+static double D1[2 * ND], D2[2 * ND], E1[2 * ND], E2[2 * ND], G1[2 * ND], G2[2 * ND];
+static unsigned char DT[ND];
+static unsigned char DWS[SFM_RANSAC_FUNDAMENTAL_WS_SIZE(ND)];
+
+/* True F = K^-T [t]x R K^-1 (unit Frobenius norm). */
+static void true_f(const double *R, const double *tr, double *F)
+{
+    double E[9], tmp[9];
+    for (int c = 0; c < 3; c++) {
+        E[c] = tr[1] * R[6 + c] - tr[2] * R[3 + c];
+        E[3 + c] = tr[2] * R[c] - tr[0] * R[6 + c];
+        E[6 + c] = tr[0] * R[3 + c] - tr[1] * R[c];
+    }
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            tmp[3 * r + c] = 0.0;
+            for (int k = 0; k < 3; k++)
+                tmp[3 * r + c] += KI[3 * k + r] * E[3 * k + c];
+        }
+    double n = 0.0;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            F[3 * r + c] = 0.0;
+            for (int k = 0; k < 3; k++)
+                F[3 * r + c] += tmp[3 * r + k] * KI[3 * k + c];
+            n += F[3 * r + c] * F[3 * r + c];
+        }
+    for (int k = 0; k < 9; k++)
+        F[k] /= sqrt(n);
+}
+
+/*
+ * A dominant plane: of ND matches, noff general-position inliers, nout
+ * outliers and the rest on one plane, with 0.5 px noise. Noise-free copies in
+ * E1/E2 (the outliers' second pixels are replaced in both).
+ */
+static void dominant_plane(sfm_test_ctx *t, int noff, int nout, double R[9], double tr[3])
+{
+    sfm_camera cam = scene_pinhole();
+    double R2[9], t2[3];
+    sfm_rng keep = t->rng;
+    scene_twoview(t, &cam, ND, 0.0, 0.0, 1, E1, E2, DT, R, tr);
+    sfm_rng after = t->rng;
+    t->rng = keep;
+    /* the same stream start gives the same motion, general points */
+    scene_twoview(t, &cam, ND, 0.0, 0.0, 0, G1, G2, DT, R2, t2);
+    t->rng = after;
+    memcpy(E1, G1, 2 * sizeof(double) * (size_t)noff);
+    memcpy(E2, G2, 2 * sizeof(double) * (size_t)noff);
+    for (int i = 0; i < 2 * ND; i++) {
+        D1[i] = E1[i] + sfm_test_normal(t, 0.5);
+        D2[i] = E2[i] + sfm_test_normal(t, 0.5);
+    }
+    for (int i = ND - nout; i < ND; i++) {
+        D2[2 * i] = E2[2 * i] = sfm_test_uniform(t, 0, SCENE_W);
+        D2[2 * i + 1] = E2[2 * i + 1] = sfm_test_uniform(t, 0, SCENE_H);
+    }
+}
+
+SFM_TEST(fundamental_degensac_flag_dominant_plane)
+{
+    int trials = SFM_TEST_ITERS(12), flagged = 0, good = 0;
+    double worst = 0.0, worst_e = 0.0;
+    for (int k = 0; k < trials; k++) {
+        double R[9], tr[3], F[9], Ft[9];
+        const int noff = ND / 10, nout = ND / 5;
+        dominant_plane(t, noff, nout, R, tr);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+        opt.threshold = 1.5;
+        sfm_ransac_stats st;
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+                                        sizeof DWS);
+        SFM_CHECK(ni >= 8);
+        if (ni < 8)
+            continue;
+        flagged += (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;
+        /* against the truth: the off-plane points (noise-free) lie on the
+         * epipolar lines of F, and the epipoles agree */
+        double d[ND];
+        for (int i = 0; i < noff; i++)
+            d[i] = sym_epi(F, E1 + 2 * i, E2 + 2 * i);
+        double med = scene_median(d, noff), ee = epipole_err_deg(F, R, tr);
+        true_f(R, tr, Ft);
+        double et = epipole_err_deg(Ft, R, tr);
+        SFM_CHECK(et < 1e-6);
+        good += med < 1.0 && ee < 5.0;
+        worst = med > worst ? med : worst;
+        worst_e = ee > worst_e ? ee : worst_e;
+    }
+    FH_LOG("dominant plane: DEGENSAC flag in %d of %d runs; %d runs fit the off-plane points "
+           "(worst median %.3f px, worst epipole %.2f deg)",
+           flagged, trials, good, worst, worst_e);
+    SFM_CHECK_MSG(flagged == trials, "flag raised in %d of %d", flagged, trials);
+    SFM_CHECK_MSG(good == trials, "%d of %d runs fit the off-plane points", good, trials);
+}
+
+SFM_TEST(fundamental_degensac_flag_quiet_on_general_scene)
+{
+    sfm_camera cam = scene_pinhole();
+    int trials = SFM_TEST_ITERS(12), flagged = 0;
+    for (int k = 0; k < trials; k++) {
+        double R[9], tr[3], F[9];
+        scene_twoview(t, &cam, ND, 0.3, 0.5, 0, D1, D2, DT, R, tr);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+        opt.threshold = 1.5;
+        sfm_ransac_stats st;
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+                                        sizeof DWS);
+        SFM_CHECK(ni >= 8);
+        flagged += ni >= 8 && (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;
+    }
+    SFM_CHECK_MSG(flagged == 0, "flag raised in %d of %d general scenes", flagged, trials);
+}
