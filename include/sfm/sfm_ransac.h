@@ -214,7 +214,7 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
 #define SFM_RANSAC_ABSPOSE_MODEL 12
 #define SFM_RANSAC_MAT3_MODEL 9
 #define SFM_RANSAC_FUNDAMENTAL_MODEL 10 /* F, plane-and-parallax mark */
-#define SFM_RANSAC_HOMOGRAPHY_MODEL 18  /* H, H^-1 */
+#define SFM_RANSAC_HOMOGRAPHY_MODEL 9   /* H */
 
 /*
  * Workspace sizes as constant expressions, for static buffers (a
@@ -325,11 +325,14 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
                                    size_t ws_size);
 
 /*
- * Homography from n >= 4 pixel pairs: 4-point samples, symmetric transfer
- * error in pixels (the larger of the two directions), LO and final polish by
- * a normalized DLT refit. cam1, cam2 may be NULL, as for the fundamental
- * matrix. H: p2h ~ H p1h, unit Frobenius norm. opt->wide_mult is ignored
- * (2: LO and polish refit on the points within two thresholds).
+ * Homography from n >= 4 pixel pairs: 4-point samples, Sampson error in
+ * pixels (Hartley & Zisserman 4.2.6: the first-order distance of a pair to
+ * the homography, noise in both images), LO and final polish by a
+ * normalized DLT refit followed by a few Levenberg-Marquardt steps on the
+ * Sampson error (8 degrees of freedom, Cauchy loss of scale threshold).
+ * cam1, cam2 may be NULL, as for the fundamental matrix. H: p2h ~ H p1h,
+ * unit Frobenius norm. opt->wide_mult is ignored (2: LO and polish refit on
+ * the points within two thresholds).
  */
 /* Static size: SFM_RANSAC_HOMOGRAPHY_WS_SIZE(n). */
 SFM_API size_t sfm_ransac_homography_workspace_size(int n);

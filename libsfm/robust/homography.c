@@ -1,32 +1,43 @@
 /*
- * Homography by RANSAC over 4-point samples, scored on the symmetric transfer
- * error (the larger of the forward and backward squared distances, so both
- * images must agree), LO by a normalised DLT refit on the inliers.
- * Model: H[9] then H^-1[9].
+ * Homography by RANSAC over 4-point samples, scored on the Sampson error in
+ * pixels (Hartley & Zisserman 4.2.6: the first-order distance of a pair to
+ * the homography, with noise in both images); LO and final polish by a
+ * normalised DLT refit followed by a few Levenberg-Marquardt steps on the
+ * same error (homography_lm.c). A transfer error in one image, or the larger
+ * of the two, weighs a point by how much H stretches the image around it:
+ * under strong perspective (a ground plane towards the horizon) the far
+ * points of the plane fall out of the inlier band, and the fit leans on the
+ * near ones.
+ * Model: H[9] (unit Frobenius norm, nonsingular).
  */
 #include <math.h>
 #include <string.h>
 
 #include "robust/epipolar.h"
 #include "robust/estimator.h"
+#include "robust/homography_lm.h"
 #include "robust/pixel_pairs.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
 #define HMODEL SFM_RANSAC_HOMOGRAPHY_MODEL
+/* LM steps per refinement round. */
+#define H_LM_STEPS 8
 
 typedef struct h_ctx {
     const double *p1, *p2;
     double *g1, *g2;
+    double tau;
 } h_ctx;
 
-/* Unit Frobenius norm and the inverse (adjugate, scaled); 0 when singular. */
+/* Unit Frobenius norm; 0 when H is singular. */
 static int finish_model(const double *H, double *m)
 {
+    double adj[9];
     memmove(m, H, 9 * sizeof(double));
     if (sfm__normalize9(m))
         return 0;
-    double det = sfm_adj3(m, m + 9);
+    double det = sfm_adj3(m, adj);
     if (!(fabs(det) > 1e-15))
         return 0;
     return 1;
@@ -50,25 +61,33 @@ static int solve4(void *ctx, const int *s, double *models)
 static double residual(void *ctx, const double *m, int i)
 {
     const h_ctx *c = ctx;
-    double f = sfm_transfer2(m, c->p1 + 2 * i, c->p2 + 2 * i);
-    double b = sfm_transfer2(m + 9, c->p2 + 2 * i, c->p1 + 2 * i);
-    return f > b ? f : b;
+    return sfm_robust_homography_sampson2(m, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
-/* A linear refit, unweighted. It runs on the points within 2 thresholds
- * (the estimator forces wide_mult 2): a random point falls inside a disc of
- * 2 tau around its transfer with probability ~ 4 pi tau^2 / image area, so
- * the band adds true inliers and almost no outliers. */
+/* A linear refit (normalised DLT), then LM on the Sampson error from
+ * whichever of it and the current model has the lower robust cost. It runs
+ * on the points within 2 thresholds (the estimator forces wide_mult 2): a
+ * random point falls inside a disc of 2 tau around its transfer with
+ * probability ~ 4 pi tau^2 / image area, so the band adds true inliers and
+ * almost no outliers; the Cauchy loss of scale tau keeps those few from
+ * pulling. */
 static int refine(void *ctx, const int *inl, int n, double *m)
 {
     h_ctx *c = ctx;
+    if (n < 4)
+        return -1;
     sfm_robust_gather(c->p1, 2, inl, n, c->g1);
     sfm_robust_gather(c->p2, 2, inl, n, c->g2);
-    sfm_mat3 H;
-    if (sfm_homography_dlt(c->g1, c->g2, n, &H) != 1)
-        return -1;
+    double H[9];
+    memcpy(H, m, sizeof H);
+    sfm_mat3 L;
+    if (sfm_homography_dlt(c->g1, c->g2, n, &L) == 1 && sfm__normalize9(L.m) == 0 &&
+        sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
+            sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
+        memcpy(H, L.m, sizeof H);
+    (void)sfm_robust_homography_lm(c->g1, c->g2, n, c->tau, H_LM_STEPS, H);
     double tmp[HMODEL];
-    if (!finish_model(H.m, tmp))
+    if (!finish_model(H, tmp))
         return -1;
     memcpy(m, tmp, sizeof tmp);
     return 0;
@@ -93,7 +112,7 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     if (st < 0)
         return st;
     eopt.wide_mult = 2.0;
-    h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2};
+    h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2, eopt.threshold};
     sfm_ransac_estimator est = {4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, solve4,
                                 residual, refine, NULL, NULL, &c};
     double model[HMODEL];

@@ -226,8 +226,9 @@ def estimate_fundamental(p1, p2, K1=None, K2=None, threshold_px=1.0, quality=Non
 
 def estimate_homography(p1, p2, K1=None, K2=None, threshold_px=1.0, quality=None, dist1=None,
                         dist2=None, **kw):
-    """Homography from n >= 4 pixel pairs (4-point RANSAC, symmetric transfer
-    error). Returns the common entries plus H (3x3, unit norm, p2h ~ H p1h).
+    """Homography from n >= 4 pixel pairs (4-point RANSAC on the Sampson
+    error in pixels, noise in both images; LO by DLT and Sampson LM). Returns
+    the common entries plus H (3x3, unit norm, p2h ~ H p1h).
     Keyword options as estimate_fundamental."""
     out, H = _uncalibrated(lib.sfm_ransac_homography, lib.sfm_ransac_homography_workspace_size,
                            4, p1, p2, K1, K2, dist1, dist2, threshold_px, quality, kw,

@@ -1,0 +1,253 @@
+/*
+ * Levenberg-Marquardt on the Sampson error of a homography (Hartley &
+ * Zisserman 4.2.6): for y ~ H x the algebraic error of a pair is
+ *   e = (y2 u3 - u2, u1 - y1 u3),  u = H (x1, x2, 1),
+ * with Jacobian J (2 x 4) in the four coordinates (x1, x2, y1, y2), and the
+ * Sampson error is e^T (J J^T)^-1 e, the first-order squared distance of the
+ * pair to the variety of H: noise in both images, as the gold standard. The
+ * residual is the whitened 2-vector r = L^-1 e with J J^T = L L^T (2 x 2
+ * Cholesky), so |r|^2 is the Sampson error.
+ *
+ * Parameters: the entries of H_n = T2 H T1^-1 in Hartley-normalised
+ * coordinates (Hartley 1997), with its largest entry (at the start) held
+ * fixed, which fixes the scale and leaves 8 degrees of freedom. Distances
+ * stay in pixels: the Jacobian's columns of x and y are scaled by the
+ * normalisations' scales s1 and s2 (d x_n / d x = s1).
+ *
+ * Along entry (k, l) of H_n: du = e_k x_l, de and dJ follow linearly, and
+ * for J J^T = [a b; b c], L = [l11 0; l21 l22]:
+ *   dl11 = da / (2 l11), dl21 = (db - l21 dl11) / l11,
+ *   dl22 = (dc - 2 l21 dl21) / (2 l22),
+ *   dr1 = (de1 - r1 dl11) / l11, dr2 = (de2 - dl21 r1 - l21 dr1 - r2 dl22) / l22.
+ */
+#include "robust/homography_lm.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "robust/epipolar.h"
+#include "robust/lm_small.h"
+#include "solvers/normalize.h"
+
+#define NP 8
+
+/* The Sampson pieces of one pair: e, J (rows J1, J2), the Cholesky factor
+ * and r. xs, ys: d(coordinate) / d(pixel) in the two images.
+ * Returns 0 when J J^T is singular. */
+typedef struct hs_pair {
+    double u[3], e[2], J1[4], J2[4], l11, l21, l22, r[2];
+} hs_pair;
+
+static int sampson_pair(const double *H, const double *x, const double *y, double xs, double ys,
+                        hs_pair *P)
+{
+    const double X[3] = {x[0], x[1], 1.0};
+    sfm_matvec3(H, X, P->u);
+    const double *u = P->u;
+    P->e[0] = y[1] * u[2] - u[1];
+    P->e[1] = u[0] - y[0] * u[2];
+    P->J1[0] = xs * (y[1] * H[6] - H[3]);
+    P->J1[1] = xs * (y[1] * H[7] - H[4]);
+    P->J1[2] = 0.0;
+    P->J1[3] = ys * u[2];
+    P->J2[0] = xs * (H[0] - y[0] * H[6]);
+    P->J2[1] = xs * (H[1] - y[0] * H[7]);
+    P->J2[2] = -ys * u[2];
+    P->J2[3] = 0.0;
+    double a = 0.0, b = 0.0, c = 0.0;
+    for (int k = 0; k < 4; k++) {
+        a += P->J1[k] * P->J1[k];
+        b += P->J1[k] * P->J2[k];
+        c += P->J2[k] * P->J2[k];
+    }
+    if (!(a > 1e-300))
+        return 0;
+    P->l11 = sqrt(a);
+    P->l21 = b / P->l11;
+    double d = c - P->l21 * P->l21;
+    if (!(d > 1e-300 * (c > 1.0 ? c : 1.0)))
+        return 0;
+    P->l22 = sqrt(d);
+    P->r[0] = P->e[0] / P->l11;
+    P->r[1] = (P->e[1] - P->l21 * P->r[0]) / P->l22;
+    return 1;
+}
+
+/* e^T (J J^T)^-1 e in closed form (the 2 x 2 inverse), for scoring. */
+double sfm_robust_homography_sampson2(const double H[9], const double *x, const double *y)
+{
+    const double u0 = H[0] * x[0] + H[1] * x[1] + H[2];
+    const double u1 = H[3] * x[0] + H[4] * x[1] + H[5];
+    const double u2 = H[6] * x[0] + H[7] * x[1] + H[8];
+    const double e0 = y[1] * u2 - u1, e1 = u0 - y[0] * u2;
+    const double j0 = y[1] * H[6] - H[3], j1 = y[1] * H[7] - H[4];
+    const double k0 = H[0] - y[0] * H[6], k1 = H[1] - y[0] * H[7];
+    const double w = u2 * u2;
+    const double a = j0 * j0 + j1 * j1 + w, b = j0 * k0 + j1 * k1, c = k0 * k0 + k1 * k1 + w;
+    const double det = a * c - b * b;
+    if (!(det > 1e-300))
+        return SFM_ROBUST_HUGE;
+    return (c * e0 * e0 - 2.0 * b * e0 * e1 + a * e1 * e1) / det;
+}
+
+double sfm_robust_homography_cost(const double *p1, const double *p2, int n, double scale,
+                                  const double H[9])
+{
+    const double s2 = scale > 0.0 ? scale * scale : 0.0;
+    double c = 0.0, w;
+    for (int i = 0; i < n; i++) {
+        double r2 = sfm_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
+        if (r2 < SFM_ROBUST_HUGE)
+            c += sfm_lm_cauchy(r2, s2, &w);
+    }
+    return c;
+}
+
+typedef struct hnorm {
+    double t1[3], t2[3];
+} hnorm;
+
+static void normalise(const hnorm *N, const double *p, const double *q, double *xn, double *yn)
+{
+    xn[0] = N->t1[0] * p[0] + N->t1[1];
+    xn[1] = N->t1[0] * p[1] + N->t1[2];
+    yn[0] = N->t2[0] * q[0] + N->t2[1];
+    yn[1] = N->t2[0] * q[1] + N->t2[2];
+}
+
+static double cost_n(const hnorm *N, const double *p1, const double *p2, int n, double s2,
+                     const double *Hn)
+{
+    const double xs = N->t1[0], ys = N->t2[0];
+    double c = 0.0, w;
+    for (int i = 0; i < n; i++) {
+        double xn[2], yn[2];
+        hs_pair P;
+        normalise(N, p1 + 2 * i, p2 + 2 * i, xn, yn);
+        if (sampson_pair(Hn, xn, yn, xs, ys, &P))
+            c += sfm_lm_cauchy(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2, &w);
+    }
+    return c;
+}
+
+int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
+                             double H[9])
+{
+    hnorm N;
+    if (n < 4 || sfm__hartley_2d(p1, n, N.t1) < 0 || sfm__hartley_2d(p2, n, N.t2) < 0)
+        return -1;
+    const double s2 = scale > 0.0 ? scale * scale : 0.0;
+    /* pixel distances: a pixel step moves normalised coordinates by s */
+    const double xs = N.t1[0], ys = N.t2[0];
+    /* H_n = T2 H T1^-1 */
+    double T1i[9], T2[9], tmp[9], Hn[9];
+    const double ti1[3] = {1.0 / N.t1[0], -N.t1[1] / N.t1[0], -N.t1[2] / N.t1[0]};
+    sfm__hartley_matrix(ti1, T1i);
+    sfm__hartley_matrix(N.t2, T2);
+    sfm_matmul3(T2, H, tmp);
+    sfm_matmul3(tmp, T1i, Hn);
+    if (sfm__normalize9(Hn) != 0)
+        return -1;
+    int fixed = 0, ent[NP];
+    for (int k = 1; k < 9; k++)
+        if (fabs(Hn[k]) > fabs(Hn[fixed]))
+            fixed = k;
+    for (int k = 0, p = 0; k < 9; k++)
+        if (k != fixed)
+            ent[p++] = k;
+    double cur = cost_n(&N, p1, p2, n, s2, Hn);
+    double lambda = 1e-4;
+    int improved = 0;
+    for (int it = 0; it < iters; it++) {
+        double JtJ[NP * NP], g[NP];
+        memset(JtJ, 0, sizeof JtJ);
+        memset(g, 0, sizeof g);
+        for (int i = 0; i < n; i++) {
+            double xn[2], yn[2], w;
+            hs_pair P;
+            normalise(&N, p1 + 2 * i, p2 + 2 * i, xn, yn);
+            if (!sampson_pair(Hn, xn, yn, xs, ys, &P))
+                continue;
+            (void)sfm_lm_cauchy(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2, &w);
+            const double X[3] = {xn[0], xn[1], 1.0};
+            double J[2][NP];
+            for (int p = 0; p < NP; p++) {
+                const int k = ent[p] / 3, l = ent[p] % 3;
+                double du[3] = {0.0, 0.0, 0.0};
+                du[k] = X[l];
+                const double de0 = yn[1] * du[2] - du[1], de1 = du[0] - yn[0] * du[2];
+                /* dJ: the entries of J that hold H (k, l) */
+                double dJ1[4] = {0.0, 0.0, 0.0, ys * du[2]};
+                double dJ2[4] = {0.0, 0.0, -ys * du[2], 0.0};
+                if (l < 2) {
+                    if (k == 2) {
+                        dJ1[l] = xs * yn[1];
+                        dJ2[l] = -xs * yn[0];
+                    } else if (k == 1) {
+                        dJ1[l] = -xs;
+                    } else {
+                        dJ2[l] = xs;
+                    }
+                }
+                double da = 0.0, db = 0.0, dc = 0.0;
+                for (int m = 0; m < 4; m++) {
+                    da += 2.0 * P.J1[m] * dJ1[m];
+                    db += P.J1[m] * dJ2[m] + dJ1[m] * P.J2[m];
+                    dc += 2.0 * P.J2[m] * dJ2[m];
+                }
+                const double dl11 = da / (2.0 * P.l11);
+                const double dl21 = (db - P.l21 * dl11) / P.l11;
+                const double dl22 = (dc - 2.0 * P.l21 * dl21) / (2.0 * P.l22);
+                const double dr0 = (de0 - P.r[0] * dl11) / P.l11;
+                J[0][p] = dr0;
+                J[1][p] = (de1 - dl21 * P.r[0] - P.l21 * dr0 - P.r[1] * dl22) / P.l22;
+            }
+            for (int m = 0; m < 2; m++)
+                for (int p = 0; p < NP; p++) {
+                    const double wj = w * J[m][p];
+                    g[p] += wj * P.r[m];
+                    for (int q = 0; q <= p; q++)
+                        JtJ[p * NP + q] += wj * J[m][q];
+                }
+        }
+        int accepted = 0;
+        for (int tries = 0; tries < 6 && !accepted; tries++) {
+            double x[NP], Hnn[9];
+            if (sfm_lm_small_step(JtJ, g, NP, lambda, x) < 0) {
+                lambda *= 10.0;
+                continue;
+            }
+            memcpy(Hnn, Hn, sizeof Hnn);
+            for (int p = 0; p < NP; p++)
+                Hnn[ent[p]] += x[p];
+            double cn = cost_n(&N, p1, p2, n, s2, Hnn);
+            if (cn < cur) {
+                double rel = (cur - cn) / (cur > 0.0 ? cur : 1.0);
+                memcpy(Hn, Hnn, sizeof Hnn);
+                cur = cn;
+                accepted = 1;
+                improved = 1;
+                lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
+                if (rel < 1e-10)
+                    it = iters;
+            } else {
+                lambda *= 10.0;
+            }
+        }
+        if (!accepted)
+            break;
+    }
+    if (!improved)
+        return 1;
+    /* H = T2^-1 H_n T1 */
+    double T2i[9], T1[9], Hp[9];
+    const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
+    sfm__hartley_matrix(ti2, T2i);
+    sfm__hartley_matrix(N.t1, T1);
+    sfm_matmul3(T2i, Hn, tmp);
+    sfm_matmul3(tmp, T1, Hp);
+    if (sfm__normalize9(Hp) != 0 || !sfm_all_finite9(Hp))
+        return -1;
+    memcpy(H, Hp, sizeof Hp);
+    return 0;
+}
