@@ -24,6 +24,9 @@ PYTHON ?= $(PYTHON_VENV)/bin/python
 CORE_MODULES := core solvers robust refine recon features
 LIB_SRCS := $(foreach m,$(CORE_MODULES),$(wildcard libsfm/$(m)/*.c) $(wildcard libsfm/$(m)/generated/*.c))
 PUBLIC_HEADERS := $(wildcard include/sfm/*.h)
+# Objects depend on every header, public and internal: coarse, but a changed
+# constant in an internal header can never leave a stale object behind.
+LIB_HEADERS := $(PUBLIC_HEADERS) $(wildcard libsfm/*/*.h libsfm/*/*/*.h)
 
 WARN := -Wall -Wextra -Wpedantic -Werror -Wshadow -Wdouble-promotion
 STD := -std=c11 -ffp-contract=off
@@ -52,11 +55,11 @@ $(1)_LDFLAGS := $(5)
 $(1)_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(LIB_SRCS))
 $(1)_TEST_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(UNIT_SRCS)) $(2)/obj/tests/registry.o
 
-$(2)/obj/libsfm/%.o: libsfm/%.c $$(PUBLIC_HEADERS) | $(2)/.dir
+$(2)/obj/libsfm/%.o: libsfm/%.c $$(LIB_HEADERS) | $(2)/.dir
 	@mkdir -p $$(@D)
 	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_LIB) -c $$< -o $$@
 
-$(2)/obj/tests/%.o: tests/%.c $$(PUBLIC_HEADERS) tests/harness/sfm_test.h | $(2)/.dir
+$(2)/obj/tests/%.o: tests/%.c $$(LIB_HEADERS) $$(wildcard tests/*/*.h) | $(2)/.dir
 	@mkdir -p $$(@D)
 	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
 

@@ -4,18 +4,34 @@
  * The engine draws minimal samples (uniformly, or PROSAC-ordered when points
  * carry quality scores), asks the estimator for up to max_models models per
  * sample, verifies each with SPRT (Chum & Matas, "Optimal randomized RANSAC",
- * PAMI 2008) so that bad models are dropped after a few points, scores the
- * survivors with MSAC (truncated quadratic: sum of min(r^2, tau^2)), runs
- * local optimisation (LO-RANSAC: a few nonlinear refinement rounds on the
- * inliers, or on the points within wide_mult thresholds, kept while the MSAC
- * cost drops) on every new best model, and stops at a confidence level, an
- * iteration cap or a time budget read from a caller-supplied clock. With
- * opt->wide_mult > 1 the winner is then polished: refine() on
- * every point within wide_mult thresholds, under a robust loss of scale tau (with
- * 1 px noise a 1 px threshold keeps only about half of the true inliers; the
- * polish uses nearly all of them, while the loss keeps the few outliers in
- * that band from pulling). The polished model is kept unless it loses more
- * than 5 % of the inliers.
+ * PAMI 2008) and Capel's bail-out test (BMVC 2005) so that bad models are
+ * dropped after a few points, scores the survivors with MSAC (truncated
+ * quadratic: sum of min(r^2, tau^2)), runs local optimisation on every new
+ * best model, and stops at a confidence level, an iteration cap or a time
+ * budget read from a caller-supplied clock.
+ *
+ * Local optimisation (LO-RANSAC, Chum, Matas & Kittler 2003): a few
+ * nonlinear refinement rounds on the inliers, or on the points within
+ * wide_mult thresholds (at most 128 of them, evenly spread), kept while the
+ * MSAC cost drops. When the new best's inlier ratio says the run would not
+ * reach its confidence before max_iterations, the LO also draws 20 minimal
+ * samples from the model's points within the band (the inner RANSAC of the
+ * paper) and refines the best: a model from a noisy sample often fits only
+ * part of the inliers, and the refits alone cannot leave that local minimum.
+ *
+ * Stopping: the samples needed at opt->confidence follow from the inlier
+ * ratio counted within wide_mult thresholds (when wide_mult > 1), not at tau:
+ * with noise near tau the count at tau misses a third or more of the true
+ * inliers, and the rule would ask for 2^k times the samples an all-inlier
+ * draw needs.
+ *
+ * With opt->wide_mult > 1 the winner is then polished: refine() on every point
+ * within 3.5 robust standard deviations of its residuals (1.4826 times their
+ * median), at least tau and at most wide_mult tau, under a robust loss of
+ * scale tau (with 1 px noise a 1 px threshold keeps only about half of the
+ * true inliers; the polish uses nearly all of them, while the band and the
+ * loss keep the outliers out). The polished model is kept unless it loses
+ * more than 5 % of the inliers.
  *
  * Memory: the run call works in caller memory only. Its size comes from
  * sfm_ransac_workspace_size(dims) or, for a static buffer, from the macro
@@ -106,7 +122,8 @@ typedef struct sfm_ransac_options {
     int min_iterations;    /* >= 0 */
     int max_iterations;    /* >= 1, >= min_iterations */
     uint64_t seed;         /* seeds the run's own sfm_rng */
-    int lo_rounds;         /* local-optimisation rounds per new best (0: no LO) */
+    int lo_rounds;         /* refinement rounds per local optimisation (0: no
+                              LO, no inner RANSAC) */
     double wide_mult;      /* <= 1: LO refines on the inliers at tau, no polish;
                               > 1: LO and the final polish refine on the points
                               within wide_mult thresholds. 0 (default) lets the
@@ -114,7 +131,8 @@ typedef struct sfm_ransac_options {
                               refits are robust); sfm_ransac_run reads 0 as 1 */
     int polish_rounds;     /* final polish rounds on the winner (0: none; only
                               with wide_mult > 1) */
-    int use_sprt;          /* 1: SPRT early rejection; 0: full MSAC scoring */
+    int use_sprt;          /* 1: early rejection (SPRT, bail-out); 0: full
+                              MSAC scoring */
     const double *quality; /* optional per-point quality (higher is better):
                               PROSAC sampling; NULL: uniform sampling */
     sfm_ransac_clock_fn clock; /* optional; with time_budget > 0 bounds the run */
@@ -125,7 +143,7 @@ typedef struct sfm_ransac_options {
 typedef struct sfm_ransac_stats {
     int iterations;       /* samples drawn */
     int models;           /* models verified */
-    int sprt_rejected;    /* models dropped by SPRT before full scoring */
+    int sprt_rejected;    /* models dropped early (SPRT or bail-out) */
     int lo_runs;          /* local optimisations run */
     int polished;         /* 1 when the final polish was kept */
     int num_inliers;      /* inliers of the returned model (r^2 < tau^2) */
@@ -156,9 +174,9 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
     (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 4u +                           \
-     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) +               \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) * 2u +          \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
-     SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 2u + 15u)
+     SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 3u + 15u)
 
 /*
  * Run RANSAC over n points with estimator est.

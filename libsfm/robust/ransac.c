@@ -24,11 +24,14 @@ typedef struct engine {
     int n, k, m, s;
     double tau2;
     double wide; /* LO / polish band in thresholds, >= 1 */
+    int thin;    /* LO may refit on a subset: a full polish follows */
     int *perm;    /* verification order: a seeded random permutation */
     int *pos;     /* pos[perm[j]] = j */
     int *order;   /* PROSAC ranking (points by decreasing quality) */
     int *inl;     /* inlier list scratch */
     double *models;
+    double *inner; /* models of the inner samples of an LO */
+    int *inner_sample;
     double *best;
     double *tmp;
     double *spare;
@@ -53,6 +56,8 @@ static void carve(sfm_arena *a, const sfm_ransac_dims *d, engine *e)
     e->order = SFM_ARENA_ARRAY(a, int, d->n);
     e->inl = SFM_ARENA_ARRAY(a, int, d->n);
     e->models = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
+    e->inner = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
+    e->inner_sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
     e->best = SFM_ARENA_ARRAY(a, double, d->model_size);
     e->tmp = SFM_ARENA_ARRAY(a, double, d->model_size);
     e->spare = SFM_ARENA_ARRAY(a, double, d->model_size);
@@ -114,6 +119,10 @@ static double score_full(const engine *e, const double *model, int *ninl)
 #define EVAL_BETTER 0
 #define EVAL_WORSE 1
 #define EVAL_SPRT 2
+#define EVAL_BAIL 3
+
+#define BAIL_STEP 32 /* a power of two */
+#define BAIL_Z 3.0
 
 /* Verify a model in the permuted order: SPRT rejection and MSAC early exit
  * once the partial cost reaches the best cost (every term is >= 0, so the
@@ -122,11 +131,14 @@ static double score_full(const engine *e, const double *model, int *ninl)
  * likelihood ratio nor in the estimate of delta. own_pos holds their
  * positions in the verification order, ascending, ending with n. */
 static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *model,
-                    const int *own_pos, double best_score, double *score, int *ninl)
+                    const int *own_pos, double best_score, double best_eps, double *score,
+                    int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
     const double tau2 = e->tau2;
     const int sprt_on = use_sprt && sp->active && isfinite(best_score);
+    const int bail_on = use_sprt && best_eps > 0.0 && best_eps < 1.0;
+    const double bail_eps = best_eps, bail_var = best_eps * (1.0 - best_eps);
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
     int c = 0, own = 0, own_c = 0;
@@ -147,10 +159,32 @@ static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *m
         }
         if (s >= best_score)
             return EVAL_WORSE;
+        /* bail-out (Capel, "An effective bail-out test for RANSAC consensus
+         * scoring", BMVC 2005): every BAIL_STEP points, drop the model when
+         * its inlier count so far is BAIL_Z standard deviations below what
+         * the best model's inlier ratio predicts. SPRT misses the models
+         * that explain a few percent of the points (an epipole inside the
+         * image): they look good against the rejected models' delta, and
+         * the MSAC bound only stops them near the end */
+        if (bail_on && (j & (BAIL_STEP - 1)) == BAIL_STEP - 1) {
+            double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
+            if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
+                return EVAL_BAIL;
+        }
     }
     *score = s;
     *ninl = c;
     return EVAL_BETTER;
+}
+
+/* Number of points whose squared residual is below r2max. */
+static int count_within(const engine *e, const double *model, double r2max)
+{
+    const sfm_ransac_estimator *est = e->est;
+    int c = 0;
+    for (int i = 0; i < e->n; i++)
+        c += est->residual(est->ctx, model, i) < r2max;
+    return c;
 }
 
 /* Points whose squared residual is below wide2 go to list; returns count. */
@@ -162,60 +196,6 @@ static int collect_within(const engine *e, const double *model, double wide2, in
         if (est->residual(est->ctx, model, i) < wide2)
             list[c++] = i;
     return c;
-}
-
-/* LO-RANSAC: refine on the inliers, or with opt->wide_mult > 1 on the
- * points within wide_mult thresholds (robust scale tau), keep the result
- * while the MSAC cost at tau drops. The wider set follows the iterative
- * least squares of Chum, Matas & Kittler (which start at a multiple of the
- * threshold): with noise near the
- * threshold, a model from a noisy sample sees only part of its inliers at
- * tau and converges from the wider set. */
-static void local_optimise(const engine *e, int rounds, double *model, double *score, int *ninl)
-{
-    const sfm_ransac_estimator *est = e->est;
-    const double wide2 = e->tau2 * e->wide * e->wide;
-    if (est->refine == NULL)
-        return;
-    for (int r = 0; r < rounds; r++) {
-        int c = collect_within(e, model, wide2, e->inl);
-        if (c < e->k)
-            return;
-        memcpy(e->tmp, model, sizeof(double) * (size_t)e->s);
-        if (est->refine(est->ctx, e->inl, c, e->tmp) < 0)
-            return;
-        int c2;
-        double s2 = score_full(e, e->tmp, &c2);
-        if (!(s2 < *score))
-            return;
-        memcpy(model, e->tmp, sizeof(double) * (size_t)e->s);
-        *score = s2;
-        *ninl = c2;
-    }
-}
-
-/* Final polish of e->best: refine on every point within wide_mult
- * thresholds (robust scale tau) without asking the MSAC cost at tau (which
- * prefers models fitted to the points inside tau only); kept when it loses
- * at most 5 % of the inliers. Returns 1 when kept. */
-static int polish(const engine *e, int rounds, int best_inl)
-{
-    const sfm_ransac_estimator *est = e->est;
-    const double wide2 = e->tau2 * e->wide * e->wide;
-    memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
-    for (int r = 0; r < rounds; r++) {
-        int c = collect_within(e, e->spare, wide2, e->inl);
-        if (c < e->k)
-            break;
-        if (est->refine(est->ctx, e->inl, c, e->spare) < 0)
-            break;
-    }
-    int ci;
-    (void)score_full(e, e->spare, &ci);
-    if ((double)ci < 0.95 * (double)best_inl)
-        return 0;
-    memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
-    return 1;
 }
 
 /* Samples needed so that an all-inlier, SPRT-accepted sample has been drawn
@@ -239,6 +219,190 @@ static int contains(const int *a, int k, int v)
         if (a[i] == v)
             return 1;
     return 0;
+}
+
+/* Points a local optimisation refits on at most when a final polish
+ * follows. LO then only has to move a model into the right basin (the
+ * polish refits on every point), and its cost grows with the list: a fixed
+ * cap keeps an LO at N = 1000 as cheap as at N = 200. */
+#define LO_MAX_POINTS 128
+
+/* Keeps LO_MAX_POINTS entries of list[0..c) spread evenly over it (the list
+ * is in index order, and the points' order carries no meaning); returns the
+ * new count. */
+static int thin_out(int *list, int c)
+{
+    if (c <= LO_MAX_POINTS)
+        return c;
+    for (int j = 0; j < LO_MAX_POINTS; j++)
+        list[j] = list[(int)(((long long)j * c) / LO_MAX_POINTS)];
+    return LO_MAX_POINTS;
+}
+
+/* The refits of an LO: refine on the points within wide_mult thresholds
+ * (robust scale tau), or on the inliers at tau when wide_mult <= 1; keep the
+ * result while the MSAC cost at tau drops. The wider set follows the
+ * iterative least squares of Chum, Matas & Kittler (which start at a
+ * multiple of the threshold): with noise near the threshold, a model from a
+ * noisy sample sees only part of its inliers at tau and converges from the
+ * wider set. */
+static void refits(const engine *e, int rounds, double *model, double *score, int *ninl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
+    for (int r = 0; r < rounds; r++) {
+        int c = collect_within(e, model, wide2, e->inl);
+        if (c < e->k)
+            return;
+        if (e->thin)
+            c = thin_out(e->inl, c);
+        memcpy(e->tmp, model, sizeof(double) * (size_t)e->s);
+        if (est->refine(est->ctx, e->inl, c, e->tmp) < 0)
+            return;
+        int c2;
+        double s2 = score_full(e, e->tmp, &c2);
+        if (!(s2 < *score))
+            return;
+        memcpy(model, e->tmp, sizeof(double) * (size_t)e->s);
+        *score = s2;
+        *ninl = c2;
+    }
+}
+
+/* Minimal samples an inner RANSAC draws. */
+#define INNER_SAMPLES 20
+
+/* Inner RANSAC of LO-RANSAC (Chum, Matas & Kittler 2003, section 3): minimal
+ * samples drawn from the model's points within the wide band, solved and
+ * scored on all points; the best model replaces *model when it is better.
+ * A noisy sample often lands in a wrong local minimum that explains part of
+ * the inliers (for relative pose: along the rotation-translation valley);
+ * the refits cannot leave it, but most samples from its support are clean
+ * and reach the right one. Returns 1 when *model changed. */
+static int inner_ransac(const engine *e, int early, sfm_rng *rng, double *model, double *score,
+                        int *ninl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide2 = e->tau2 * e->wide * e->wide;
+    int c = collect_within(e, model, wide2, e->inl);
+    if (c < 2 * e->k)
+        return 0;
+    sfm_sprt off;
+    sfm_sprt_init(&off, 0.0, 0.0); /* inactive: inner models are not the bad
+                                      models SPRT's delta describes; the
+                                      bail-out still applies */
+    const int own_none = e->n;
+    int changed = 0;
+    for (int it = 0; it < INNER_SAMPLES; it++) {
+        for (int i = 0; i < e->k; i++) {
+            int v;
+            do {
+                v = e->inl[sfm_rng_bounded(rng, (uint32_t)c)];
+            } while (contains(e->inner_sample, i, v));
+            e->inner_sample[i] = v;
+        }
+        int nm = est->solve(est->ctx, e->inner_sample, e->inner);
+        if (nm < 0)
+            continue;
+        if (nm > e->m)
+            nm = e->m;
+        for (int mi = 0; mi < nm; mi++) {
+            const double *cand = e->inner + (size_t)mi * (size_t)e->s;
+            double sc;
+            int ci;
+            if (evaluate(e, &off, early, cand, &own_none, *score, (double)*ninl / (double)e->n, &sc,
+                         &ci) != EVAL_BETTER)
+                continue;
+            memcpy(model, cand, sizeof(double) * (size_t)e->s);
+            *score = sc;
+            *ninl = ci;
+            changed = 1;
+        }
+    }
+    return changed;
+}
+
+/* LO-RANSAC on a new best: the refits, then, when the run would not reach
+ * its confidence before max_iterations on this model's inlier ratio (the
+ * samples alone are then unlikely to find a better one), an inner RANSAC
+ * and the refits again. */
+static void local_optimise(const engine *e, const sfm_ransac_options *opt, int it, sfm_rng *rng,
+                           double *model, double *score, int *ninl)
+{
+    if (e->est->refine == NULL)
+        return;
+    refits(e, opt->lo_rounds, model, score, ninl);
+    double eps = (double)count_within(e, model, e->tau2 * e->wide * e->wide) / (double)e->n;
+    if (needed_iterations(eps, e->k, 1.0, opt->confidence) <= (double)(opt->max_iterations - it))
+        return;
+    if (inner_ransac(e, opt->use_sprt != 0, rng, model, score, ninl))
+        refits(e, opt->lo_rounds, model, score, ninl);
+}
+
+/* Bins of the residual histogram behind the polish band. */
+#define SPREAD_BINS 64
+/* The polish band in robust standard deviations of the winner's residuals. */
+#define POLISH_SIGMAS 3.5
+
+/* Squared radius of the final polish band: POLISH_SIGMAS robust standard
+ * deviations (1.4826 times the median residual within the wide band, read
+ * from a histogram), between tau and wide_mult tau. With a threshold well
+ * above the noise, the full wide band lets in outliers that a fit to the
+ * inliers' own spread keeps out; with noise near tau the band stays wide.
+ * The median is taken as for a one-dimensional residual; two-dimensional
+ * ones (reprojection, transfer) get a wider band, capped the same way. */
+static double polish_band2(const engine *e, const double *model)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide = sqrt(e->tau2) * e->wide, wide2 = wide * wide;
+    int hist[SPREAD_BINS] = {0};
+    int m = 0;
+    for (int i = 0; i < e->n; i++) {
+        double r2 = est->residual(est->ctx, model, i);
+        if (!(r2 < wide2))
+            continue;
+        int b = (int)(sqrt(r2) / wide * SPREAD_BINS);
+        hist[b < SPREAD_BINS ? b : SPREAD_BINS - 1]++;
+        m++;
+    }
+    if (m == 0)
+        return wide2;
+    double half = 0.5 * (double)m, below = 0.0, med = wide;
+    for (int b = 0; b < SPREAD_BINS; b++) {
+        if (below + (double)hist[b] >= half) {
+            med = ((double)b + (half - below) / (double)hist[b]) * wide / SPREAD_BINS;
+            break;
+        }
+        below += (double)hist[b];
+    }
+    double band = POLISH_SIGMAS * 1.4826 * med, band2 = band * band;
+    if (band2 < e->tau2)
+        band2 = e->tau2;
+    return band2 < wide2 ? band2 : wide2;
+}
+
+/* Final polish of e->best: refine on every point within the polish band
+ * (robust scale tau) without asking the MSAC cost at tau (which
+ * prefers models fitted to the points inside tau only); kept when it loses
+ * at most 5 % of the inliers. Returns 1 when kept. */
+static int polish(const engine *e, int rounds, int best_inl)
+{
+    const sfm_ransac_estimator *est = e->est;
+    const double wide2 = polish_band2(e, e->best);
+    memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
+    for (int r = 0; r < rounds; r++) {
+        int c = collect_within(e, e->spare, wide2, e->inl);
+        if (c < e->k)
+            break;
+        if (est->refine(est->ctx, e->inl, c, e->spare) < 0)
+            break;
+    }
+    int ci;
+    (void)score_full(e, e->spare, &ci);
+    if ((double)ci < 0.95 * (double)best_inl)
+        return 0;
+    memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
+    return 1;
 }
 
 int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
@@ -282,6 +446,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     e.s = est->model_size;
     e.tau2 = opt->threshold * opt->threshold;
     e.wide = opt->wide_mult > 1.0 ? opt->wide_mult : 1.0;
+    e.thin = e.wide > 1.0 && opt->polish_rounds > 0;
 
     sfm_rng rng;
     sfm_rng_seed(&rng, opt->seed);
@@ -368,8 +533,9 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             double sc;
             int ci;
             models++;
-            int r = evaluate(&e, &sprt, use_sprt, cand, own_pos, best_score, &sc, &ci);
-            if (r == EVAL_SPRT)
+            int r = evaluate(&e, &sprt, use_sprt, cand, own_pos, best_score,
+                             have_best ? (double)best_inl / (double)n : 0.0, &sc, &ci);
+            if (r == EVAL_SPRT || r == EVAL_BAIL)
                 rejected++;
             if (r != EVAL_BETTER)
                 continue;
@@ -379,7 +545,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
                 sc = score_full(&e, e.spare, &ci);
             if (opt->lo_rounds > 0 && est->refine != NULL) {
                 lo_runs++;
-                local_optimise(&e, opt->lo_rounds, e.spare, &sc, &ci);
+                local_optimise(&e, opt, it, &rng, e.spare, &sc, &ci);
             }
             if (!(sc < best_score))
                 continue;
@@ -387,11 +553,17 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             best_score = sc;
             best_inl = ci;
             have_best = 1;
-            /* re-tune SPRT and the stopping rule with the new inlier ratio */
+            /* re-tune SPRT (which tests consistency at tau) with the
+             * inlier ratio at tau, and the stopping rule with the ratio in
+             * the wide band: with noise near tau, the count at tau misses a
+             * third or more of the true inliers, and eps^k would then ask
+             * for 2^k times the samples an all-inlier draw needs */
             double eps = (double)best_inl / (double)n;
             sprt.eps = eps;
             sfm_sprt_update(&sprt);
-            k_needed = needed_iterations(eps, e.k, use_sprt ? sfm_sprt_pass_probability(&sprt) : 1.0,
+            double eps_stop = e.wide > 1.0 ? (double)count_within(&e, e.best, e.tau2 * e.wide * e.wide) / (double)n : eps;
+            k_needed = needed_iterations(eps_stop, e.k,
+                                         use_sprt ? sfm_sprt_pass_probability(&sprt) : 1.0,
                                          opt->confidence);
         }
     }

@@ -36,19 +36,6 @@ static double cost(const double *b1, const double *b2, const int *idx, int n, co
     return c;
 }
 
-static void skew(const double *v, double *S)
-{
-    S[0] = 0.0;
-    S[1] = -v[2];
-    S[2] = v[1];
-    S[3] = v[2];
-    S[4] = 0.0;
-    S[5] = -v[0];
-    S[6] = -v[1];
-    S[7] = v[0];
-    S[8] = 0.0;
-}
-
 int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
                           const double *axis, double scale, int iters, double R[9], double t[3])
 {
@@ -61,61 +48,55 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
     double lambda = 1e-4;
     int improved = 0;
     for (int it = 0; it < iters; it++) {
-        /* directions of E for each parameter */
-        double dE[MAXP][9], St[9], S[9], tmp[9], e1[3], e2[3];
-        skew(t, St);
-        for (int k = 0; k < nr; k++) {
-            double w[3] = {0.0, 0.0, 0.0};
-            if (axis) {
-                w[0] = axis[0];
-                w[1] = axis[1];
-                w[2] = axis[2];
-            } else {
-                w[k] = 1.0;
-            }
-            skew(w, S);
-            sfm_matmul3(St, S, tmp);
-            sfm_matmul3(tmp, R, dE[k]);
-        }
+        double e1[3], e2[3];
         sfm_tangent_basis(t, e1, e2);
-        skew(e1, S);
-        sfm_matmul3(S, R, dE[nr]);
-        skew(e2, S);
-        sfm_matmul3(S, R, dE[nr + 1]);
-
         double H[MAXP * MAXP], g[MAXP];
         memset(H, 0, sizeof H);
         memset(g, 0, sizeof g);
         for (int j = 0; j < n; j++) {
             const double *x1 = b1 + 3 * idx[j], *x2 = b2 + 3 * idx[j];
-            double Eb1[3], Etb2[3];
-            sfm_matvec3(E, x1, Eb1);
-            Etb2[0] = E[0] * x2[0] + E[3] * x2[1] + E[6] * x2[2];
-            Etb2[1] = E[1] * x2[0] + E[4] * x2[1] + E[7] * x2[2];
-            Etb2[2] = E[2] * x2[0] + E[5] * x2[1] + E[8] * x2[2];
-            double C = sfm_dot3(x2, Eb1);
-            double D = sfm_dot3(Eb1, Eb1) + sfm_dot3(Etb2, Etb2) - 2.0 * C * C;
+            /* u = R b1, a = E b1 = t x u, v = b2 x t (so E^T b2 = R^T v and
+             * |E^T b2| = |v|), C = u.v, D = |a|^2 + |v|^2 - 2 C^2. Under
+             * u <- u + w x u: dC = w.(u x v), d|a|^2 = 2 w.(u x (a x t)).
+             * Under t <- t + dt: dC = dt.(u x b2),
+             * d|a|^2 + d|v|^2 = 2 dt.(u x a + v x b2). */
+            double u[3], a[3], v[3];
+            sfm_matvec3(R, x1, u);
+            sfm_cross3(t, u, a);
+            sfm_cross3(x2, t, v);
+            double C = sfm_dot3(u, v);
+            double D = sfm_dot3(a, a) + sfm_dot3(v, v) - 2.0 * C * C;
             if (!(D > 1e-300))
                 continue;
+            double gCw[3], axt[3], gDw[3], gCt[3], uxa[3], vxb[3], gDt[3];
+            sfm_cross3(u, v, gCw);
+            sfm_cross3(a, t, axt);
+            sfm_cross3(u, axt, gDw);
+            sfm_cross3(u, x2, gCt);
+            sfm_cross3(u, a, uxa);
+            sfm_cross3(v, x2, vxb);
+            for (int k = 0; k < 3; k++) {
+                gDw[k] = 2.0 * gDw[k] - 4.0 * C * gCw[k];
+                gDt[k] = 2.0 * (uxa[k] + vxb[k]) - 4.0 * C * gCt[k];
+            }
             double sD = sqrt(D);
             double r = C / sD;
+            const double ia = 1.0 / sD, ib = 0.5 * C / (D * sD);
             double J[MAXP];
-            for (int p = 0; p < np; p++) {
-                const double *M = dE[p];
-                double Mb1[3], Mtb2[3];
-                sfm_matvec3(M, x1, Mb1);
-                Mtb2[0] = M[0] * x2[0] + M[3] * x2[1] + M[6] * x2[2];
-                Mtb2[1] = M[1] * x2[0] + M[4] * x2[1] + M[7] * x2[2];
-                Mtb2[2] = M[2] * x2[0] + M[5] * x2[1] + M[8] * x2[2];
-                double dC = sfm_dot3(x2, Mb1);
-                double dD = 2.0 * sfm_dot3(Eb1, Mb1) + 2.0 * sfm_dot3(Etb2, Mtb2) - 4.0 * C * dC;
-                J[p] = dC / sD - 0.5 * C * dD / (D * sD);
+            if (axis) {
+                J[0] = ia * sfm_dot3(axis, gCw) - ib * sfm_dot3(axis, gDw);
+            } else {
+                for (int k = 0; k < 3; k++)
+                    J[k] = ia * gCw[k] - ib * gDw[k];
             }
+            J[nr] = ia * sfm_dot3(e1, gCt) - ib * sfm_dot3(e1, gDt);
+            J[nr + 1] = ia * sfm_dot3(e2, gCt) - ib * sfm_dot3(e2, gDt);
             double w = s2 > 0.0 ? 1.0 / (1.0 + r * r / s2) : 1.0;
             for (int p = 0; p < np; p++) {
-                g[p] += w * J[p] * r;
+                double wj = w * J[p];
+                g[p] += wj * r;
                 for (int q = 0; q <= p; q++)
-                    H[p * np + q] += w * J[p] * J[q];
+                    H[p * np + q] += wj * J[q];
             }
         }
         /* damped steps until one lowers the cost */
@@ -165,7 +146,7 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
                 accepted = 1;
                 improved = 1;
                 lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
-                if (rel < 1e-10)
+                if (rel < 1e-6)
                     return 0;
             } else {
                 lambda *= 10.0;

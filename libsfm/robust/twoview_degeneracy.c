@@ -62,6 +62,28 @@ static int homography_count(const double *p1, const double *p2, int n, const dou
     return c;
 }
 
+/* Points the candidate homographies are counted on: an evenly spread
+ * subset, enough to tell a dominant plane (SFM_DEGENERACY_FRACTION of the
+ * points) from a general scene; the winner is then counted on all. */
+#define SUBSET 128
+
+static int homography_count_subset(const double *p1, const double *p2, int m, int s,
+                                   const double *H, double tol)
+{
+    int c = 0;
+    for (int j = 0; j < s; j++) {
+        int i = (int)(((long long)j * m) / s);
+        double x = p1[2 * i], y = p1[2 * i + 1];
+        double w = H[6] * x + H[7] * y + H[8];
+        if (fabs(w) < 1e-12)
+            continue;
+        double u = (H[0] * x + H[1] * y + H[2]) / w - p2[2 * i];
+        double v = (H[3] * x + H[4] * y + H[5]) / w - p2[2 * i + 1];
+        c += u * u + v * v < tol * tol;
+    }
+    return c;
+}
+
 /* Writes the z = 1 projections of the inliers seen in front by both
  * cameras; returns their count. */
 static int project_plane(const double *b1, const double *b2, const int *idx, int n, double *p1,
@@ -106,9 +128,11 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
         return 0;
     sfm_rng rng;
     sfm_rng_seed(&rng, seed ^ 0x9e3779b97f4a7c15ULL);
+    const int sub = m < SUBSET ? m : SUBSET;
+    const int need_sub = (int)ceil(SFM_DEGENERACY_FRACTION * sub);
     double bestH[9];
     int best = -1;
-    for (int it = 0; it < SFM_DEGENERACY_H_TRIALS && best < need; it++) {
+    for (int it = 0; it < SFM_DEGENERACY_H_TRIALS && best < need_sub; it++) {
         int s[4];
         for (int k = 0; k < 4; k++) {
             int v, dup;
@@ -130,19 +154,23 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
         sfm_mat3 H;
         if (sfm_homography_4pt(a, b, &H) != 1)
             continue;
-        int cnt = homography_count(p1, p2, m, H.m, tol, sel);
+        int cnt = homography_count_subset(p1, p2, m, sub, H.m, tol);
         if (cnt > best) {
             best = cnt;
             for (int k = 0; k < 9; k++)
                 bestH[k] = H.m[k];
         }
     }
-    if (best >= need)
+    if (best < 0)
+        return 0;
+    c = homography_count(p1, p2, m, bestH, tol, sel);
+    if (c >= need)
         return SFM_RANSAC_FLAG_PLANAR;
-    if (best < 4)
+    /* a homography from four noisy points of a dominant plane still
+     * explains most of it: below half the quota there is no plane to refit */
+    if (c < 4 || 2 * c < need)
         return 0;
     /* refit on the best support, compacted to the front of p1 / p2 */
-    c = homography_count(p1, p2, m, bestH, tol, sel);
     for (int k = 0; k < c; k++) {
         int i = sel[k]; /* increasing, i >= k: safe in place */
         p1[2 * k] = p1[2 * i];
