@@ -20,9 +20,14 @@ static int solve3(void *ctx, const int *s, double *models)
     int ns = sfm_relpose_upright_3pt(x1, x2, c->d1, c->d2, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
-    for (int k = 0; k < ns; k++)
-        sfm_twoview_set_pose(models + (size_t)k * SFM_RANSAC_RELPOSE_MODEL, P[k].R, P[k].t);
-    return ns;
+    int kept = 0;
+    for (int k = 0; k < ns; k++) {
+        double *m = models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL;
+        sfm_twoview_set_pose(m, P[k].R, P[k].t);
+        if (sfm_twoview_oriented(m + TV_E, x1, x2, 3))
+            kept++;
+    }
+    return kept;
 }
 
 size_t sfm_ransac_relpose_upright_workspace_size(int n)

@@ -9,10 +9,11 @@ k1, k2, p1, p2, k3), and returns a plain dict:
   num_inliers   int
   iterations    samples drawn
   models        models verified
-  sprt_rejected models dropped early by SPRT
+  sprt_rejected models dropped early (SPRT or the bail-out test)
   lo_runs       local optimisations run
-  polished      the final polish (refit on points within 3 thresholds under a
-                Cauchy loss) was kept
+  polished      the final polish (refit on the points within 3.5 robust
+                standard deviations of the winner's residuals, between 1 and
+                3 thresholds, under a Cauchy loss) was kept
   score         MSAC cost (pixels squared)
   seed          the seed used
   stop_reason   "confidence", "max_iterations" or "time"
