@@ -104,4 +104,44 @@ static inline void sfm_tangent_basis(const double *n, double *e1, double *e2)
     sfm_cross3(n, e1, e2);
 }
 
+/* The oriented epipolar constraint (Chum, Werner & Matas, "Epipolar
+ * geometry estimation via RANSAC benefits from the oriented epipolar
+ * constraint", ICPR 2004): with E = [t]x R and every point in front of
+ * both cameras, (t x b2) . (E b1) = d1 |t x (R b1)|^2 / |b2'| keeps one
+ * sign, so the signs must agree (t, the left null vector of E, is only known
+ * up to sign). The same holds for a fundamental matrix and homogeneous
+ * pixels (u, v, 1) (cameras with a positive focal length). x1, x2: n
+ * homogeneous 3-vectors each. Returns 1 when the model can place all n
+ * pairs in front of both cameras (a necessary condition); the solvers drop
+ * the models that fail it on their own sample before any verification. */
+static inline int sfm_oriented_epipolar(const double *E, const double *x1, const double *x2,
+                                        int n)
+{
+    /* t: the largest cross product of two columns of E */
+    const double c0[3] = {E[0], E[3], E[6]}, c1[3] = {E[1], E[4], E[7]},
+                 c2[3] = {E[2], E[5], E[8]};
+    double t[3], u[3], v[3];
+    sfm_cross3(c0, c1, t);
+    sfm_cross3(c0, c2, u);
+    sfm_cross3(c1, c2, v);
+    const double *w = t;
+    double nt = sfm_dot3(t, t), nu = sfm_dot3(u, u), nv = sfm_dot3(v, v);
+    if (nu > nt) {
+        w = u;
+        nt = nu;
+    }
+    if (nv > nt)
+        w = v;
+    int pos = 0, neg = 0;
+    for (int i = 0; i < n; i++) {
+        double Eb[3], txb[3];
+        sfm_matvec3(E, x1 + 3 * i, Eb);
+        sfm_cross3(w, x2 + 3 * i, txb);
+        double sgn = sfm_dot3(txb, Eb);
+        pos += sgn > 0.0;
+        neg += sgn < 0.0;
+    }
+    return pos == 0 || neg == 0;
+}
+
 #endif

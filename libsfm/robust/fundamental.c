@@ -67,13 +67,26 @@ static int solve7(void *ctx, const int *s, double *models)
     int ns = sfm_relpose_7pt(a, b, F);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
+    double h1[21], h2[21];
+    for (int i = 0; i < 7; i++) {
+        h1[3 * i] = a[2 * i];
+        h1[3 * i + 1] = a[2 * i + 1];
+        h1[3 * i + 2] = 1.0;
+        h2[3 * i] = b[2 * i];
+        h2[3 * i + 1] = b[2 * i + 1];
+        h2[3 * i + 2] = 1.0;
+    }
+    int kept = 0;
     for (int k = 0; k < ns; k++) {
-        double *m = models + FMODEL * k;
+        if (!sfm_oriented_epipolar(F[k].m, h1, h2, 7))
+            continue;
+        double *m = models + FMODEL * kept;
         memcpy(m, F[k].m, 9 * sizeof(double));
         sfm__normalize9(m);
         m[F_PP] = 0.0;
+        kept++;
     }
-    return ns;
+    return kept;
 }
 
 static double residual(void *ctx, const double *m, int i)

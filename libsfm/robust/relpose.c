@@ -8,6 +8,7 @@
  */
 #include <string.h>
 
+#include "robust/epipolar.h"
 #include "robust/estimator.h"
 #include "robust/twoview.h"
 #include "sfm/sfm_solvers.h"
@@ -24,7 +25,7 @@ static int solve5(void *ctx, const int *s, double *models)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     int kept = 0;
     for (int k = 0; k < ns; k++) {
-        if (!sfm_twoview_oriented(E[k].m, x1, x2, 5))
+        if (!sfm_oriented_epipolar(E[k].m, x1, x2, 5))
             continue;
         double *m = models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL;
         memcpy(m + TV_E, E[k].m, sizeof E[k].m);

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "robust/epipolar.h"
 #include "robust/estimator.h"
 #include "robust/twoview.h"
 #include "sfm/sfm_pose.h"
@@ -24,7 +25,7 @@ static int solve3(void *ctx, const int *s, double *models)
     for (int k = 0; k < ns; k++) {
         double *m = models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL;
         sfm_twoview_set_pose(m, P[k].R, P[k].t);
-        if (sfm_twoview_oriented(m + TV_E, x1, x2, 3))
+        if (sfm_oriented_epipolar(m + TV_E, x1, x2, 3))
             kept++;
     }
     return kept;

@@ -102,40 +102,6 @@ void sfm_twoview_set_pose(double *model, const double R[9], const double t[3])
     model[TV_VALID] = 1.0;
 }
 
-/* The oriented epipolar constraint (Chum, Werner & Matas, "Epipolar
- * geometry estimation via RANSAC benefits from the oriented epipolar
- * constraint", ICPR 2004): with E = [t]x R and every point in front of
- * both cameras, (t x b2) . (E b1) = d1 |t x (R b1)|^2 / |b2'| keeps one
- * sign, so the signs must agree (t, the left null vector of E, is only known
- * up to sign). */
-int sfm_twoview_oriented(const double *E, const double *x1, const double *x2, int n)
-{
-    /* t: the largest cross product of two columns of E */
-    const double c0[3] = {E[0], E[3], E[6]}, c1[3] = {E[1], E[4], E[7]},
-                 c2[3] = {E[2], E[5], E[8]};
-    double t[3], u[3], v[3];
-    sfm_cross3(c0, c1, t);
-    sfm_cross3(c0, c2, u);
-    sfm_cross3(c1, c2, v);
-    double nt = sfm_dot3(t, t), nu = sfm_dot3(u, u), nv = sfm_dot3(v, v);
-    if (nu > nt) {
-        memcpy(t, u, sizeof t);
-        nt = nu;
-    }
-    if (nv > nt)
-        memcpy(t, v, sizeof t);
-    int pos = 0, neg = 0;
-    for (int i = 0; i < n; i++) {
-        double Eb[3], txb[3];
-        sfm_matvec3(E, x1 + 3 * i, Eb);
-        sfm_cross3(t, x2 + 3 * i, txb);
-        double sgn = sfm_dot3(txb, Eb);
-        pos += sgn > 0.0;
-        neg += sgn < 0.0;
-    }
-    return pos == 0 || neg == 0;
-}
-
 /* Upright: keep R, pick the sign of t with most points in front. */
 static int upright_sign(const twoview_ctx *c, const int *idx, int n, const double *R, double *t)
 {

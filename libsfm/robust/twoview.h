@@ -42,12 +42,6 @@ int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *mod
 /* Sets model E from its R, t (unit Frobenius norm) and marks the pose valid. */
 void sfm_twoview_set_pose(double *model, const double R[9], const double t[3]);
 
-/* 1 when the n bearing pairs x1, x2 (n x 3) satisfy the oriented epipolar
- * constraint of E: the model can place them all in front of both cameras
- * (a necessary condition). Solvers drop the models that fail it on their
- * own sample before any verification. */
-int sfm_twoview_oriented(const double *E, const double *x1, const double *x2, int n);
-
 /* After a successful run: final pose by cheirality over the inliers, flags,
  * outputs. upright: only the sign of t is chosen (R keeps the known
  * direction). Returns the inlier count. */
