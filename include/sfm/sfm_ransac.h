@@ -13,11 +13,12 @@
  * Local optimisation (LO-RANSAC, Chum, Matas & Kittler 2003): a few
  * nonlinear refinement rounds on the inliers, or on the points within
  * wide_mult thresholds (at most 128 of them, evenly spread), kept while the
- * MSAC cost drops. When the new best's inlier ratio says the run would not
- * reach its confidence before max_iterations, the LO also draws 20 minimal
- * samples from the model's points within the band (the inner RANSAC of the
- * paper) and refines the best: a model from a noisy sample often fits only
- * part of the inliers, and the refits alone cannot leave that local minimum.
+ * MSAC cost drops. While the best model's inlier ratio says the run will not
+ * reach its confidence before max_iterations, and once it has drawn at least
+ * 40 samples, the best model also gets, once, an inner RANSAC (of the paper):
+ * 40 minimal samples from its points within the band, solved, scored and the
+ * winner refined: a model from a noisy sample often fits only part of the
+ * inliers, and the refits alone cannot leave that local minimum.
  *
  * Stopping: the samples needed at opt->confidence follow from the inlier
  * ratio counted within wide_mult thresholds (when wide_mult > 1), not at tau:

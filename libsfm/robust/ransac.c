@@ -270,7 +270,7 @@ static void refits(const engine *e, int rounds, double *model, double *score, in
 }
 
 /* Minimal samples an inner RANSAC draws. */
-#define INNER_SAMPLES 20
+#define INNER_SAMPLES 40
 
 /* Inner RANSAC of LO-RANSAC (Chum, Matas & Kittler 2003, section 3): minimal
  * samples drawn from the model's points within the wide band, solved and
@@ -320,23 +320,6 @@ static int inner_ransac(const engine *e, int early, sfm_rng *rng, double *model,
         }
     }
     return changed;
-}
-
-/* LO-RANSAC on a new best: the refits, then, when the run would not reach
- * its confidence before max_iterations on this model's inlier ratio (the
- * samples alone are then unlikely to find a better one), an inner RANSAC
- * and the refits again. */
-static void local_optimise(const engine *e, const sfm_ransac_options *opt, int it, sfm_rng *rng,
-                           double *model, double *score, int *ninl)
-{
-    if (e->est->refine == NULL)
-        return;
-    refits(e, opt->lo_rounds, model, score, ninl);
-    double eps = (double)count_within(e, model, e->tau2 * e->wide * e->wide) / (double)e->n;
-    if (needed_iterations(eps, e->k, 1.0, opt->confidence) <= (double)(opt->max_iterations - it))
-        return;
-    if (inner_ransac(e, opt->use_sprt != 0, rng, model, score, ninl))
-        refits(e, opt->lo_rounds, model, score, ninl);
 }
 
 /* Bins of the residual histogram behind the polish band. */
@@ -405,6 +388,26 @@ static int polish(const engine *e, int rounds, int best_inl)
     return 1;
 }
 
+/* e->spare (ninl inliers at tau) becomes the best model.
+ * SPRT (which tests consistency at tau) is re-tuned with the inlier ratio at
+ * tau, the stopping rule with the ratio in the wide band: with noise near
+ * tau, the count at tau misses a third or more of the true inliers, and
+ * eps^k would then ask for 2^k times the samples an all-inlier draw needs.
+ * Returns the samples the confidence now needs. */
+static double new_best(const engine *e, const sfm_ransac_options *opt, sfm_sprt *sprt, int ninl)
+{
+    memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
+    double eps = (double)ninl / (double)e->n;
+    sprt->eps = eps;
+    sfm_sprt_update(sprt);
+    double eps_stop =
+        e->wide > 1.0 ? (double)count_within(e, e->best, e->tau2 * e->wide * e->wide) / (double)e->n
+                      : eps;
+    return needed_iterations(eps_stop, e->k,
+                             opt->use_sprt ? sfm_sprt_pass_probability(sprt) : 1.0,
+                             opt->confidence);
+}
+
 int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
                    double *model, uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                    size_t ws_size)
@@ -471,6 +474,8 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     sfm_sprt sprt;
     sfm_sprt_init(&sprt, SPRT_EPS0, SPRT_DELTA0);
     const int use_sprt = opt->use_sprt != 0;
+    const int lo_on = opt->lo_rounds > 0 && est->refine != NULL;
+    int inner_done = 0;
 
     const int use_clock = opt->clock != NULL && opt->time_budget > 0.0;
     double t0 = use_clock ? opt->clock(opt->clock_ctx) : 0.0;
@@ -543,28 +548,36 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             memcpy(e.best_sample, e.sample, sizeof(int) * (size_t)e.k);
             if (est->fix_best != NULL && est->fix_best(est->ctx, e.sample, e.spare, &rng) == 1)
                 sc = score_full(&e, e.spare, &ci);
-            if (opt->lo_rounds > 0 && est->refine != NULL) {
+            if (lo_on) {
                 lo_runs++;
-                local_optimise(&e, opt, it, &rng, e.spare, &sc, &ci);
+                refits(&e, opt->lo_rounds, e.spare, &sc, &ci);
             }
             if (!(sc < best_score))
                 continue;
-            memcpy(e.best, e.spare, sizeof(double) * (size_t)e.s);
+            k_needed = new_best(&e, opt, &sprt, ci);
             best_score = sc;
             best_inl = ci;
             have_best = 1;
-            /* re-tune SPRT (which tests consistency at tau) with the
-             * inlier ratio at tau, and the stopping rule with the ratio in
-             * the wide band: with noise near tau, the count at tau misses a
-             * third or more of the true inliers, and eps^k would then ask
-             * for 2^k times the samples an all-inlier draw needs */
-            double eps = (double)best_inl / (double)n;
-            sprt.eps = eps;
-            sfm_sprt_update(&sprt);
-            double eps_stop = e.wide > 1.0 ? (double)count_within(&e, e.best, e.tau2 * e.wide * e.wide) / (double)n : eps;
-            k_needed = needed_iterations(eps_stop, e.k,
-                                         use_sprt ? sfm_sprt_pass_probability(&sprt) : 1.0,
-                                         opt->confidence);
+            inner_done = 0;
+        }
+        /* Inner RANSAC of the LO, once per best model, when the run is
+         * heading for its cap (its confidence needs more samples than
+         * max_iterations allows) and has spent at least the inner samples'
+         * cost: an easy run finds its model by sampling sooner. */
+        if (lo_on && have_best && !inner_done && it >= INNER_SAMPLES &&
+            k_needed > (double)opt->max_iterations) {
+            double sc = best_score;
+            int ci = best_inl;
+            inner_done = 1;
+            memcpy(e.spare, e.best, sizeof(double) * (size_t)e.s);
+            if (inner_ransac(&e, use_sprt, &rng, e.spare, &sc, &ci)) {
+                refits(&e, opt->lo_rounds, e.spare, &sc, &ci);
+                if (sc < best_score) {
+                    k_needed = new_best(&e, opt, &sprt, ci);
+                    best_score = sc;
+                    best_inl = ci;
+                }
+            }
         }
     }
 

@@ -56,7 +56,7 @@ SFM_TEST(ransac_native_relpose_large_outlier_levels)
  * of the inliers. A run succeeds when its rotation is within 1 degree and
  * its translation direction within 5 degrees of the truth. Before the LO's
  * inner RANSAC (and the other changes that came with it) 20 (N = 200) and
- * 23 (N = 1000) of these 40 scenes succeeded; after, 26 and 35. */
+ * 23 (N = 1000) of these 40 scenes succeeded; with it, 27 and 39. */
 SFM_TEST(ransac_native_relpose_75_percent_outliers_1px_threshold)
 {
     const int sizes[2] = {200, NB};
@@ -85,7 +85,7 @@ SFM_TEST(ransac_native_relpose_75_percent_outliers_1px_threshold)
         double mr = scene_median(er, TRIALS);
         SFM_TEST_LOG("N=%d outliers 75%% thr 1px, 1000 samples: %d of %d succeed, median "
                      "rotation error %.3f deg", n, ok, TRIALS, mr);
-        SFM_CHECK(ok >= (n == NB ? 30 : 23));
+        SFM_CHECK(ok >= (n == NB ? 33 : 23));
     }
     free(ws);
 }
