@@ -1,0 +1,122 @@
+/*
+ * Inverse iteration for the smallest right singular vector of a triangular
+ * factor (Golub & Van Loan, 4th ed., 8.2.2; the pivot floor follows LAPACK's
+ * dstein). Each step solves R^T z = x, then R w = z, so the component of x
+ * along the k-th right singular vector grows by 1/s_k^2: the error falls by
+ * (s_n / s_{n-1})^2 a step. The iterates are compared after sign alignment;
+ * the step is accepted when the change, extrapolated by the observed
+ * contraction rate, is below the tolerance.
+ */
+#include <float.h>
+#include <math.h>
+
+#include "core/linalg_util.h"
+#include "core/tri_null.h"
+
+enum { TRI_NULL_MAX_STEPS = 64 };
+#define TRI_NULL_TOL 1e-13
+
+/* x /= |x|; 0 when x is zero or not finite. */
+static int normalize(double *x, int n)
+{
+    double m = sfm_la_max_abs(x, (size_t)n);
+    if (!(m > 0.0) || !isfinite(m))
+        return 0;
+    double inv = 1.0 / m, s = 0.0;
+    for (int i = 0; i < n; i++) {
+        x[i] *= inv;
+        s += x[i] * x[i];
+    }
+    s = 1.0 / sqrt(s);
+    for (int i = 0; i < n; i++)
+        x[i] *= s;
+    return 1;
+}
+
+static double pivot(const double *R, int n, int i, double floor)
+{
+    double d = R[(size_t)i * n + i];
+    return fabs(d) >= floor ? d : copysign(floor, d);
+}
+
+/* x <- R^-T x (forward substitution with the transpose). */
+static void solve_rt(const double *R, int n, double floor, double *x)
+{
+    for (int i = 0; i < n; i++) {
+        double s = x[i];
+        for (int k = 0; k < i; k++)
+            s -= R[(size_t)k * n + i] * x[k];
+        x[i] = s / pivot(R, n, i, floor);
+    }
+}
+
+/* x <- R^-1 x (back substitution). */
+static void solve_r(const double *R, int n, double floor, double *x)
+{
+    for (int i = n - 1; i >= 0; i--) {
+        double s = x[i];
+        const double *row = R + (size_t)i * n;
+        for (int k = i + 1; k < n; k++)
+            s -= row[k] * x[k];
+        x[i] = s / pivot(R, n, i, floor);
+    }
+}
+
+int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch)
+{
+    double rmax = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int k = i; k < n; k++) {
+            double a = fabs(R[(size_t)i * n + k]);
+            if (!(a <= rmax))
+                rmax = a; /* NaN propagates */
+        }
+    if (!(rmax > 0.0) || !isfinite(rmax))
+        return 0;
+    const double floor = DBL_EPSILON * rmax;
+    double *x = scratch, *y = scratch + n;
+    /* Start from R^-1 e_n: the last column of R^-1, large where R is
+     * nearly singular. */
+    for (int i = 0; i < n; i++)
+        x[i] = 0.0;
+    x[n - 1] = 1.0;
+    solve_r(R, n, floor, x);
+    if (!normalize(x, n))
+        return 0;
+    double prev = 0.0;
+    for (int step = 0; step < TRI_NULL_MAX_STEPS; step++) {
+        for (int i = 0; i < n; i++)
+            y[i] = x[i];
+        solve_rt(R, n, floor, y);
+        if (!normalize(y, n)) /* rescaled between the solves: no overflow */
+            return 0;
+        solve_r(R, n, floor, y);
+        if (!normalize(y, n))
+            return 0;
+        double dot = 0.0;
+        for (int i = 0; i < n; i++)
+            dot += x[i] * y[i];
+        double sg = dot < 0.0 ? -1.0 : 1.0, d2 = 0.0;
+        for (int i = 0; i < n; i++) {
+            double e = sg * y[i] - x[i];
+            d2 += e * e;
+            x[i] = sg * y[i];
+        }
+        double delta = sqrt(d2);
+        /* remaining error ~ delta * rho / (1 - rho) for a contraction rate
+         * rho; a rate >= 1 means the change is rounding noise */
+        double est = delta;
+        if (step > 0 && prev > 0.0) {
+            double rho = delta / prev;
+            if (rho < 1.0 && rho > 0.5)
+                est = delta * rho / (1.0 - rho);
+        }
+        if (est <= TRI_NULL_TOL) {
+            for (int i = 0; i < n; i++)
+                v[i] = x[i];
+            return 1;
+        }
+        prev = delta;
+    }
+    return 0;
+}
