@@ -15,6 +15,7 @@
 
 #include "core/linalg_util.h"
 #include "core/arena.h"
+#include "core/tri_null.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/normalize.h"
@@ -91,7 +92,8 @@ static int fold(tf_ws *w, int rows)
     return NU;
 }
 
-/* Right singular vector of the smallest singular value of A (m x n). */
+/* Right singular vector of the smallest singular value of A (m x n), by the
+ * SVD. */
 static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
 {
     int st = sfm_svd(A, m, n, NULL, w->S, w->V, w->svd, w->svd_size);
@@ -102,49 +104,97 @@ static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
     return SFM_OK;
 }
 
+/* The same for an n x n upper triangular A whose strict lower part is zero:
+ * inverse iteration, and the SVD only when that does not settle (the two
+ * smallest singular values too close). */
+static int smallest_right_tri(tf_ws *w, const double *A, int n, double *v)
+{
+    double scratch[2 * NU];
+    if (sfm_la_tri_smallest_right(A, n, v, scratch))
+        return SFM_OK;
+    return smallest_right(w, A, n, n, v);
+}
+
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* An orthonormal pair completing the unit vector e to a basis of R^3. */
+static void complete_basis(const double e[3], double p[3], double q[3])
+{
+    int a = 0; /* the axis least aligned with e */
+    for (int k = 1; k < 3; k++)
+        if (fabs(e[k]) < fabs(e[a]))
+            a = k;
+    double ax[3] = {0, 0, 0};
+    ax[a] = 1.0;
+    cross3(e, ax, p);
+    double s = 1.0 / sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (int k = 0; k < 3; k++)
+        p[k] *= s;
+    cross3(e, p, q);
+}
+
 /* Algebraic minimization with the epipoles of t held fixed: t = E a with
  * T_i^{jk} = a_i^j e''^k - e'^j b_i^k, minimize |R E a| subject to |E a| = 1.
- * t is replaced by the minimizer. */
+ * t is replaced by the minimizer. The columns of E span, for each i, the
+ * 9-vectors x (x) e'' and e' (x) y (Kronecker products over j, k): with unit
+ * epipoles completed to orthonormal bases {e', p', q'}, {e'', p'', q''},
+ * that span has the orthonormal basis e' (x) e'', p' (x) e'', q' (x) e'',
+ * e' (x) p'', e' (x) q'' (E has rank 5 per i, 15 in all, as H&Z note), so
+ * the problem becomes the smallest right singular vector of R U (27 x 15),
+ * U that basis, with t = U y. */
+enum { NB = 5, NA = 3 * NB };
 static int algebraic_step(tf_ws *w, double t[NU])
 {
     double e2[3], e3[3];
     int st = sfm_trifocal_epipoles(t, e2, e3);
     if (st < 0)
         return st;
-    memset(w->E, 0, sizeof(double) * NU * 18);
-    for (int i = 0; i < 3; i++)
+    double p2[3], q2[3], p3[3], q3[3];
+    complete_basis(e2, p2, q2);
+    complete_basis(e3, p3, q3);
+    const double *X[NB] = {e2, p2, q2, e2, e2};
+    const double *Y[NB] = {e3, e3, e3, p3, q3};
+    double B[NB][9]; /* the basis of one i-block, B[b][j*3+k] = X_b[j] Y_b[k] */
+    for (int b = 0; b < NB; b++)
         for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++) {
-                int row = i * 9 + j * 3 + k;
-                w->E[row * 18 + i * 3 + j] = e3[k];       /* a_i^j */
-                w->E[row * 18 + 9 + i * 3 + k] = -e2[j];  /* b_i^k */
-            }
-    st = sfm_svd(w->E, NU, 18, w->U, w->S, NULL, w->svd, w->svd_size);
-    if (st < 0)
-        return st;
-    int r = 0;
-    while (r < 18 && w->S[r] > 1e-10 * w->S[0])
-        r++;
-    if (r == 0)
-        return SFM_E_SINGULAR;
-    /* M = R U' (27 x r), U' the first r columns of U. */
+            for (int k = 0; k < 3; k++)
+                B[b][j * 3 + k] = X[b][j] * Y[b][k];
+    /* M = R U (27 x 15); U is block diagonal and R upper triangular. */
+    double *M = w->M;
     for (int a = 0; a < NU; a++)
-        for (int c = 0; c < r; c++) {
-            double s = 0;
-            for (int k = a; k < NU; k++) /* R is upper triangular */
-                s += w->R[a * NU + k] * w->U[k * NU + c];
-            w->M[a * r + c] = s;
-        }
-    double y[NU];
-    st = smallest_right(w, w->M, NU, r, y);
+        for (int i = 0; i < 3; i++)
+            for (int b = 0; b < NB; b++) {
+                double s = 0;
+                for (int c = 0; c < 9; c++) {
+                    int k = i * 9 + c;
+                    if (k >= a)
+                        s += w->R[a * NU + k] * B[b][c];
+                }
+                M[a * NA + i * NB + b] = s;
+            }
+    /* M = Q R2: the same right singular vectors as the 15 x 15 R2. */
+    st = sfm_qr_factor(M, NU, NA, w->tau);
     if (st < 0)
         return st;
-    for (int a = 0; a < NU; a++) {
-        double s = 0;
+    for (int r = 0; r < NA; r++)
         for (int c = 0; c < r; c++)
-            s += w->U[a * NU + c] * y[c];
-        t[a] = s;
-    }
+            M[r * NA + c] = 0.0;
+    double y[NA];
+    st = smallest_right_tri(w, M, NA, y);
+    if (st < 0)
+        return st;
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 9; c++) {
+            double s = 0;
+            for (int b = 0; b < NB; b++)
+                s += B[b][c] * y[i * NB + b];
+            t[i * 9 + c] = s;
+        }
     return sfm_trifocal_normalize(t, NU);
 }
 
@@ -195,7 +245,7 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
             w.R[r * NU + c] = w.buf[r * NU + c];
 
     double t[NU];
-    int st = smallest_right(&w, w.R, NU, NU, t);
+    int st = smallest_right_tri(&w, w.R, NU, t);
     if (st < 0)
         return st;
     for (int it = 0; it < ALG_ITERS; it++) {
