@@ -79,6 +79,46 @@ SFM_TEST(relpose_outlier_levels_noise_floor)
     }
 }
 
+/* The stopping rule counts inliers within the LO band. With 1 px noise a
+ * 1 px threshold holds only about 70 % of the true inliers, so at 50 %
+ * outliers the count at tau says eps ~ 0.36 and asks for ~1200 samples;
+ * the true eps = 0.5 needs ~220 (0.999 confidence, 5-point samples). */
+SFM_TEST(relpose_stopping_rule_sees_the_true_inlier_ratio)
+{
+    sfm_camera cam = scene_pinhole();
+    SFM_CHECK(sfm_ransac_relpose_workspace_size(NE) <= sizeof WS);
+    int trials = SFM_TEST_ITERS(TRIALS);
+    int its[TRIALS];
+    double er[TRIALS], inl[TRIALS];
+    for (int k = 0; k < trials; k++) {
+        double R[9], tr[3];
+        scene_twoview(t, &cam, NE, 0.5, 1.0, 0, P1, P2, TRUTH, R, tr);
+        sfm_ransac_options opt;
+        sfm_ransac_default_options(&opt);
+        opt.threshold = 1.0;
+        opt.seed = (uint64_t)k;
+        sfm_pose pose;
+        sfm_ransac_stats st;
+        int ni = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &pose, NULL, NULL, &st, WS,
+                                    sizeof WS);
+        SFM_CHECK(ni >= 5);
+        its[k] = st.iterations;
+        inl[k] = (double)ni;
+        er[k] = ni >= 5 ? scene_rot_err_deg(pose.R, R) : 180.0;
+        SFM_CHECK_EQ_INT(st.stop_reason, SFM_RANSAC_STOP_CONFIDENCE);
+    }
+    double it_d[TRIALS];
+    for (int k = 0; k < trials; k++)
+        it_d[k] = (double)its[k];
+    double mi = scene_median(it_d, trials), mr = scene_median(er, trials);
+    double mn = scene_median(inl, trials);
+    RANSAC_LOG("50%% outliers, 1 px noise and threshold: median %.0f samples, %.0f inliers at "
+               "tau of %d, rotation %.3f deg", mi, mn, NE, mr);
+    SFM_CHECK(mn > 0.25 * NE); /* the count at tau is well below the true 0.5 */
+    SFM_CHECK(mi < 450.0);
+    SFM_CHECK(mr < 0.5);
+}
+
 SFM_TEST(relpose_same_seed_bit_identical)
 {
     sfm_camera cam = scene_pinhole();
