@@ -1,11 +1,14 @@
 /*
  * Inverse iteration for the smallest right singular vector of a triangular
- * factor (Golub & Van Loan, 4th ed., 8.2.2; the pivot floor follows LAPACK's
- * dstein). Each step solves R^T z = x, then R w = z, so the component of x
- * along the k-th right singular vector grows by 1/s_k^2: the error falls by
- * (s_n / s_{n-1})^2 a step. The iterates are compared after sign alignment;
- * the step is accepted when the change, extrapolated by the observed
- * contraction rate, is below the tolerance.
+ * factor (Golub & Van Loan, 4th ed., 8.2.2 and 8.2.4; the pivot floor
+ * follows LAPACK's dstein). Each step solves R^T z = x, then R w = z, so the
+ * component of x along the k-th right singular vector grows by 1/s_k^2: the
+ * error falls by (s_n / s_{n-1})^2 a step. When that rate is slow, the
+ * iteration goes on with two vectors (subspace iteration) and takes the
+ * Ritz vector of R on their span each step: the error then falls by
+ * (s_n / s_{n-2})^2. The iterates are compared after sign alignment; a step
+ * is accepted when the change, extrapolated by the observed contraction
+ * rate, is below the tolerance.
  */
 #include <float.h>
 #include <math.h>
@@ -13,7 +16,7 @@
 #include "core/linalg_util.h"
 #include "core/tri_null.h"
 
-enum { TRI_NULL_MAX_STEPS = 64 };
+enum { TRI_NULL_ONE_STEPS = 20, TRI_NULL_TWO_STEPS = 40 };
 #define TRI_NULL_TOL 1e-13
 
 /* x /= |x|; 0 when x is zero or not finite. */
@@ -62,6 +65,59 @@ static void solve_r(const double *R, int n, double floor, double *x)
     }
 }
 
+/* Tracks convergence of successive unit iterates: x <- y (sign-aligned
+ * with x), returns 1 once the extrapolated remaining change is below the
+ * tolerance. *prev holds the last change (0 before the first). */
+static int settle(double *x, const double *y, int n, double *prev)
+{
+    double dot = 0.0;
+    for (int i = 0; i < n; i++)
+        dot += x[i] * y[i];
+    double sg = dot < 0.0 ? -1.0 : 1.0, d2 = 0.0;
+    for (int i = 0; i < n; i++) {
+        double e = sg * y[i] - x[i];
+        d2 += e * e;
+        x[i] = sg * y[i];
+    }
+    double delta = sqrt(d2);
+    /* remaining error ~ delta * rho / (1 - rho) for a contraction rate rho;
+     * a rate >= 1 means the change is rounding noise */
+    double est = delta;
+    if (*prev > 0.0) {
+        double rho = delta / *prev;
+        if (rho < 1.0 && rho > 0.5)
+            est = delta * rho / (1.0 - rho);
+    }
+    *prev = delta;
+    return est <= TRI_NULL_TOL;
+}
+
+/* y <- R^-1 R^-T y, normalized; 0 when not finite. */
+static int inverse_step(const double *R, int n, double floor, double *y)
+{
+    solve_rt(R, n, floor, y);
+    if (!normalize(y, n)) /* rescaled between the solves: no overflow */
+        return 0;
+    solve_r(R, n, floor, y);
+    return normalize(y, n);
+}
+
+/* |R x|^2 for upper triangular R. */
+static double rx_dot(const double *R, int n, const double *x, const double *y)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; i++) {
+        const double *row = R + (size_t)i * n;
+        double a = 0.0, b = 0.0;
+        for (int k = i; k < n; k++) {
+            a += row[k] * x[k];
+            b += row[k] * y[k];
+        }
+        s += a * b;
+    }
+    return s;
+}
+
 int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch)
 {
     double rmax = 0.0;
@@ -74,7 +130,7 @@ int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch
     if (!(rmax > 0.0) || !isfinite(rmax))
         return 0;
     const double floor = DBL_EPSILON * rmax;
-    double *x = scratch, *y = scratch + n;
+    double *x = scratch, *y = scratch + n, *q = scratch + 2 * n, *w = scratch + 3 * n;
     /* Start from R^-1 e_n: the last column of R^-1, large where R is
      * nearly singular. */
     for (int i = 0; i < n; i++)
@@ -84,39 +140,75 @@ int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch
     if (!normalize(x, n))
         return 0;
     double prev = 0.0;
-    for (int step = 0; step < TRI_NULL_MAX_STEPS; step++) {
+    for (int step = 0; step < TRI_NULL_ONE_STEPS; step++) {
         for (int i = 0; i < n; i++)
             y[i] = x[i];
-        solve_rt(R, n, floor, y);
-        if (!normalize(y, n)) /* rescaled between the solves: no overflow */
+        if (!inverse_step(R, n, floor, y))
             return 0;
-        solve_r(R, n, floor, y);
-        if (!normalize(y, n))
-            return 0;
-        double dot = 0.0;
         for (int i = 0; i < n; i++)
-            dot += x[i] * y[i];
-        double sg = dot < 0.0 ? -1.0 : 1.0, d2 = 0.0;
-        for (int i = 0; i < n; i++) {
-            double e = sg * y[i] - x[i];
-            d2 += e * e;
-            x[i] = sg * y[i];
-        }
-        double delta = sqrt(d2);
-        /* remaining error ~ delta * rho / (1 - rho) for a contraction rate
-         * rho; a rate >= 1 means the change is rounding noise */
-        double est = delta;
-        if (step > 0 && prev > 0.0) {
-            double rho = delta / prev;
-            if (rho < 1.0 && rho > 0.5)
-                est = delta * rho / (1.0 - rho);
-        }
-        if (est <= TRI_NULL_TOL) {
+            q[i] = y[i] - x[i]; /* the last change: mostly the next vector */
+        if (settle(x, y, n, &prev)) {
             for (int i = 0; i < n; i++)
                 v[i] = x[i];
             return 1;
         }
-        prev = delta;
+    }
+    if (n < 2)
+        return 0;
+    /* Two vectors: x and the last change, orthonormalized (twice, as
+     * classical Gram-Schmidt needs for orthogonality to rounding). */
+    for (int pass = 0; pass < 2; pass++) {
+        double d = 0.0;
+        for (int i = 0; i < n; i++)
+            d += x[i] * q[i];
+        for (int i = 0; i < n; i++)
+            q[i] -= d * x[i];
+    }
+    if (!normalize(q, n))
+        return 0;
+    prev = 0.0;
+    for (int step = 0; step < TRI_NULL_TWO_STEPS; step++) {
+        for (int i = 0; i < n; i++) {
+            y[i] = x[i];
+            w[i] = q[i];
+        }
+        if (!inverse_step(R, n, floor, y) || !inverse_step(R, n, floor, w))
+            return 0;
+        for (int pass = 0; pass < 2; pass++) {
+            double d = 0.0;
+            for (int i = 0; i < n; i++)
+                d += y[i] * w[i];
+            for (int i = 0; i < n; i++)
+                w[i] -= d * y[i];
+        }
+        if (!normalize(w, n))
+            return 0;
+        /* Ritz vectors of R on span(y, w): the Jacobi rotation that makes
+         * R y and R w orthogonal */
+        double alpha = rx_dot(R, n, y, y), beta = rx_dot(R, n, w, w), gamma = rx_dot(R, n, y, w);
+        if (gamma != 0.0) {
+            double c, s;
+            double tt = sfm_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
+            sfm_la_rotate(y, w, n, 1, c, s);
+            alpha -= tt * gamma;
+            beta += tt * gamma;
+        }
+        if (beta < alpha) { /* y: the smaller Ritz value */
+            for (int i = 0; i < n; i++) {
+                double tmp = y[i];
+                y[i] = w[i];
+                w[i] = tmp;
+            }
+        }
+        if (!normalize(y, n) || !normalize(w, n))
+            return 0;
+        for (int i = 0; i < n; i++)
+            q[i] = w[i];
+        if (settle(x, y, n, &prev)) {
+            for (int i = 0; i < n; i++)
+                v[i] = x[i];
+            return 1;
+        }
     }
     return 0;
 }

@@ -109,7 +109,7 @@ static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
  * smallest singular values too close). */
 static int smallest_right_tri(tf_ws *w, const double *A, int n, double *v)
 {
-    double scratch[2 * NU];
+    double scratch[4 * NU];
     if (sfm_la_tri_smallest_right(A, n, v, scratch))
         return SFM_OK;
     return smallest_right(w, A, n, n, v);

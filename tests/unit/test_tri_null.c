@@ -58,7 +58,7 @@ SFM_TEST(tri_null_recovers_known_vector)
 {
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
     static const int dims[][2] = {{1, 1}, {3, 2}, {9, 9}, {28, 27}, {27, 15}, {30, 27}};
-    double s[TN_MAX], v[TN_MAX], scratch[2 * TN_MAX], worst = 0.0;
+    double s[TN_MAX], v[TN_MAX], scratch[4 * TN_MAX], worst = 0.0;
     for (int it = 0; it < SFM_TEST_ITERS(20); it++)
         for (size_t d = 0; d < sizeof dims / sizeof dims[0]; d++) {
             int m = dims[d][0], n = dims[d][1];
@@ -86,7 +86,7 @@ SFM_TEST(tri_null_slow_contraction_still_converges)
 {
     /* s_n / s_{n-1} = 0.7: about 50 steps for 1e-13 */
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
-    double s[27], v[27], scratch[54];
+    double s[27], v[27], scratch[108];
     for (int k = 0; k < 27; k++)
         s[k] = 1.0 - 0.02 * k;
     s[26] = 0.7 * s[25];
@@ -95,11 +95,29 @@ SFM_TEST(tri_null_slow_contraction_still_converges)
     SFM_CHECK(tn_err(v, V, 27) < 1e-11);
 }
 
+SFM_TEST(tri_null_two_vector_phase)
+{
+    /* s_n / s_{n-1} = 0.97: one vector would need hundreds of steps; the
+     * pair converges at (s_n / s_{n-2})^2 = 0.25 a step */
+    static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
+    double s[27], v[27], scratch[108];
+    for (int it = 0; it < SFM_TEST_ITERS(10); it++) {
+        for (int k = 0; k < 27; k++)
+            s[k] = 1.0 - 0.02 * k;
+        s[26] = 0.5 * s[24];
+        s[25] = s[26] / 0.97;
+        tn_build(t, s, 28, 27, R, V);
+        SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 1);
+        double e = tn_err(v, V, 27);
+        SFM_CHECK_MSG(e < 1e-11, "error %g", e);
+    }
+}
+
 SFM_TEST(tri_null_exact_zero_pivots)
 {
     /* singular triangular matrices: zero last pivot, zero interior pivot */
     static double R[27 * 27];
-    double v[27], scratch[54];
+    double v[27], scratch[108];
     for (int zero = 26; zero >= 10; zero -= 16) {
         for (int i = 0; i < 27; i++)
             for (int j = 0; j < 27; j++)
@@ -123,7 +141,7 @@ SFM_TEST(tri_null_declines_without_a_gap)
     /* two equal smallest singular values, a zero and a NaN matrix: 0 and v
      * untouched, so the caller falls back to the SVD */
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
-    double s[27], v[27], scratch[54];
+    double s[27], v[27], scratch[108];
     for (int k = 0; k < 27; k++)
         s[k] = 1.0 - 0.02 * k;
     s[26] = s[25];
