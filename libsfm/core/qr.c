@@ -44,15 +44,29 @@ int sfm_qr_factor(double *A, int m, int n, double *tau)
         for (int i = k + 1; i < m; i++)
             A[(size_t)i * n + k] *= inv;
         A[(size_t)k * n + k] = beta;
-        /* apply H_k to the trailing columns */
+        /* apply H_k to the trailing columns, row by row so the inner loops
+         * run along rows; each column's sums keep the order i = k+1, k+2,
+         * ..., so the result is the same as column by column. The
+         * products v^T A_j gather in tau[k+1..n), not yet in use. */
+        double *w = tau;
+        const double *ak = A + (size_t)k * n;
+        for (int j = k + 1; j < n; j++)
+            w[j] = ak[j];
+        for (int i = k + 1; i < m; i++) {
+            const double *ai = A + (size_t)i * n;
+            double vi = ai[k];
+            for (int j = k + 1; j < n; j++)
+                w[j] += vi * ai[j];
+        }
         for (int j = k + 1; j < n; j++) {
-            double s = A[(size_t)k * n + j];
-            for (int i = k + 1; i < m; i++)
-                s += A[(size_t)i * n + k] * A[(size_t)i * n + j];
-            s *= tau[k];
-            A[(size_t)k * n + j] -= s;
-            for (int i = k + 1; i < m; i++)
-                A[(size_t)i * n + j] -= s * A[(size_t)i * n + k];
+            w[j] *= tau[k];
+            A[(size_t)k * n + j] -= w[j];
+        }
+        for (int i = k + 1; i < m; i++) {
+            double *ai = A + (size_t)i * n;
+            double vi = ai[k];
+            for (int j = k + 1; j < n; j++)
+                ai[j] -= w[j] * vi;
         }
     }
     return SFM_OK;
