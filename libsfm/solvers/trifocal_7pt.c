@@ -8,7 +8,9 @@
  * (rows 0 and 1 of a skew matrix of a point with third coordinate 1 are
  * independent). The 4n x 27 design matrix is never stored: blocks of rows are
  * folded into a 27x27 triangular factor by Householder QR, which has the same
- * singular values and right singular vectors.
+ * singular values and right singular vectors. The null vectors of the
+ * triangular factors come from inverse iteration (core/tri_null.h), with the
+ * SVD kept for samples where it does not settle.
  */
 #include <math.h>
 #include <string.h>
@@ -23,17 +25,18 @@
 #include "solvers/trifocal_internal.h"
 
 enum { NU = 27, BLOCK = 16, ROWS = NU + 4 * BLOCK, ALG_ITERS = 1 };
+/* the algebraic step's basis: 5 vectors for each of the 3 blocks */
+enum { NB = 5, NA = 3 * NB };
 
 typedef struct tf_ws {
     double *buf;  /* ROWS x 27: running R on top, new rows below */
     double *tau;  /* 27 */
     double *R;    /* 27 x 27 reduced design matrix */
-    double *E;    /* 27 x 18 */
-    double *U;    /* 27 x 27 */
     double *V;    /* 27 x 27 */
     double *S;    /* 27 */
-    double *M;    /* 27 x 27 */
-    void *svd;    /* SVD scratch for up to 27 x 27 */
+    double *M;    /* 27 x 15 of the algebraic step, reduced to 15 x 15 */
+    void *svd;    /* SVD scratch for up to 27 x 27, when inverse iteration
+                     does not settle */
     size_t svd_size;
 } tf_ws;
 
@@ -42,15 +45,10 @@ static void tf_layout(sfm_arena *a, tf_ws *w)
     w->buf = SFM_ARENA_ARRAY(a, double, ROWS * NU);
     w->tau = SFM_ARENA_ARRAY(a, double, NU);
     w->R = SFM_ARENA_ARRAY(a, double, NU * NU);
-    w->E = SFM_ARENA_ARRAY(a, double, NU * 18);
-    w->U = SFM_ARENA_ARRAY(a, double, NU * NU);
     w->V = SFM_ARENA_ARRAY(a, double, NU * NU);
     w->S = SFM_ARENA_ARRAY(a, double, NU);
-    w->M = SFM_ARENA_ARRAY(a, double, NU * NU);
+    w->M = SFM_ARENA_ARRAY(a, double, NU * NA);
     w->svd_size = sfm_svd_workspace_size(NU, NU);
-    size_t s2 = sfm_svd_workspace_size(NU, 18);
-    if (s2 > w->svd_size)
-        w->svd_size = s2;
     w->svd = sfm_arena_alloc(a, w->svd_size);
 }
 
@@ -147,7 +145,6 @@ static void complete_basis(const double e[3], double p[3], double q[3])
  * e' (x) p'', e' (x) q'' (E has rank 5 per i, 15 in all, as H&Z note), so
  * the problem becomes the smallest right singular vector of R U (27 x 15),
  * U that basis, with t = U y. */
-enum { NB = 5, NA = 3 * NB };
 static int algebraic_step(tf_ws *w, double t[NU])
 {
     double e2[3], e3[3];
