@@ -142,9 +142,10 @@ static void complete_basis(const double e[3], double p[3], double q[3])
  * 9-vectors x (x) e'' and e' (x) y (Kronecker products over j, k): with unit
  * epipoles completed to orthonormal bases {e', p', q'}, {e'', p'', q''},
  * that span has the orthonormal basis e' (x) e'', p' (x) e'', q' (x) e'',
- * e' (x) p'', e' (x) q'' (E has rank 5 per i, 15 in all, as H&Z note), so
- * the problem becomes the smallest right singular vector of R U (27 x 15),
- * U that basis, with t = U y. */
+ * e' (x) p'', e' (x) q'' (the two 3-dimensional spans meet in e' (x) e'',
+ * so E has rank 5 per i and 15 in all for any nonzero epipoles). The
+ * problem becomes the smallest right singular vector of R U (27 x 15), U
+ * that basis, with t = U y. */
 static int algebraic_step(tf_ws *w, double t[NU])
 {
     double e2[3], e3[3];
