@@ -563,9 +563,11 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         /* Inner RANSAC of the LO, once per best model, when the run is
          * heading for its cap (its confidence needs more samples than
          * max_iterations allows) and has spent at least the inner samples'
-         * cost: an easy run finds its model by sampling sooner. */
+         * cost: an easy run finds its model by sampling sooner. Not once
+         * the time budget is spent (the inner run itself is not cut). */
         if (lo_on && have_best && !inner_done && it >= INNER_SAMPLES &&
-            k_needed > (double)opt->max_iterations) {
+            k_needed > (double)opt->max_iterations &&
+            !(use_clock && opt->clock(opt->clock_ctx) - t0 >= opt->time_budget)) {
             double sc = best_score;
             int ci = best_inl;
             inner_done = 1;
