@@ -67,13 +67,13 @@ static double resid(const fnorm *N, const double *Fn, const double *p, const dou
 static double cost_n(const fnorm *N, const double *p1, const double *p2, int n, double s2,
                      const double *Fn)
 {
-    double c = 0.0, w;
+    double c = 0.0;
     for (int i = 0; i < n; i++) {
         double xn[3], yn[3], l[3], m[3], C, D;
         int ok;
         double r = resid(N, Fn, p1 + 2 * i, p2 + 2 * i, xn, yn, l, m, &C, &D, &ok);
         if (ok)
-            c += sfm_lm_cauchy(r * r, s2, &w);
+            c += sfm_lm_cauchy_loss(r * r, s2);
     }
     return c;
 }
@@ -82,11 +82,11 @@ double sfm_robust_fundamental_cost(const double *p1, const double *p2, int n, do
                                    const double F[9])
 {
     const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0, w;
+    double c = 0.0;
     for (int i = 0; i < n; i++) {
         double r2 = sfm_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
         if (r2 < SFM_ROBUST_HUGE)
-            c += sfm_lm_cauchy(r2, s2, &w);
+            c += sfm_lm_cauchy_loss(r2, s2);
     }
     return c;
 }
@@ -187,7 +187,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
             if (!ok)
                 continue;
             double sD = sqrt(D), J[NP], w;
-            (void)sfm_lm_cauchy(r * r, s2, &w);
+            w = sfm_lm_cauchy_weight(r * r, s2);
             for (int p = 0; p < NP; p++) {
                 const double *M = dF[p];
                 double Mx[3], Mty0, Mty1;
@@ -229,7 +229,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
                 cur = cn;
                 accepted = 1;
                 improved = 1;
-                lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
+                lambda = sfm_lm_small_relax(lambda);
                 if (rel < 1e-6)
                     it = iters;
             } else {

@@ -94,11 +94,11 @@ double sfm_robust_homography_cost(const double *p1, const double *p2, int n, dou
                                   const double H[9])
 {
     const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0, w;
+    double c = 0.0;
     for (int i = 0; i < n; i++) {
         double r2 = sfm_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
         if (r2 < SFM_ROBUST_HUGE)
-            c += sfm_lm_cauchy(r2, s2, &w);
+            c += sfm_lm_cauchy_loss(r2, s2);
     }
     return c;
 }
@@ -119,13 +119,13 @@ static double cost_n(const hnorm *N, const double *p1, const double *p2, int n, 
                      const double *Hn)
 {
     const double xs = N->t1[0], ys = N->t2[0];
-    double c = 0.0, w;
+    double c = 0.0;
     for (int i = 0; i < n; i++) {
         double xn[2], yn[2];
         hs_pair P;
         normalise(N, p1 + 2 * i, p2 + 2 * i, xn, yn);
         if (sampson_pair(Hn, xn, yn, xs, ys, &P))
-            c += sfm_lm_cauchy(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2, &w);
+            c += sfm_lm_cauchy_loss(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2);
     }
     return c;
 }
@@ -168,7 +168,7 @@ int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double s
             normalise(&N, p1 + 2 * i, p2 + 2 * i, xn, yn);
             if (!sampson_pair(Hn, xn, yn, xs, ys, &P))
                 continue;
-            (void)sfm_lm_cauchy(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2, &w);
+            w = sfm_lm_cauchy_weight(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2);
             const double X[3] = {xn[0], xn[1], 1.0};
             double J[2][NP];
             for (int p = 0; p < NP; p++) {
@@ -227,7 +227,7 @@ int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double s
                 cur = cn;
                 accepted = 1;
                 improved = 1;
-                lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
+                lambda = sfm_lm_small_relax(lambda);
                 if (rel < 1e-6)
                     it = iters;
             } else {

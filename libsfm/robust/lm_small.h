@@ -1,6 +1,7 @@
-/* Internal: the damped normal-equation step shared by the small
- * Levenberg-Marquardt refinements of the uncalibrated estimators
- * (fundamental_lm.c, homography_lm.c), and their robust loss. */
+/* Internal: the damped normal-equation step, the robust loss and the
+ * damping schedule shared by the small Levenberg-Marquardt refinements of
+ * the estimators (sampson_lm.c, reproj_lm.c, fundamental_lm.c,
+ * homography_lm.c). */
 #ifndef SFM_ROBUST_LM_SMALL_H
 #define SFM_ROBUST_LM_SMALL_H
 
@@ -11,16 +12,17 @@
 /* Largest parameter count of these refinements. */
 #define SFM_LM_SMALL_MAXP 8
 
-/* Cauchy loss s2 log(1 + r2 / s2) of a squared residual and its IRLS weight
- * 1 / (1 + r2 / s2); plain r2 and weight 1 when s2 <= 0. */
-static inline double sfm_lm_cauchy(double r2, double s2, double *w)
+/* IRLS weight of the Cauchy loss below: 1 / (1 + r2 / s2); 1 when s2 <= 0. */
+static inline double sfm_lm_cauchy_weight(double r2, double s2)
 {
-    if (!(s2 > 0.0)) {
-        *w = 1.0;
-        return r2;
-    }
-    *w = 1.0 / (1.0 + r2 / s2);
-    return s2 * log1p(r2 / s2);
+    return s2 > 0.0 ? 1.0 / (1.0 + r2 / s2) : 1.0;
+}
+
+/* Cauchy loss s2 log(1 + r2 / s2) of a squared residual; plain r2 when
+ * s2 <= 0. */
+static inline double sfm_lm_cauchy_loss(double r2, double s2)
+{
+    return s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
 }
 
 /* x = -(JtJ + lambda diag(JtJ))^-1 g for np parameters; JtJ holds the lower
@@ -40,6 +42,12 @@ static inline int sfm_lm_small_step(const double *JtJ, const double *g, int np, 
     if (sfm_cholesky_factor(A, np) != SFM_OK || sfm_cholesky_solve(A, np, x, 1) != SFM_OK)
         return -1;
     return 0;
+}
+
+/* After an accepted step: ten times less damping, down to 1e-10. */
+static inline double sfm_lm_small_relax(double lambda)
+{
+    return lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
 }
 
 #endif

@@ -177,24 +177,18 @@ static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *m
     return EVAL_BETTER;
 }
 
-/* Number of points whose squared residual is below r2max. */
-static int count_within(const engine *e, const double *model, double r2max)
+/* Points whose squared residual is below r2max: their count, and their
+ * indices in list unless it is NULL. */
+static int collect_within(const engine *e, const double *model, double r2max, int *list)
 {
     const sfm_ransac_estimator *est = e->est;
     int c = 0;
     for (int i = 0; i < e->n; i++)
-        c += est->residual(est->ctx, model, i) < r2max;
-    return c;
-}
-
-/* Points whose squared residual is below wide2 go to list; returns count. */
-static int collect_within(const engine *e, const double *model, double wide2, int *list)
-{
-    const sfm_ransac_estimator *est = e->est;
-    int c = 0;
-    for (int i = 0; i < e->n; i++)
-        if (est->residual(est->ctx, model, i) < wide2)
-            list[c++] = i;
+        if (est->residual(est->ctx, model, i) < r2max) {
+            if (list)
+                list[c] = i;
+            c++;
+        }
     return c;
 }
 
@@ -401,7 +395,7 @@ static double new_best(const engine *e, const sfm_ransac_options *opt, sfm_sprt 
     sprt->eps = eps;
     sfm_sprt_update(sprt);
     double eps_stop =
-        e->wide > 1.0 ? (double)count_within(e, e->best, e->tau2 * e->wide * e->wide) / (double)e->n
+        e->wide > 1.0 ? (double)collect_within(e, e->best, e->tau2 * e->wide * e->wide, NULL) / (double)e->n
                       : eps;
     return needed_iterations(eps_stop, e->k,
                              opt->use_sprt ? sfm_sprt_pass_probability(sprt) : 1.0,

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "robust/epipolar.h"
+#include "robust/lm_small.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 
@@ -35,7 +36,7 @@ static double cost(const double *b, const double *X, const int *idx, int n, cons
     for (int j = 0; j < n; j++) {
         double r2 = sfm_robust_reproj2(R, t, b + 3 * idx[j], X + 3 * idx[j]);
         if (r2 < SFM_ROBUST_HUGE)
-            c += s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
+            c += sfm_lm_cauchy_loss(r2, s2);
     }
     return c;
 }
@@ -63,7 +64,7 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
                 continue;
             sfm_tangent_basis(bb, e[0], e[1]);
             double rr[2] = {sfm_dot3(e[0], Xc) / d, sfm_dot3(e[1], Xc) / d};
-            double w = s2 > 0.0 ? 1.0 / (1.0 + (rr[0] * rr[0] + rr[1] * rr[1]) / s2) : 1.0;
+            double w = sfm_lm_cauchy_weight(rr[0] * rr[0] + rr[1] * rr[1], s2);
             for (int k = 0; k < 2; k++) {
                 double r = rr[k];
                 double a[3]; /* d r / d Xc */
@@ -84,14 +85,8 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
         }
         int accepted = 0;
         for (int tries = 0; tries < 6 && !accepted; tries++) {
-            double A[36], x[6];
-            for (int p = 0; p < 6; p++) {
-                for (int q = 0; q <= p; q++)
-                    A[p * 6 + q] = H[p * 6 + q];
-                A[p * 6 + p] += lambda * (H[p * 6 + p] > 1e-12 ? H[p * 6 + p] : 1e-12);
-                x[p] = -g[p];
-            }
-            if (sfm_cholesky_factor(A, 6) != SFM_OK || sfm_cholesky_solve(A, 6, x, 1) != SFM_OK) {
+            double x[6];
+            if (sfm_lm_small_step(H, g, 6, lambda, x) < 0) {
                 lambda *= 10.0;
                 continue;
             }
@@ -110,7 +105,7 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
                 cur = cn;
                 accepted = 1;
                 improved = 1;
-                lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
+                lambda = sfm_lm_small_relax(lambda);
                 if (rel < 1e-10)
                     return 0;
             } else {

@@ -13,16 +13,11 @@
 #include <string.h>
 
 #include "robust/epipolar.h"
+#include "robust/lm_small.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 
 #define MAXP 5
-
-/* Cauchy loss of a squared residual (plain square when s2 <= 0). */
-static double loss(double r2, double s2)
-{
-    return s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
-}
 
 static double cost(const double *b1, const double *b2, const int *idx, int n, const double *E,
                    double s2)
@@ -31,7 +26,8 @@ static double cost(const double *b1, const double *b2, const int *idx, int n, co
     for (int j = 0; j < n; j++) {
         int i = idx[j];
         double r2 = sfm_sampson_bearing2(E, b1 + 3 * i, b2 + 3 * i);
-        c += r2 < SFM_ROBUST_HUGE ? loss(r2, s2) : 0.0;
+        if (r2 < SFM_ROBUST_HUGE)
+            c += sfm_lm_cauchy_loss(r2, s2);
     }
     return c;
 }
@@ -91,7 +87,7 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
             }
             J[nr] = ia * sfm_dot3(e1, gCt) - ib * sfm_dot3(e1, gDt);
             J[nr + 1] = ia * sfm_dot3(e2, gCt) - ib * sfm_dot3(e2, gDt);
-            double w = s2 > 0.0 ? 1.0 / (1.0 + r * r / s2) : 1.0;
+            double w = sfm_lm_cauchy_weight(r * r, s2);
             for (int p = 0; p < np; p++) {
                 double wj = w * J[p];
                 g[p] += wj * r;
@@ -102,14 +98,8 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
         /* damped steps until one lowers the cost */
         int accepted = 0;
         for (int tries = 0; tries < 6 && !accepted; tries++) {
-            double A[MAXP * MAXP], x[MAXP];
-            for (int p = 0; p < np; p++) {
-                for (int q = 0; q <= p; q++)
-                    A[p * np + q] = H[p * np + q];
-                A[p * np + p] += lambda * (H[p * np + p] > 1e-12 ? H[p * np + p] : 1e-12);
-                x[p] = -g[p];
-            }
-            if (sfm_cholesky_factor(A, np) != SFM_OK || sfm_cholesky_solve(A, np, x, 1) != SFM_OK) {
+            double x[MAXP];
+            if (sfm_lm_small_step(H, g, np, lambda, x) < 0) {
                 lambda *= 10.0;
                 continue;
             }
@@ -145,7 +135,7 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
                 cur = cn;
                 accepted = 1;
                 improved = 1;
-                lambda = lambda * 0.1 > 1e-10 ? lambda * 0.1 : 1e-10;
+                lambda = sfm_lm_small_relax(lambda);
                 if (rel < 1e-6)
                     return 0;
             } else {

@@ -45,30 +45,16 @@ static int fit_rotation(const double *b1, const double *b2, const int *idx, int 
     return sfm_rot_nearest(M, R);
 }
 
-static int homography_count(const double *p1, const double *p2, int n, const double *H,
-                            double tol, int *sel)
-{
-    int c = 0;
-    for (int i = 0; i < n; i++) {
-        double x = p1[2 * i], y = p1[2 * i + 1];
-        double w = H[6] * x + H[7] * y + H[8];
-        if (fabs(w) < 1e-12)
-            continue;
-        double u = (H[0] * x + H[1] * y + H[2]) / w - p2[2 * i];
-        double v = (H[3] * x + H[4] * y + H[5]) / w - p2[2 * i + 1];
-        if (u * u + v * v < tol * tol)
-            sel[c++] = i;
-    }
-    return c;
-}
-
 /* Points the candidate homographies are counted on: an evenly spread
  * subset, enough to tell a dominant plane (SFM_DEGENERACY_FRACTION of the
  * points) from a general scene; the winner is then counted on all. */
 #define SUBSET 128
 
-static int homography_count_subset(const double *p1, const double *p2, int m, int s,
-                                   const double *H, double tol)
+/* Points among s evenly spread ones of p1/p2[0..m) that H transfers within
+ * tol (s = m: all of them, in order); their indices go to sel unless it is
+ * NULL. */
+static int homography_count(const double *p1, const double *p2, int m, int s, const double *H,
+                            double tol, int *sel)
 {
     int c = 0;
     for (int j = 0; j < s; j++) {
@@ -79,7 +65,11 @@ static int homography_count_subset(const double *p1, const double *p2, int m, in
             continue;
         double u = (H[0] * x + H[1] * y + H[2]) / w - p2[2 * i];
         double v = (H[3] * x + H[4] * y + H[5]) / w - p2[2 * i + 1];
-        c += u * u + v * v < tol * tol;
+        if (u * u + v * v < tol * tol) {
+            if (sel)
+                sel[c] = i;
+            c++;
+        }
     }
     return c;
 }
@@ -154,7 +144,7 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
         sfm_mat3 H;
         if (sfm_homography_4pt(a, b, &H) != 1)
             continue;
-        int cnt = homography_count_subset(p1, p2, m, sub, H.m, tol);
+        int cnt = homography_count(p1, p2, m, sub, H.m, tol, NULL);
         if (cnt > best) {
             best = cnt;
             for (int k = 0; k < 9; k++)
@@ -163,7 +153,7 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
     }
     if (best < 0)
         return 0;
-    c = homography_count(p1, p2, m, bestH, tol, sel);
+    c = homography_count(p1, p2, m, m, bestH, tol, sel);
     if (c >= need)
         return SFM_RANSAC_FLAG_PLANAR;
     /* a homography from four noisy points of a dominant plane still
@@ -182,5 +172,5 @@ int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int 
     if (sfm_homography_dlt(p1, p2, c, &H2) != 1)
         return 0;
     m = project_plane(b1, b2, idx, n, p1, p2);
-    return homography_count(p1, p2, m, H2.m, tol, sel) >= need ? SFM_RANSAC_FLAG_PLANAR : 0;
+    return homography_count(p1, p2, m, m, H2.m, tol, sel) >= need ? SFM_RANSAC_FLAG_PLANAR : 0;
 }
