@@ -4,12 +4,22 @@
 #   make demo       the three-view pipeline on bundled data
 #   make bench      benchmarks beside their anchors
 #   make cross      build/aarch64/libsfm.a
-#   make firmware   build/cortex-m7/libsfm.a
-#   make install PREFIX=/usr/local
+#   make firmware   build/cortex-m7/libsfm.a and the relative-pose example
+#   make install PREFIX=/usr/local [DESTDIR=...]   (make uninstall undoes it)
 #   make fuzz       run the fuzz targets for a while
 #
-# Variables: NATIVE=1 adds -march=native (off by default: a library built on
-# one machine must run on another).
+# Variables:
+#   CC, CXX, AR, CPPFLAGS, CFLAGS, CXXFLAGS, LDFLAGS  the host toolchain and
+#       the user's flags, added after the project's own (CFLAGS=-O3 wins over
+#       the default -O2); the cross builds use their own compilers.
+#   OPT=-O2      the host optimisation level.
+#   NATIVE=1     adds -march=native to the host build (off by default: a
+#                library built on one machine must run on another).
+#   HAVE_LIBJPEG=, HAVE_LIBPNG=, HAVE_LIBCAMERA=  force an optional
+#       dependency of the capture library off (or =1 on); by default each is
+#       found with pkg-config. What was found is recorded in
+#       build/capture/config.stamp, so a dependency installed later rebuilds
+#       the objects that use it.
 
 .DEFAULT_GOAL := all
 SHELL := /bin/bash
@@ -24,18 +34,22 @@ PYTHON ?= $(PYTHON_VENV)/bin/python
 CORE_MODULES := core solvers robust refine recon features
 LIB_SRCS := $(foreach m,$(CORE_MODULES),$(wildcard libsfm/$(m)/*.c) $(wildcard libsfm/$(m)/generated/*.c))
 PUBLIC_HEADERS := $(wildcard include/sfm/*.h)
-# Objects depend on every header, public and internal: coarse, but a changed
-# constant in an internal header can never leave a stale object behind.
-LIB_HEADERS := $(PUBLIC_HEADERS) $(wildcard libsfm/*/*.h libsfm/*/*/*.h)
+
+# Version from the public header; the shared object is libsfm.so.$(SFM_MAJOR).
+SFM_VERSION_PART = $(shell sed -n 's/^\#define SFM_VERSION_$(1) \([0-9]*\).*/\1/p' include/sfm/sfm_common.h)
+SFM_MAJOR := $(call SFM_VERSION_PART,MAJOR)
+SFM_VERSION_STR := $(SFM_MAJOR).$(call SFM_VERSION_PART,MINOR).$(call SFM_VERSION_PART,PATCH)
 
 WARN := -Wall -Wextra -Wpedantic -Werror -Wshadow -Wdouble-promotion
 STD := -std=c11 -ffp-contract=off
 OPT ?= -O2
-ifeq ($(NATIVE),1)
-OPT += -march=native
-endif
+# Kept apart from OPT so that `make OPT=-O3 NATIVE=1` keeps both.
+NATIVE_ARCH := $(if $(filter 1,$(NATIVE)),-march=native)
+HOST_CFLAGS := $(STD) $(OPT) $(NATIVE_ARCH) $(WARN) $(CPPFLAGS) $(CFLAGS)
 CPPFLAGS_LIB := -Iinclude -Ilibsfm
 CPPFLAGS_TEST := $(CPPFLAGS_LIB) -Itests/harness
+# Per-file header dependencies (written beside each object, read below).
+DEPFLAGS = -MMD -MP
 
 # tests/unit: portable tests that run on every target (no files, no threads,
 # modest memory). tests/native: host-only tests (real data in ../shared/data,
@@ -43,66 +57,84 @@ CPPFLAGS_TEST := $(CPPFLAGS_LIB) -Itests/harness
 UNIT_SRCS := $(wildcard tests/harness/*.c) $(wildcard tests/unit/*.c)
 NATIVE_TEST_SRCS := $(wildcard tests/harness/*.c) $(wildcard tests/native/*.c)
 
+# A stamp holding a value: $(call value_stamp,FILE,TEXT) rewrites FILE only
+# when TEXT differs from what it holds, so what depends on FILE is rebuilt
+# exactly when the value changed (a list of sources, flags, optional
+# dependencies found). The rule runs on every make, never at parse time.
+value_stamp = mkdir -p $(dir $(1)); printf '%s\n' '$(2)' | cmp -s - $(1) 2>/dev/null || printf '%s\n' '$(2)' > $(1)
+FORCE:
+
 # ---------------------------------------------------------------------------
-# Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS) defines
+# Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS,AR) defines
 #   DIR/libsfm.a                 the core library
 #   DIR/tests/unit_tests         the unit test runner
+# Objects are rebuilt when a header they include, the compiler or the flags
+# change (DIR/flags.stamp), and the archive when a source is added or removed.
+# Sources listed in NAME_COLD_SRCS get NAME_COLD_OPT after the flags (code
+# off the hot paths, built for size where flash is scarce).
 define variant
 $(1)_DIR := $(2)
 $(1)_CC := $(3)
 $(1)_CFLAGS := $(4)
 $(1)_LDFLAGS := $(5)
+$(1)_AR := $(6)
 $(1)_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(LIB_SRCS))
 $(1)_TEST_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(UNIT_SRCS)) $(2)/obj/tests/registry.o
 
-$(2)/obj/libsfm/%.o: libsfm/%.c $$(LIB_HEADERS) | $(2)/.dir
-	@mkdir -p $$(@D)
-	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_LIB) -c $$< -o $$@
+$(2)/flags.stamp: FORCE
+	@$$(call value_stamp,$$@,$$($(1)_CC) $$($(1)_CFLAGS) $$($(1)_COLD_OPT) $$($(1)_COLD_SRCS))
+$(2)/lib_srclist: FORCE
+	@$$(call value_stamp,$$@,$$(LIB_SRCS))
+$(2)/tests/srclist: FORCE
+	@$$(call value_stamp,$$@,$$(UNIT_SRCS))
 
-$(2)/obj/tests/%.o: tests/%.c $$(LIB_HEADERS) $$(wildcard tests/*/*.h) | $(2)/.dir
+$(2)/obj/libsfm/%.o: libsfm/%.c $(2)/flags.stamp
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) $$(if $$(filter $$<,$$($(1)_COLD_SRCS)),$$($(1)_COLD_OPT)) $$(CPPFLAGS_LIB) $$(DEPFLAGS) -c $$< -o $$@
+
+$(2)/obj/tests/%.o: tests/%.c $(2)/flags.stamp
+	@mkdir -p $$(@D)
+	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) $$(DEPFLAGS) -c $$< -o $$@
+
+$(2)/obj/tests/registry.o: $(2)/tests/registry.c $(2)/flags.stamp
 	@mkdir -p $$(@D)
 	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
 
-$(2)/obj/tests/registry.o: $(2)/tests/registry.c
-	@mkdir -p $$(@D)
-	$$($(1)_CC) $$($(1)_CFLAGS) $$(CPPFLAGS_TEST) -c $$< -o $$@
-
-# The list of test files is recorded so that deleting one also rebuilds.
-$$(shell mkdir -p $(2)/tests; echo '$$(UNIT_SRCS)' | cmp -s - $(2)/tests/srclist || echo '$$(UNIT_SRCS)' > $(2)/tests/srclist)
-$(2)/tests/registry.c: $$(UNIT_SRCS) $(2)/tests/srclist tools/gen_test_registry.sh | $(2)/.dir
+$(2)/tests/registry.c: $$(UNIT_SRCS) $(2)/tests/srclist tools/gen_test_registry.sh
 	@mkdir -p $$(@D)
 	sh tools/gen_test_registry.sh $$(UNIT_SRCS) > $$@
 
-$$(shell mkdir -p $(2); echo '$$(LIB_SRCS)' | cmp -s - $(2)/lib_srclist || echo '$$(LIB_SRCS)' > $(2)/lib_srclist)
 $(2)/libsfm.a: $$($(1)_OBJS) $(2)/lib_srclist
 	@rm -f $$@
-	$$(AR_$(1)) rcs $$@ $$($(1)_OBJS)
+	$$($(1)_AR) rcs $$@ $$($(1)_OBJS)
 
 $(2)/tests/unit_tests: $$($(1)_TEST_OBJS) $(2)/libsfm.a
 	@mkdir -p $$(@D)
 	$$($(1)_CC) $$($(1)_CFLAGS) -o $$@ $$($(1)_TEST_OBJS) $(2)/libsfm.a $$($(1)_LDFLAGS) -lm
 
-$(2)/.dir:
-	@mkdir -p $(2)
-	@touch $$@
+-include $$($(1)_OBJS:.o=.d) $$($(1)_TEST_OBJS:.o=.d)
 endef
 
 ASAN_LDFLAGS := -fsanitize=address,undefined
 ASAN_CFLAGS := $(STD) -O1 -g $(WARN) $(ASAN_LDFLAGS) -fno-sanitize-recover=all -fno-omit-frame-pointer
-AR_native := ar
-AR_asan := ar
-$(eval $(call variant,native,$(BUILD),cc,$(STD) $(OPT) $(WARN) -fPIC -fvisibility=hidden,))
-$(eval $(call variant,asan,$(BUILD)/asan,cc,$(ASAN_CFLAGS),$(ASAN_LDFLAGS)))
+$(eval $(call variant,native,$(BUILD),$(CC),$(HOST_CFLAGS) -fPIC -fvisibility=hidden,$(LDFLAGS),$(AR)))
+$(eval $(call variant,asan,$(BUILD)/asan,$(CC),$(ASAN_CFLAGS),$(ASAN_LDFLAGS),$(AR)))
 
-$(BUILD)/libsfm.so: $(native_OBJS) $(BUILD)/lib_srclist
-	cc -shared -Wl,--no-undefined -o $@ $(native_OBJS) -lm
+# The shared object: the real file carries the full version, the SONAME the
+# major one; libsfm.so.$(SFM_MAJOR) and libsfm.so are links to it.
+SFM_SO := libsfm.so.$(SFM_VERSION_STR)
+$(BUILD)/$(SFM_SO): $(native_OBJS) $(BUILD)/lib_srclist
+	$(CC) -shared -Wl,--no-undefined -Wl,-soname,libsfm.so.$(SFM_MAJOR) $(LDFLAGS) -o $@ $(native_OBJS) -lm
+$(BUILD)/libsfm.so.$(SFM_MAJOR) $(BUILD)/libsfm.so: $(BUILD)/$(SFM_SO)
+	ln -sf $(SFM_SO) $@
 
 # The cdef the Python binding reads: the public headers after the
 # preprocessor, plus the integer macros, kept beside the library it describes.
-$(BUILD)/sfm_cdef.h: $(PUBLIC_HEADERS) tools/gen_cdef.sh | $(BUILD)/.dir
-	sh tools/gen_cdef.sh include/sfm/sfm.h > $@
+$(BUILD)/sfm_cdef.h: $(PUBLIC_HEADERS) tools/gen_cdef.sh
+	@mkdir -p $(@D)
+	CC="$(CC)" sh tools/gen_cdef.sh include/sfm/sfm.h > $@
 
-all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/sfm_cdef.h
+all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/libsfm.so.$(SFM_MAJOR) $(BUILD)/sfm_cdef.h
 
 # ---------------------------------------------------------------------------
 # Tests. Each fragment in mk/ appends its steps to TEST_STEPS; `make test`
@@ -111,14 +143,15 @@ all: $(BUILD)/libsfm.a $(BUILD)/libsfm.so $(BUILD)/sfm_cdef.h
 TEST_STEPS := test-unit test-asan test-native test-heapfree
 
 NATIVE_TEST_OBJS := $(patsubst %.c,$(BUILD)/obj/%.o,$(NATIVE_TEST_SRCS)) $(BUILD)/obj/tests/native_registry.o
-$(shell mkdir -p $(BUILD)/tests; echo '$(NATIVE_TEST_SRCS)' | cmp -s - $(BUILD)/tests/native_srclist || echo '$(NATIVE_TEST_SRCS)' > $(BUILD)/tests/native_srclist)
-$(BUILD)/tests/native_registry.c: $(NATIVE_TEST_SRCS) $(BUILD)/tests/native_srclist tools/gen_test_registry.sh | $(BUILD)/.dir
+$(BUILD)/tests/native_srclist: FORCE
+	@$(call value_stamp,$@,$(NATIVE_TEST_SRCS))
+$(BUILD)/tests/native_registry.c: $(NATIVE_TEST_SRCS) $(BUILD)/tests/native_srclist tools/gen_test_registry.sh
 	@mkdir -p $(@D)
 	sh tools/gen_test_registry.sh $(NATIVE_TEST_SRCS) > $@
-$(BUILD)/obj/tests/native_registry.o: $(BUILD)/tests/native_registry.c
-	cc $(native_CFLAGS) $(CPPFLAGS_TEST) -c $< -o $@
+$(BUILD)/obj/tests/native_registry.o: $(BUILD)/tests/native_registry.c $(BUILD)/flags.stamp
+	$(CC) $(native_CFLAGS) $(CPPFLAGS_TEST) -c $< -o $@
 $(BUILD)/tests/native_tests: $(NATIVE_TEST_OBJS) $(BUILD)/libsfm.a
-	cc $(native_CFLAGS) -o $@ $(NATIVE_TEST_OBJS) $(BUILD)/libsfm.a -lm -lpthread
+	$(CC) $(native_CFLAGS) $(LDFLAGS) -o $@ $(NATIVE_TEST_OBJS) $(BUILD)/libsfm.a -lm -lpthread
 
 # Host-only tests run from the project root so ../shared/data resolves.
 test-native: $(BUILD)/tests/native_tests
@@ -137,7 +170,8 @@ test-heapfree: $(BUILD)/libsfm.a
 # Benchmarks: fragments append to BENCH_STEPS; `make bench` runs them in turn.
 BENCH_STEPS :=
 
--include $(sort $(wildcard mk/*.mk))
+# Every fragment in mk/ joins, named by what it builds.
+include $(sort $(wildcard mk/*.mk))
 
 bench: all
 	@set -e; for s in $(BENCH_STEPS); do echo "=== $$s"; $(MAKE) --no-print-directory $$s; done
@@ -151,4 +185,4 @@ test: deps
 clean:
 	rm -rf $(BUILD)
 
-.PHONY: all test deps clean bench $(TEST_STEPS) $(BENCH_STEPS)
+.PHONY: all test deps clean bench FORCE $(TEST_STEPS) $(BENCH_STEPS)

@@ -1,16 +1,29 @@
 #!/bin/sh
-# Installs what `make test` needs on a fresh Debian 12 machine: Debian
+# Installs what a make target needs on a fresh Debian 12 machine: Debian
 # packages when run as root, and a local Python venv. A missing tool that
 # cannot be installed is a loud failure, never a silent skip.
+#   setup_deps.sh        everything `make test` needs (python/requirements-test.txt)
+#   setup_deps.sh demo   what `make demo` needs: a compiler and numpy + OpenCV
+#                        (python/requirements-demo.txt)
 set -eu
 cd "$(dirname "$0")/.."
+mode=${1:-test}
 
-DEB_PACKAGES="gcc g++ make cmake pkg-config
+case $mode in
+demo)
+    DEB_PACKAGES="gcc g++ make pkg-config python3 python3-venv"
+    REQ=python/requirements-demo.txt ;;
+test)
+    DEB_PACKAGES="gcc g++ make cmake pkg-config
  gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user
  gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
  libeigen3-dev libceres-dev clang libclang-rt-14-dev
  libjpeg-dev libpng-dev libcamera-dev
  python3 python3-venv valgrind"
+    REQ=python/requirements-test.txt ;;
+*)
+    echo "setup: unknown mode '$mode' (demo or test)" >&2; exit 2 ;;
+esac
 
 missing=""
 for p in $DEB_PACKAGES; do
@@ -30,14 +43,14 @@ if [ -n "$missing" ]; then
 fi
 
 VENV=${PYTHON_VENV:-.venv}
-REQ=python/requirements-test.txt
+STAMP=$VENV/.req-stamp-$mode
 if [ ! -x "$VENV/bin/python" ]; then
     echo "setup: creating Python venv in $VENV"
     python3 -m venv "$VENV"
 fi
-if [ ! -f "$VENV/.req-stamp" ] || ! cmp -s "$REQ" "$VENV/.req-stamp"; then
+if [ ! -f "$STAMP" ] || ! cmp -s "$REQ" "$STAMP"; then
     echo "setup: installing Python packages from $REQ"
     "$VENV/bin/python" -m pip install -q --disable-pip-version-check -r "$REQ"
-    cp "$REQ" "$VENV/.req-stamp"
+    cp "$REQ" "$STAMP"
 fi
-echo "setup: ok"
+echo "setup: ok ($mode)"

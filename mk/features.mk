@@ -18,9 +18,7 @@ bench-features: all
 # (callgrind; repeatable where wall time on a shared machine is not).
 BENCH_STEPS += bench-features-callgrind
 FEAT_BENCH_DIR := $(BUILD)/bench
-bench-features-callgrind: $(BUILD)/libsfm.a
-	@mkdir -p $(FEAT_BENCH_DIR)
-	cc $(STD) $(OPT) $(WARN) -Iinclude bench/features_callgrind.c $(BUILD)/libsfm.a -lm -o $(FEAT_BENCH_DIR)/features_callgrind
+bench-features-callgrind: $(BUILD)/bench/features_callgrind
 	@PYTHONPATH=bench $(PYTHON) -c "import features_vs_orb as B, sys, os; \
 		d = B.DATA; \
 		os.path.isdir(d) or sys.exit(print('SKIP: %s not found; the callgrind figure needs Herz-Jesu-P8' % d)); \
@@ -32,3 +30,5 @@ bench-features-callgrind: $(BUILD)/libsfm.a
 			| grep -E "keypoints|I *refs"; \
 		callgrind_annotate $(FEAT_BENCH_DIR)/features.callgrind 2>/dev/null | grep -E "features/" | head -12; \
 	fi
+
+.PHONY: test-features-generated bench-features bench-features-callgrind

@@ -6,16 +6,17 @@ ORACLE_CXX ?= g++
 ORACLE_CXXFLAGS := -std=c++17 -O2 -Wall -Wextra -Werror -isystem $(EIGEN_INC) -Iinclude
 
 # Compiling against Eigen is the slow part: objects depend on the headers
-# only, so a library change costs a relink.
-$(BUILD)/oracle/%.o: tests/oracle/%.cc $(PUBLIC_HEADERS) include/sfm/sfm_eigen.hpp
+# they include only, so a library change costs a relink.
+$(BUILD)/oracle/%.o: tests/oracle/%.cc
 	@mkdir -p $(@D)
 	@test -f $(EIGEN_INC)/Eigen/Dense || { echo "Eigen 3.4 not found in $(EIGEN_INC) (Debian: libeigen3-dev)"; exit 1; }
-	$(ORACLE_CXX) $(ORACLE_CXXFLAGS) -c -o $@ $<
+	$(ORACLE_CXX) $(ORACLE_CXXFLAGS) $(DEPFLAGS) -c -o $@ $<
 
 $(BUILD)/oracle/%: $(BUILD)/oracle/%.o $(BUILD)/libsfm.a
 	$(ORACLE_CXX) -o $@ $< $(BUILD)/libsfm.a -lm
 
 ORACLE_PROGS := $(BUILD)/oracle/linalg_oracle $(BUILD)/oracle/test_sfm_eigen
+-include $(ORACLE_PROGS:=.d)
 
 TEST_STEPS += test-oracle
 test-oracle: $(ORACLE_PROGS)

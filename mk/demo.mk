@@ -15,14 +15,16 @@ DEMO_SYN := $(DEMO_DIR)/synthetic
 DEMO_HJ := $(DEMO_DIR)/herzjesu
 DEMO_HJ_SRC ?= ../shared/data/herzjesu-p8
 
-$(DEMO_BIN): firmware_examples/linux/three_view_demo.c $(PUBLIC_HEADERS) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a
+$(DEMO_BIN): firmware_examples/linux/three_view_demo.c $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAP_CONFIG)
 	@mkdir -p $(@D)
-	cc $(native_CFLAGS) -Iinclude -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
+	$(CC) $(native_CFLAGS) -Iinclude $(DEPFLAGS) $(LDFLAGS) -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
+-include $(DEMO_BIN).d
 
-# The generator needs numpy and OpenCV from the venv: set it up only when
-# they are missing (tools/setup_deps.sh installs what `make test` needs).
+# The generator needs numpy and OpenCV from the venv: when they are missing,
+# only those are installed (python/requirements-demo.txt); `make test` adds
+# the rest of what the tests need.
 demo-deps:
-	@$(PYTHON) -c "import numpy, cv2" 2>/dev/null || sh tools/setup_deps.sh
+	@$(PYTHON) -c "import numpy, cv2" 2>/dev/null || sh tools/setup_deps.sh demo
 
 $(DEMO_SYN)/ground_truth.txt: tools/gen_demo_scene.py | demo-deps
 	@rm -rf $(DEMO_SYN)

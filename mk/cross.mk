@@ -2,17 +2,17 @@
 # (run under qemu-user) and for a Cortex-M7 (run under qemu-system-arm with
 # semihosting: the proof that the core needs no OS and no heap).
 
-AARCH64_CC := aarch64-linux-gnu-gcc
-AR_aarch64 := aarch64-linux-gnu-ar
-$(eval $(call variant,aarch64,$(BUILD)/aarch64,$(AARCH64_CC),$(STD) $(OPT) $(WARN),-static))
+AARCH64_CC ?= aarch64-linux-gnu-gcc
+AARCH64_AR ?= aarch64-linux-gnu-ar
+$(eval $(call variant,aarch64,$(BUILD)/aarch64,$(AARCH64_CC),$(STD) $(OPT) $(WARN),-static,$(AARCH64_AR)))
 
 M7_ARCH := -mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -mthumb
-M7_CC := arm-none-eabi-gcc
-AR_cortexm7 := arm-none-eabi-ar
+M7_CC ?= arm-none-eabi-gcc
+M7_AR ?= arm-none-eabi-ar
 M7_CFLAGS := $(STD) $(OPT) $(WARN) $(M7_ARCH) -ffunction-sections -fdata-sections -DSFM_TEST_REDUCED
 M7_DIR := firmware_examples/cortex-m7
 M7_LDFLAGS := -nostartfiles --specs=rdimon.specs -T $(M7_DIR)/mps2_an500.ld -Wl,--gc-sections $(M7_DIR)/startup.c
-$(eval $(call variant,cortexm7,$(BUILD)/cortex-m7,$(M7_CC),$(M7_CFLAGS),$(M7_LDFLAGS)))
+$(eval $(call variant,cortexm7,$(BUILD)/cortex-m7,$(M7_CC),$(M7_CFLAGS),$(M7_LDFLAGS),$(M7_AR)))
 
 $(BUILD)/cortex-m7/tests/unit_tests: $(M7_DIR)/startup.c $(M7_DIR)/mps2_an500.ld
 
