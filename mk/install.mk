@@ -54,8 +54,13 @@ uninstall:
 	rm -f $(addprefix $(DESTDIR),$(INSTALLED_FILES))
 	-rmdir $(DESTDIR)$(INCLUDEDIR)/sfm $(DESTDIR)$(CMAKEDIR) $(DESTDIR)$(DATADIR) 2>/dev/null
 
-TEST_STEPS += test-install
+TEST_STEPS += test-install test-wheel
 test-install: all capture
 	sh tests/install/run.sh
 
-.PHONY: install uninstall test-install
+# The Python wheel (python/setup.py builds the C library into it), installed
+# in a fresh venv outside the repository and used from another directory.
+test-wheel:
+	sh tests/install/wheel.sh
+
+.PHONY: install uninstall test-install test-wheel

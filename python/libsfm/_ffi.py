@@ -1,5 +1,10 @@
 """Loads libsfm.so in cffi ABI mode and converts arrays and statuses.
 
+The library is looked for in this order (see _find_library): LIBSFM_LIBRARY,
+the copy inside the package, the build tree of a source checkout, then the
+system loader (libsfm.so.<major> from an installed prefix, LD_LIBRARY_PATH).
+`_ffi._libpath` is the file loaded, `_ffi._found_by` which rule found it.
+
 The cdef is the public headers after the preprocessor (tools/gen_cdef.sh),
 kept beside the library it describes, so the two cannot disagree.
 """
@@ -10,42 +15,97 @@ from cffi import FFI
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _ROOT = os.path.dirname(os.path.dirname(_HERE))
+# The shared object's major version this binding is written for
+# (SFM_VERSION_MAJOR; the file is libsfm.so.<major>).
+SO_MAJOR = 0
+
+
+def _first(paths):
+    return next((p for p in paths if p and os.path.exists(p)), None)
+
+
+def _lib_in(directory, stem):
+    """stem.so.<major> or stem.so in directory, or None."""
+    return _first([os.path.join(directory, "%s.so.%d" % (stem, SO_MAJOR)),
+                   os.path.join(directory, stem + ".so")])
+
+
+def _loaded_path(stem):
+    """The file the system loader mapped for stem (Linux), or None."""
+    try:
+        with open("/proc/self/maps") as f:
+            for line in f:
+                path = line.split(None, 5)[-1].strip()
+                if os.path.basename(path).startswith(stem + ".so"):
+                    return path
+    except OSError:
+        pass
+    return None
 
 
 def _find_library():
+    """(path or soname, how it was found) of libsfm, in the documented order:
+
+    1. LIBSFM_LIBRARY, a path to the shared object;
+    2. the copy inside this package (a wheel or `pip install` carries it);
+    3. the build tree of the source checkout this package sits in
+       (python/libsfm beside build/, after `make`);
+    4. the system loader: libsfm.so.<major> through LD_LIBRARY_PATH, the
+       ldconfig cache and the default directories (an installed prefix).
+    """
     env = os.environ.get("LIBSFM_LIBRARY")
-    candidates = [env] if env else []
-    candidates += [
-        os.path.join(_ROOT, "build", "libsfm.so"),
-        os.path.join(_HERE, "libsfm.so"),
-        "/usr/local/lib/libsfm.so",
-        "/usr/lib/libsfm.so",
-    ]
-    for path in candidates:
-        if path and os.path.exists(path):
-            return path
-    raise OSError("libsfm.so not found: run `make` or set LIBSFM_LIBRARY")
+    if env:
+        if not os.path.exists(env):
+            raise OSError("LIBSFM_LIBRARY=%s: no such file" % env)
+        return env, "LIBSFM_LIBRARY"
+    inside = _lib_in(_HERE, "libsfm")
+    if inside:
+        return inside, "package"
+    tree = _lib_in(os.path.join(_ROOT, "build"), "libsfm")
+    if tree and os.path.exists(os.path.join(_ROOT, "Makefile")):
+        return tree, "build tree"
+    return "libsfm.so.%d" % SO_MAJOR, "system loader"
 
 
-def _find_cdef(libpath):
-    env = os.environ.get("LIBSFM_CDEF")
-    candidates = [env] if env else []
+def _find_cdef(libpath, name="sfm_cdef.h", env="LIBSFM_CDEF"):
+    """The cdef that describes libpath: env, beside it, in the package, or in
+    <prefix>/share/sfm for a library in <prefix>/lib."""
     libdir = os.path.dirname(libpath)
-    candidates += [
-        os.path.join(libdir, "sfm_cdef.h"),
-        os.path.join(libdir, "..", "share", "sfm", "sfm_cdef.h"),
-    ]
-    for path in candidates:
-        if path and os.path.exists(path):
-            return path
-    raise OSError("sfm_cdef.h not found beside %s: run `make`" % libpath)
+    found = _first([os.environ.get(env),
+                    os.path.join(libdir, name),
+                    os.path.join(libdir, "..", "share", "sfm", name),
+                    os.path.join(libdir, "..", "..", "share", "sfm", name),
+                    os.path.join(_HERE, name)])
+    if found is None:
+        raise OSError("%s not found beside %s (nor in ../share/sfm): run `make`, or set %s" % (name, libpath, env))
+    return found
 
 
-ffi = FFI()
-_libpath = _find_library()
-with open(_find_cdef(_libpath)) as f:
-    ffi.cdef(f.read())
-lib = ffi.dlopen(_libpath)
+def _open():
+    path, how = _find_library()
+    lib_ffi = FFI()
+    if how == "system loader":
+        try:
+            handle = lib_ffi.dlopen(path)
+        except OSError:
+            raise OSError("libsfm not found: not in the package, no build tree, and the system loader has no %s "
+                          "(pip install the package, run `make`, `make install`, or set LIBSFM_LIBRARY)" % path)
+        path = _loaded_path("libsfm") or path
+        lib_ffi.dlclose(handle)
+    with open(_find_cdef(path)) as f:
+        lib_ffi.cdef(f.read())
+    return lib_ffi, lib_ffi.dlopen(path), path, how
+
+
+def find_companion(stem, env):
+    """A library built beside libsfm (libsfm_capture): env, then beside the
+    loaded libsfm, then the build tree, then the system loader's soname."""
+    path = _first([os.environ.get(env), _lib_in(os.path.dirname(_libpath), stem),
+                   _lib_in(os.path.join(_ROOT, "build"), stem)])
+    return path or "%s.so.%d" % (stem, SO_MAJOR)
+
+
+ffi, lib, _libpath, _found_by = _open()
 
 
 class SfmError(RuntimeError):

@@ -30,21 +30,17 @@ _PIXFMT = {None: 0, "grey": 1, "gray": 1, "yuyv": 2, "nv12": 3, "mjpeg": 4}
 def _load():
     """(ffi, lib) of libsfm_capture.so, loaded once."""
     if "lib" not in _cap:
-        env = os.environ.get("LIBSFM_CAPTURE_LIBRARY")
-        base = os.path.dirname(_ffi._libpath)
-        candidates = ([env] if env else []) + [
-            os.path.join(base, "libsfm_capture.so"),
-            os.path.join(_ffi._ROOT, "build", "libsfm_capture.so"),
-        ]
-        path = next((p for p in candidates if p and os.path.exists(p)), None)
-        if path is None:
-            raise OSError("libsfm_capture.so not found: run `make capture` or set LIBSFM_CAPTURE_LIBRARY")
-        cdefs = [os.environ.get("LIBSFM_CAPTURE_CDEF"),
-                 os.path.join(os.path.dirname(path), "sfm_capture_cdef.h"),
-                 os.path.join(os.path.dirname(path), "..", "share", "sfm", "sfm_capture_cdef.h")]
-        cdef = next((c for c in cdefs if c and os.path.exists(c)), None)
-        if cdef is None:
-            raise OSError("sfm_capture_cdef.h not found beside %s: run `make capture`" % path)
+        path = _ffi.find_companion("libsfm_capture", "LIBSFM_CAPTURE_LIBRARY")
+        ffi = FFI()
+        try:
+            handle = ffi.dlopen(path)
+        except OSError:
+            raise OSError("libsfm_capture.so not found beside %s: run `make capture` or set LIBSFM_CAPTURE_LIBRARY"
+                          % _ffi._libpath)
+        if not os.path.isabs(path):
+            path = _ffi._loaded_path("libsfm_capture") or path
+        ffi.dlclose(handle)
+        cdef = _ffi._find_cdef(path, "sfm_capture_cdef.h", "LIBSFM_CAPTURE_CDEF")
         ffi = FFI()
         with open(cdef) as f:
             ffi.cdef(f.read())
