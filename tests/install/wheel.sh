@@ -72,7 +72,8 @@ def proj(P):
     p = P @ K.T
     return p[:, :2] / p[:, 2:]
 res = libsfm.estimate_relative_pose(proj(X), proj(X @ R.T + t), K, K, threshold_px=1.0)
-Re, te = np.asarray(res["R"]), np.asarray(res["t"]).ravel()
+field = lambda r, k: r[k] if isinstance(r, dict) else getattr(r, k)
+Re, te = np.asarray(field(res, "R")), np.asarray(field(res, "t")).ravel()
 rot = np.degrees(np.arccos(np.clip((np.trace(Re.T @ R) - 1) / 2, -1, 1)))
 tdir = np.degrees(np.arccos(np.clip(te @ t / np.linalg.norm(te) / np.linalg.norm(t), -1, 1)))
 assert rot < 0.01 and tdir < 0.1, (rot, tdir)
