@@ -14,10 +14,10 @@ CMAKEDIR ?= $(LIBDIR)/cmake/sfm
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 INSTALL_HEADERS := $(PUBLIC_HEADERS) $(wildcard include/sfm/*.hpp)
 # pkg-config and CMake find the prefix relative to their own directory.
-PC_PREFIX_REL := $(shell realpath -m --relative-to=$(PKGCONFIGDIR) $(PREFIX))
-CMAKE_PREFIX_REL := $(shell realpath -m --relative-to=$(CMAKEDIR) $(PREFIX))
-LIBDIR_REL := $(shell realpath -m --relative-to=$(PREFIX) $(LIBDIR))
-INCLUDEDIR_REL := $(shell realpath -m --relative-to=$(PREFIX) $(INCLUDEDIR))
+PC_PREFIX_REL = $(shell realpath -m --relative-to=$(PKGCONFIGDIR) $(PREFIX))
+CMAKE_PREFIX_REL = $(shell realpath -m --relative-to=$(CMAKEDIR) $(PREFIX))
+LIBDIR_REL = $(shell realpath -m --relative-to=$(PREFIX) $(LIBDIR))
+INCLUDEDIR_REL = $(shell realpath -m --relative-to=$(PREFIX) $(INCLUDEDIR))
 
 INSTALL_SUBST = sed -e 's|@PREFIX_FROM_PC@|$(PC_PREFIX_REL)|' -e 's|@PREFIX_FROM_CMAKE@|$(CMAKE_PREFIX_REL)|' \
     -e 's|@LIBDIR@|$(LIBDIR_REL)|' -e 's|@INCLUDEDIR@|$(INCLUDEDIR_REL)|' \
