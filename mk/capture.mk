@@ -31,9 +31,10 @@ CAPTURE_CXXFLAGS := -std=c++17 $(OPT) $(NATIVE_ARCH) -Wall -Wextra -Werror -Wsha
 # tool and test depends on it, so `make demo` on a machine without
 # libcamera-dev followed by `make test` after installing it rebuilds them.
 CAP_CONFIG := $(CAP_DIR)/config.stamp
+CAP_CONFIG_VALUE = HAVE_LIBJPEG=$(HAVE_LIBJPEG) HAVE_LIBPNG=$(HAVE_LIBPNG) HAVE_LIBCAMERA=$(HAVE_LIBCAMERA) \
+    $(CC) $(native_CFLAGS) $(CXX) $(CAPTURE_CXXFLAGS) $(CAPTURE_LDLIBS)
 $(CAP_CONFIG): FORCE
-	@$(call value_stamp,$@,HAVE_LIBJPEG=$(HAVE_LIBJPEG) HAVE_LIBPNG=$(HAVE_LIBPNG) HAVE_LIBCAMERA=$(HAVE_LIBCAMERA) \
-	  $(CC) $(native_CFLAGS) $(CXX) $(CAPTURE_CXXFLAGS) $(CAPTURE_LDLIBS))
+	@$(call value_stamp,$@,$(CAP_CONFIG_VALUE))
 
 CAPTURE_OBJS := $(patsubst libsfm/capture/%.c,$(CAP_DIR)/obj/%.o,$(CAPTURE_C_SRCS)) \
     $(patsubst libsfm/capture/%.cpp,$(CAP_DIR)/obj/%.o,$(CAPTURE_CXX_SRCS))
