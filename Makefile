@@ -65,7 +65,8 @@ value_stamp = mkdir -p $(dir $(1)); printf '%s\n' '$(2)' | cmp -s - $(1) 2>/dev/
 FORCE:
 
 # ---------------------------------------------------------------------------
-# Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS,AR) defines
+# Build variants. $(call variant,NAME,DIR,CC,CFLAGS,LDFLAGS[,AR]) defines
+# (the archiver: AR given, else AR_NAME, else $(AR))
 #   DIR/libsfm.a                 the core library
 #   DIR/tests/unit_tests         the unit test runner
 # Objects are rebuilt when a header they include, the compiler or the flags
@@ -77,7 +78,7 @@ $(1)_DIR := $(2)
 $(1)_CC := $(3)
 $(1)_CFLAGS := $(4)
 $(1)_LDFLAGS := $(5)
-$(1)_AR := $(6)
+$(1)_AR := $(or $(6),$(AR_$(1)),$(AR))
 $(1)_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(LIB_SRCS))
 $(1)_TEST_OBJS := $$(patsubst %.c,$(2)/obj/%.o,$$(UNIT_SRCS)) $(2)/obj/tests/registry.o
 

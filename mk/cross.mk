@@ -4,11 +4,13 @@
 
 AARCH64_CC ?= aarch64-linux-gnu-gcc
 AARCH64_AR ?= aarch64-linux-gnu-ar
+AR_aarch64 := $(AARCH64_AR)
 $(eval $(call variant,aarch64,$(BUILD)/aarch64,$(AARCH64_CC),$(STD) $(OPT) $(WARN),-static,$(AARCH64_AR)))
 
 M7_ARCH := -mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -mthumb
 M7_CC ?= arm-none-eabi-gcc
 M7_AR ?= arm-none-eabi-ar
+AR_cortexm7 := $(M7_AR)
 M7_CFLAGS := $(STD) $(OPT) $(WARN) $(M7_ARCH) -ffunction-sections -fdata-sections -DSFM_TEST_REDUCED
 M7_DIR := firmware_examples/cortex-m7
 M7_LDFLAGS := -nostartfiles --specs=rdimon.specs -L $(M7_DIR) -T $(M7_DIR)/mps2_an500.ld -Wl,--gc-sections $(M7_DIR)/startup.c
