@@ -47,7 +47,7 @@ M7_EXAMPLE_LDFLAGS := -nostartfiles --specs=nano.specs --specs=rdimon.specs -L $
 $(BUILD)/cortex-m7/examples/relpose_demo.elf: $(M7_DIR)/main.c $(BUILD)/cortex-m7/size/libsfm.a $(M7_DIR)/startup.c \
     $(M7_DIR)/relpose_demo.ld $(M7_DIR)/mps2_sections.ld
 	@mkdir -p $(@D)
-	$(M7_CC) $(M7_CFLAGS) -Os -flto -Iinclude -o $@ $(M7_DIR)/main.c $(BUILD)/cortex-m7/size/libsfm.a $(M7_EXAMPLE_LDFLAGS) -lm
+	$(M7_CC) $(M7_CFLAGS) -Os -flto=auto -Iinclude -o $@ $(M7_DIR)/main.c $(BUILD)/cortex-m7/size/libsfm.a $(M7_EXAMPLE_LDFLAGS) -lm
 
 TEST_STEPS += test-aarch64 test-cortex-m7 test-heapfree-cross test-footprint
 
