@@ -19,13 +19,16 @@ pass=0; fail=0
 ok() { echo "ok   $1"; pass=$((pass + 1)); }
 ko() { echo "FAIL $1"; fail=$((fail + 1)); }
 
-# Built from a copy of python/ so the checkout gets no build/ or egg-info;
-# the C sources are the checkout's.
-cp -r python "$out/src" && rm -rf "$out/src/build" "$out"/src/*.egg-info
-if LIBSFM_SOURCE_DIR=$top "$py" -m pip wheel -q --no-deps --no-build-isolation "$out/src" -w "$out/dist" \
-       >"$out/build.log" 2>&1; then
+# `python -m build` on python/: an sdist (which carries the C tree in csrc/)
+# and the wheel built from that sdist, unpacked elsewhere, so the wheel's
+# library comes from the sdist's own sources. Built from a copy of python/
+# beside the checkout's C tree so the checkout gets no build/ or egg-info.
+mkdir -p "$out/src" && cp -r python "$out/src/python" && rm -rf "$out/src/python/build" "$out"/src/python/*.egg-info
+for f in Makefile mk include libsfm tools firmware_examples; do ln -s "$top/$f" "$out/src/$f"; done
+if env -u LIBSFM_SOURCE_DIR "$py" -m build -n -o "$out/dist" "$out/src/python" >"$out/build.log" 2>&1 &&
+   tar tzf "$out"/dist/libsfm-*.tar.gz | grep -q "/csrc/libsfm/core/svd.c$"; then
     whl=$(ls "$out"/dist/libsfm-*.whl)
-    ok "wheel built: $(basename "$whl")"
+    ok "sdist (with csrc/) and wheel built: $(basename "$whl")"
 else
     tail -30 "$out/build.log"; ko "wheel build"; echo "$pass passed, $fail failed"; exit 1
 fi
