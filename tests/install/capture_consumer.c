@@ -13,14 +13,8 @@ int main(int argc, char **argv)
     uint8_t px[12];
     for (int i = 0; i < 12; i++)
         px[i] = (uint8_t)(20 * i + 7);
-    sfm_frame f;
-    memset(&f, 0, sizeof f);
-    f.data = px;
-    f.width = 4;
-    f.height = 3;
-    f.stride = 4;
-    f.format = SFM_PIX_GRAY8;
-    f.timestamp_ns = 123456789;
+    const sfm_frame f = {.data = px, .width = 4, .height = 3, .stride = 4,
+                         .format = SFM_PIX_GRAY8, .timestamp_ns = 123456789};
     sfm_recorder *r = NULL;
     int st = sfm_recorder_open(argv[1], SFM_RECORD_PGM, &r);
     if (st == SFM_OK)
