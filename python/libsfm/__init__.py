@@ -53,6 +53,7 @@ from .trifocal import (cameras_from_trifocal, estimate_three_view_pose, estimate
 from . import linalg  # noqa: F401
 from .geometry import (POLY_MAX_DEGREE, poly_roots, rot_angle_between, rot_from_axis_angle,
                        rot_from_quat, rot_nearest, rot_to_axis_angle, rot_to_quat, skew)
+from . import ba as _ba
 from .ba import bundle_adjust
 from .robust import (RANSAC_DEFAULTS, estimate_absolute_pose, estimate_fundamental,
                      estimate_homography, estimate_relative_pose, estimate_relative_pose_upright)
@@ -64,6 +65,10 @@ def version():
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
 
+
+if not bundle_adjust.__doc__:
+    # its layout and options are written once, in the module's docstring
+    bundle_adjust.__doc__ = "Bundle adjustment (sfm_ba_solve).\n" + (_ba.__doc__ or "")
 
 #: The version of the C library this package drives.
 __version__ = version()
