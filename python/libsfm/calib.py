@@ -36,7 +36,7 @@ import numpy as np
 
 from .camera import Camera
 
-__all__ = ["read_camera", "read_cameras", "CalibrationError"]
+__all__ = ["read_camera", "read_cameras", "write_opencv", "CalibrationError"]
 
 
 class CalibrationError(ValueError):
@@ -352,3 +352,29 @@ def read_camera(path, camera=None):
         raise CalibrationError(os.fspath(path), str(camera), "no such camera; the file holds %s"
                                % ", ".join(names))
     return cams[camera]
+
+
+def write_opencv(path, camera):
+    """Write camera as an OpenCV FileStorage YAML file (what
+    cv2.FileStorage reads, and what the tools' C reader reads): image_width
+    and image_height when known, camera_matrix, distortion_coefficients
+    (Brown 5-vector, or the fisheye 4-vector with fisheye_model: 1)."""
+    if not isinstance(camera, Camera):
+        raise TypeError("camera must be a libsfm.Camera, got %s" % type(camera).__name__)
+    K, d = camera.to_opencv()
+
+    def mat(name, m):
+        m = np.atleast_2d(m)
+        vals = ", ".join(repr(float(v)) for v in m.ravel())
+        return "%s: !!opencv-matrix\n   rows: %d\n   cols: %d\n   dt: d\n   data: [ %s ]\n" % (
+            name, m.shape[0], m.shape[1], vals)
+
+    out = ["%YAML:1.0\n---\n"]
+    if camera.width is not None and camera.height is not None:
+        out.append("image_width: %d\nimage_height: %d\n" % (camera.width, camera.height))
+    out.append(mat("camera_matrix", K))
+    out.append(mat("distortion_coefficients", d.reshape(1, -1)))
+    if camera.model == "fisheye":
+        out.append("fisheye_model: 1\n")
+    with open(os.fspath(path), "w") as f:
+        f.write("".join(out))
