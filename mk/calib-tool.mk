@@ -12,3 +12,10 @@ $(CALIB_TOOL): firmware_examples/linux/sfm_calib.c $(CALIB_SRC) firmware_example
 	cc $(native_CFLAGS) -Iinclude -o $@ firmware_examples/linux/sfm_calib.c $(CALIB_SRC) $(BUILD)/libsfm.a -lm
 
 test-python: $(CALIB_TOOL)
+
+# Its fuzz target, replayed on tests/fuzz/corpus/calib/ by test-fuzz.
+FUZZ_TARGETS += calib
+$(BUILD)/fuzz/fuzz_calib: tests/fuzz/fuzz_calib.c $(CALIB_SRC) firmware_examples/linux/calib_file.h $(BUILD)/libsfm.a
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -Ifirmware_examples/linux -o $@ tests/fuzz/fuzz_calib.c $(CALIB_SRC) $(BUILD)/libsfm.a -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_calib

@@ -673,6 +673,76 @@ static int kalibr_camera(const cf_doc *d, const char *camera, char *prefix, size
     return found ? -1 : 0;
 }
 
+/* The parse proper, on a writable NUL-terminated copy of the text. */
+static int parse_text(cf_doc *d, char *text, const char *camera, sfm_camera *c, int *w, int *h)
+{
+    const char *s = text;
+    while (isspace((unsigned char)*s))
+        s++;
+    int st;
+    if (*s == '<') {
+        st = parse_xml(d, text);
+        return st < 0 ? st : read_opencv(d, c, w, h);
+    }
+    if (looks_kitti(text)) {
+        st = parse_kitti(d, text);
+        return st < 0 ? st : read_kitti(d, camera, c, w, h);
+    }
+    st = parse_yaml(d, text);
+    if (st < 0)
+        return st;
+    char prefix[CF_KEY];
+    int kc = kalibr_camera(d, camera, prefix, sizeof prefix);
+    if (kc < 0)
+        return fail(d, SFM_E_FORMAT, camera, "no such camera in the camchain");
+    if (kc > 0)
+        return read_kalibr(d, prefix, "distortion_coeffs", c, w, h);
+    if (get(d, "sensor_type") != NULL || (get(d, "intrinsics") && get(d, "camera_model"))) {
+        const char *type = get(d, "sensor_type");
+        if (type != NULL && strcmp(type, "camera") != 0)
+            return fail(d, SFM_E_FORMAT, "sensor_type", "not a camera ('%s')", type);
+        return read_kalibr(d, "", "distortion_coefficients", c, w, h);
+    }
+    return read_opencv(d, c, w, h);
+}
+
+int calib_text_read(const char *name, const char *text, size_t len, const char *camera, sfm_camera *cam,
+                    int *width, int *height, char *err, size_t err_size)
+{
+    cf_doc d = {NULL, 0, name ? name : "(text)", err, err_size};
+    if (err != NULL && err_size > 0)
+        err[0] = '\0';
+    if (text == NULL || cam == NULL)
+        return fail(&d, SFM_E_ARGUMENT, NULL, "no text or no camera to fill");
+    if (len > CF_MAX_FILE)
+        return fail(&d, SFM_E_CAPACITY, NULL, "larger than %d bytes", CF_MAX_FILE);
+    if (memchr(text, '\0', len) != NULL)
+        return fail(&d, SFM_E_FORMAT, NULL, "not a text file");
+    char *copy = malloc(len + 1);
+    d.e = malloc(sizeof(cf_entry) * CF_MAX_ENTRIES);
+    int st;
+    sfm_camera c;
+    int w = 0, h = 0;
+    memset(&c, 0, sizeof c);
+    if (copy == NULL || d.e == NULL) {
+        st = fail(&d, SFM_E_IO, NULL, "out of memory");
+    } else {
+        memcpy(copy, text, len);
+        copy[len] = '\0';
+        st = parse_text(&d, copy, camera, &c, &w, &h);
+    }
+    if (st == SFM_OK) {
+        *cam = c;
+        if (width != NULL)
+            *width = w;
+        if (height != NULL)
+            *height = h;
+    }
+    free(copy);
+    free(d.e);
+    return st;
+}
+
 int calib_file_read(const char *path, const char *camera, sfm_camera *cam, int *width, int *height,
                     char *err, size_t err_size)
 {
@@ -685,71 +755,18 @@ int calib_file_read(const char *path, const char *camera, sfm_camera *cam, int *
     if (f == NULL)
         return fail(&d, SFM_E_IO, NULL, "cannot be opened");
     char *text = malloc(CF_MAX_FILE + 1);
-    d.e = malloc(sizeof(cf_entry) * CF_MAX_ENTRIES);
     size_t n = text ? fread(text, 1, CF_MAX_FILE + 1, f) : 0;
     int bad_read = ferror(f);
     fclose(f);
     int st;
-    sfm_camera c;
-    int w = 0, h = 0;
-    memset(&c, 0, sizeof c);
-    if (text == NULL || d.e == NULL) {
+    if (text == NULL)
         st = fail(&d, SFM_E_IO, NULL, "out of memory");
-        goto out;
-    }
-    if (bad_read) {
+    else if (bad_read)
         st = fail(&d, SFM_E_IO, NULL, "read error");
-        goto out;
-    }
-    if (n > CF_MAX_FILE) {
+    else if (n > CF_MAX_FILE)
         st = fail(&d, SFM_E_CAPACITY, NULL, "larger than %d bytes", CF_MAX_FILE);
-        goto out;
-    }
-    text[n] = '\0';
-    if (memchr(text, '\0', n) != NULL) {
-        st = fail(&d, SFM_E_FORMAT, NULL, "not a text file");
-        goto out;
-    }
-    const char *s = text;
-    while (isspace((unsigned char)*s))
-        s++;
-    if (*s == '<') {
-        st = parse_xml(&d, text);
-        if (st == SFM_OK)
-            st = read_opencv(&d, &c, &w, &h);
-    } else if (looks_kitti(text)) {
-        st = parse_kitti(&d, text);
-        if (st == SFM_OK)
-            st = read_kitti(&d, camera, &c, &w, &h);
-    } else {
-        st = parse_yaml(&d, text);
-        char prefix[CF_KEY];
-        int kc = st == SFM_OK ? kalibr_camera(&d, camera, prefix, sizeof prefix) : 0;
-        if (st < 0) {
-            /* the parser's message */
-        } else if (kc < 0) {
-            st = fail(&d, SFM_E_FORMAT, camera, "no such camera in the camchain");
-        } else if (kc > 0) {
-            st = read_kalibr(&d, prefix, "distortion_coeffs", &c, &w, &h);
-        } else if (get(&d, "sensor_type") != NULL || (get(&d, "intrinsics") && get(&d, "camera_model"))) {
-            const char *type = get(&d, "sensor_type");
-            if (type != NULL && strcmp(type, "camera") != 0)
-                st = fail(&d, SFM_E_FORMAT, "sensor_type", "not a camera ('%s')", type);
-            else
-                st = read_kalibr(&d, "", "distortion_coefficients", &c, &w, &h);
-        } else {
-            st = read_opencv(&d, &c, &w, &h);
-        }
-    }
-    if (st == SFM_OK) {
-        *cam = c;
-        if (width != NULL)
-            *width = w;
-        if (height != NULL)
-            *height = h;
-    }
-out:
+    else
+        st = calib_text_read(path, text, n, camera, cam, width, height, err, err_size);
     free(text);
-    free(d.e);
     return st;
 }

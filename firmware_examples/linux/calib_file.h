@@ -41,4 +41,9 @@
 int calib_file_read(const char *path, const char *camera, sfm_camera *cam, int *width, int *height,
                     char *err, size_t err_size);
 
+/* The same on a file's text held in memory (len bytes, need not end in a
+ * NUL); name stands for the file in messages. */
+int calib_text_read(const char *name, const char *text, size_t len, const char *camera, sfm_camera *cam,
+                    int *width, int *height, char *err, size_t err_size);
+
 #endif

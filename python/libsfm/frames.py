@@ -76,6 +76,8 @@ class Source:
 
     @property
     def info(self):
+        """dict: width, height (pixels), source_format, fourcc, buffers, fps
+        (frames per second or None), driver, card."""
         ffi, lib = self._ffi, self._lib
         i = ffi.new("sfm_capture_info *")
         _check(lib.sfm_capture_get_info(self._c, i), "info")
@@ -90,6 +92,7 @@ class Source:
 
     @property
     def stats(self):
+        """dict: frames delivered, drops (sequence gaps), errors."""
         s = self._ffi.new("sfm_capture_stats *")
         _check(self._lib.sfm_capture_get_stats(self._c, s), "stats")
         return {"frames": s.frames, "drops": s.drops, "errors": s.errors}
@@ -124,6 +127,7 @@ class Source:
         return fr
 
     def close(self):
+        """Release the source (idempotent)."""
         if self._c is not None:
             self._lib.sfm_capture_close(self._c)
             self._c = None
@@ -263,9 +267,11 @@ class Recorder:
 
     @property
     def count(self):
+        """Frames written so far."""
         return _check(self._lib.sfm_recorder_count(self._r), "count") if self._r is not None else 0
 
     def close(self):
+        """Close the manifest; raises SfmError when a write had failed."""
         if self._r is not None:
             r, self._r = self._r, None
             _check(self._lib.sfm_recorder_close(r), "Recorder.close")

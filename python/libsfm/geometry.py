@@ -58,32 +58,35 @@ def _unary(fn, a, shape_in, shape_out, name, where):
 
 
 def rot_from_axis_angle(aa):
-    """3x3 rotation of the axis-angle vector aa (3,)."""
+    """Rotation matrix (3, 3) of the axis-angle vector aa (3,): angle in
+    radians times the unit axis."""
     return _unary(lib.sfm_rot_from_axis_angle, aa, (3,), (3, 3), "aa", "sfm_rot_from_axis_angle")
 
 
 def rot_to_axis_angle(R):
-    """Axis-angle vector (3,) of rotation R, angle in [0, pi]."""
+    """Axis-angle vector (3,) of the rotation R (3, 3): unit axis times the
+    angle in radians, in [0, pi]."""
     return _unary(lib.sfm_rot_to_axis_angle, R, (3, 3), (3,), "R", "sfm_rot_to_axis_angle")
 
 
 def rot_from_quat(q):
-    """Rotation of the quaternion q = (w, x, y, z) (normalised first)."""
+    """Rotation matrix (3, 3) of the quaternion q (4,) = (w, x, y, z),
+    normalised first."""
     return _unary(lib.sfm_rot_from_quat, q, (4,), (3, 3), "q", "sfm_rot_from_quat")
 
 
 def rot_to_quat(R):
-    """Unit quaternion (w, x, y, z), w >= 0, of rotation R."""
+    """Unit quaternion (4,) = (w, x, y, z), w >= 0, of the rotation R (3, 3)."""
     return _unary(lib.sfm_rot_to_quat, R, (3, 3), (4,), "R", "sfm_rot_to_quat")
 
 
 def rot_nearest(M):
-    """Rotation closest to the 3x3 matrix M in Frobenius norm."""
+    """The rotation (3, 3) closest to the matrix M (3, 3) in Frobenius norm."""
     return _unary(lib.sfm_rot_nearest, M, (3, 3), (3, 3), "M", "sfm_rot_nearest")
 
 
 def skew(v):
-    """[v]_x: skew(v) @ w == cross(v, w)."""
+    """The cross-product matrix (3, 3) of v (3,): skew(v) @ w == cross(v, w)."""
     return _unary(lib.sfm_skew, v, (3,), (3, 3), "v", "sfm_skew")
 
 

@@ -125,7 +125,8 @@ def lu_solve(A, B):
 
 
 def cholesky(A):
-    """Lower-triangular L with A = L L^T (only A's lower triangle is read)."""
+    """Lower-triangular L (n, n) with A = L L^T for a symmetric positive
+    definite A (n, n) (only its lower triangle is read)."""
     A = _matrix(A, square=True)
     L = A.copy()
     check(lib.sfm_cholesky_factor(dptr(L), A.shape[0]), "sfm_cholesky_factor", {"A": A})
@@ -133,7 +134,8 @@ def cholesky(A):
 
 
 def cholesky_solve(L, B):
-    """X with L L^T X = B, L from cholesky()."""
+    """X with L L^T X = B: L (n, n) from cholesky(), B (n,) or (n, k); X has
+    B's shape."""
     L = _matrix(L, "L", square=True)
     n = L.shape[0]
     Barr = np.asarray(B, dtype=np.float64)
