@@ -118,16 +118,22 @@ def as_array(a, shape, name="array"):
 INT_MIN, INT_MAX = -2 ** 31, 2 ** 31 - 1
 
 
+def _index(value, name):
+    """A Python int from an integer argument (numpy integers included);
+    TypeError naming it for a bool, a float or anything else."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError("%s must be an integer, got a bool" % name)
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError("%s must be an integer, got %s" % (name, type(value).__name__)) from None
+
+
 def to_int(value, name, lo=INT_MIN, hi=INT_MAX):
     """An integer argument for a C int, checked to lie in [lo, hi] (within
     int32 by default). TypeError for a non-integer (floats included: 2.5
     would be truncated), ValueError naming the argument when out of range."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError("%s must be an integer, got a bool" % name)
-    try:
-        v = operator.index(value)
-    except TypeError:
-        raise TypeError("%s must be an integer, got %s" % (name, type(value).__name__)) from None
+    v = _index(value, name)
     if not lo <= v <= hi:
         raise ValueError("%s must be in [%d, %d], got %d" % (name, lo, hi, v))
     return v
@@ -149,13 +155,7 @@ def to_float(value, name, finite=True):
 def to_seed(seed, name="seed"):
     """The seed rule used by every function: any Python (or numpy) integer,
     taken modulo 2**64 (so -1 is 2**64 - 1); the C generator takes uint64."""
-    if isinstance(seed, (bool, np.bool_)):
-        raise TypeError("%s must be an integer, got a bool" % name)
-    try:
-        v = operator.index(seed)
-    except TypeError:
-        raise TypeError("%s must be an integer, got %s" % (name, type(seed).__name__)) from None
-    return v % (1 << 64)
+    return _index(seed, name) % (1 << 64)
 
 
 def int_array(a, shape, name, lo=INT_MIN, hi=INT_MAX):

@@ -151,16 +151,18 @@ class Camera:
         return "Camera(%r, fx=%g, fy=%g, cx=%g, cy=%g, dist=%s%s)" % (
             self.model, self.fx, self.fy, self.cx, self.cy, [float(v) for v in self.dist], size)
 
+    def _many(self, fn, a, cols_in, cols_out, name, where):
+        """fn over the rows of a ((n, cols_in), or one row (cols_in,))."""
+        single = np.ndim(a) == 1
+        a = as_array(np.reshape(a, (1, -1)) if single else a, (None, cols_in), name)
+        out = np.empty((a.shape[0], cols_out), dtype=np.float64)
+        check(fn(self._c, dptr(a), a.shape[0], dptr(out)), where, {name: a})
+        return out[0] if single else out
+
     def project(self, X):
         """Pixels (n, 2) of points X (n, 3) in the camera frame, or (2,) of
         one point (3,)."""
-        X = np.asarray(X) if not isinstance(X, np.ndarray) else X
-        single = np.ndim(X) == 1
-        X = as_array(np.reshape(X, (1, -1)) if single else X, (None, 3), "X")
-        px = np.empty((X.shape[0], 2), dtype=np.float64)
-        check(lib.sfm_camera_project_many(self._c, dptr(X), X.shape[0], dptr(px)),
-              "sfm_camera_project_many", {"X": X})
-        return px[0] if single else px
+        return self._many(lib.sfm_camera_project_many, X, 3, 2, "X", "sfm_camera_project_many")
 
     def project_jacobian(self, X):
         """(px (2,), J (2, 3)) for one point X (3,): J = d(px)/dX, pixels per
@@ -176,12 +178,7 @@ class Camera:
         """Unit bearings (n, 3) of pixels px (n, 2), or (3,) of one (2,).
         Raises SfmError with status SFM_E_NO_CONVERGENCE for a pixel outside
         the region where the distortion can be inverted."""
-        single = np.ndim(px) == 1
-        px = as_array(np.reshape(px, (1, -1)) if single else px, (None, 2), "px")
-        b = np.empty((px.shape[0], 3), dtype=np.float64)
-        check(lib.sfm_camera_unproject_many(self._c, dptr(px), px.shape[0], dptr(b)),
-              "sfm_camera_unproject_many", {"px": px})
-        return b[0] if single else b
+        return self._many(lib.sfm_camera_unproject_many, px, 2, 3, "px", "sfm_camera_unproject_many")
 
 
 def as_camera(K, dist=None, name="K"):

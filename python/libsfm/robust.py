@@ -54,6 +54,16 @@ RANSAC_DEFAULTS = _c_defaults()
 _D = RANSAC_DEFAULTS
 
 
+#: The keyword options every estimator takes, in signature order.
+OPTION_NAMES = ("threshold_px", "seed", "confidence", "max_iterations", "min_iterations",
+                "lo_rounds", "polish_rounds", "use_sprt", "quality")
+
+
+def options_of(args):
+    """The options among an estimator's arguments (its locals())."""
+    return {k: args[k] for k in OPTION_NAMES}
+
+
 def ransac_options(threshold_px, seed, confidence, max_iterations, min_iterations, lo_rounds,
                    polish_rounds, use_sprt, quality, n):
     """An sfm_ransac_options from the keyword options, each checked and named
@@ -147,10 +157,7 @@ def estimate_relative_pose(p1, p2, K1, K2, *, dist1=None, dist2=None,
     E (3, 3), unit Frobenius norm, x2^T E x1 = 0 for normalized x; planar and
     pure_rotation (bools: the inliers are explained by one homography, or by
     a rotation alone; t is then not to be trusted)."""
-    return _relative(False, p1, p2, K1, K2, None, None, dist1, dist2, dict(
-        threshold_px=threshold_px, seed=seed, confidence=confidence,
-        max_iterations=max_iterations, min_iterations=min_iterations, lo_rounds=lo_rounds,
-        polish_rounds=polish_rounds, use_sprt=use_sprt, quality=quality))
+    return _relative(False, p1, p2, K1, K2, None, None, dist1, dist2, options_of(locals()))
 
 
 def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, *, dist1=None, dist2=None,
@@ -166,10 +173,7 @@ def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, *, dist1=None, dist2=
     p1, p2: (n, 2) pixels; K1, K2 as estimate_relative_pose; d1 (3,): the
     direction (e.g. gravity) in camera 1, d2 (3,) = R d1 in camera 2.
     Returns the entries of estimate_relative_pose."""
-    return _relative(True, p1, p2, K1, K2, d1, d2, dist1, dist2, dict(
-        threshold_px=threshold_px, seed=seed, confidence=confidence,
-        max_iterations=max_iterations, min_iterations=min_iterations, lo_rounds=lo_rounds,
-        polish_rounds=polish_rounds, use_sprt=use_sprt, quality=quality))
+    return _relative(True, p1, p2, K1, K2, d1, d2, dist1, dist2, options_of(locals()))
 
 
 def estimate_absolute_pose(p, X, K, *, dist=None, threshold_px=_D["threshold_px"],
@@ -191,8 +195,7 @@ def estimate_absolute_pose(p, X, K, *, dist=None, threshold_px=_D["threshold_px"
     if n > lib.SFM_RANSAC_MAX_POINTS:
         raise ValueError("at most %d points, got %d" % (lib.SFM_RANSAC_MAX_POINTS, n))
     cam = as_camera(K, dist, "K")
-    opt, keep = ransac_options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                               lo_rounds, polish_rounds, use_sprt, quality, n)
+    opt, keep = ransac_options(n=n, **options_of(locals()))
     buf, ws, wsn = workspace(lib.sfm_ransac_abspose_workspace_size(n))
     pose = ffi.new("sfm_pose *")
     mask = np.zeros(n, dtype=np.uint8)
@@ -241,11 +244,7 @@ def estimate_fundamental(p1, p2, K1=None, K2=None, *, dist1=None, dist2=None,
     (bool: a dominant plane was found and plane-and-parallax applied; F then
     rests on the points off the plane)."""
     st, mask, F = _uncalibrated(lib.sfm_ransac_fundamental, lib.sfm_ransac_fundamental_workspace_size,
-                                8, p1, p2, K1, K2, dist1, dist2, dict(
-                                    threshold_px=threshold_px, seed=seed, confidence=confidence,
-                                    max_iterations=max_iterations, min_iterations=min_iterations,
-                                    lo_rounds=lo_rounds, polish_rounds=polish_rounds,
-                                    use_sprt=use_sprt, quality=quality), "sfm_ransac_fundamental")
+                                8, p1, p2, K1, K2, dist1, dist2, options_of(locals()), "sfm_ransac_fundamental")
     return ransac_result(st, mask, "sfm_ransac_fundamental", F=F,
                          degensac=bool(st.flags & lib.SFM_RANSAC_FLAG_DEGENSAC))
 
@@ -263,9 +262,5 @@ def estimate_homography(p1, p2, K1=None, K2=None, *, dist1=None, dist2=None,
     Options: see libsfm.robust. Returns a Result with H (3, 3), unit
     Frobenius norm, p2h ~ H p1h for homogeneous pixels."""
     st, mask, H = _uncalibrated(lib.sfm_ransac_homography, lib.sfm_ransac_homography_workspace_size,
-                                4, p1, p2, K1, K2, dist1, dist2, dict(
-                                    threshold_px=threshold_px, seed=seed, confidence=confidence,
-                                    max_iterations=max_iterations, min_iterations=min_iterations,
-                                    lo_rounds=lo_rounds, polish_rounds=polish_rounds,
-                                    use_sprt=use_sprt, quality=quality), "sfm_ransac_homography")
+                                4, p1, p2, K1, K2, dist1, dist2, options_of(locals()), "sfm_ransac_homography")
     return ransac_result(st, mask, "sfm_ransac_homography", H=H)

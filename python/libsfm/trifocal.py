@@ -7,7 +7,7 @@ from ._ffi import as_array, check, dptr, ffi, lib, u8ptr, workspace
 from .camera import as_camera
 from .results import ransac_result
 from .robust import RANSAC_DEFAULTS as _D
-from .robust import ransac_options
+from .robust import options_of, ransac_options
 
 __all__ = ["trifocal_from_cameras", "trifocal_7pt", "trifocal_epipoles", "trifocal_fundamentals",
            "cameras_from_trifocal", "trifocal_transfer", "trifocal_point_error",
@@ -131,8 +131,7 @@ def estimate_trifocal(x1, x2, x3, *, threshold_px=_D["threshold_px"], seed=_D["s
     libsfm.robust. Returns a Result with T (3, 3, 3), unit Frobenius norm,
     and P (3, 3, 4), projective cameras compatible with T, P[0] = [I | 0]."""
     x1, x2, x3, n = _triplets(x1, x2, x3)
-    opt, keep = ransac_options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                               lo_rounds, polish_rounds, use_sprt, quality, n)
+    opt, keep = ransac_options(n=n, **options_of(locals()))
     T = np.empty((3, 3, 3))
     P = np.empty((3, 3, 4))
     mask = np.zeros(n, dtype=np.uint8)
@@ -166,8 +165,7 @@ def estimate_three_view_pose(x1, x2, x3, K1, K2, K3, *, dist1=None, dist2=None, 
     x1, x2, x3, n = _triplets(x1, x2, x3)
     cams = [as_camera(K, d, name) for K, d, name in
             ((K1, dist1, "K1"), (K2, dist2, "K2"), (K3, dist3, "K3"))]
-    opt, keep = ransac_options(threshold_px, seed, confidence, max_iterations, min_iterations,
-                               lo_rounds, polish_rounds, use_sprt, quality, n)
+    opt, keep = ransac_options(n=n, **options_of(locals()))
     poses = ffi.new("sfm_pose[3]")
     mask = np.zeros(n, dtype=np.uint8)
     stats = ffi.new("sfm_ransac_stats *")
