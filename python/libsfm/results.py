@@ -1,5 +1,7 @@
 """The result type every robust estimator returns."""
-from ._ffi import lib
+import numpy as np
+
+from ._ffi import ffi, lib
 
 __all__ = ["Result"]
 
@@ -25,10 +27,18 @@ class Result(dict):
       seed           int, the seed used (in [0, 2**64))
       stop_reason    str: "confidence", "max_iterations" or "time"
       flags          int, raw SFM_RANSAC_FLAG_* bits
-      degenerate     bool, the inliers do not determine the model
-      degeneracy     str, why: "" when not degenerate, else one of
-                     "pure_rotation", "planar", "collinear", "clustered",
-                     "low_parallax", "no_support"
+      degenerate     bool, the model is a partial answer (see degeneracy)
+      degeneracy     str: "" when not degenerate, else "pure_rotation" (R
+                     without t), "low_parallax" (R determined, the direction
+                     of t not), "planar" (a dominant plane: a relative pose
+                     may be the twin of the true one, F rests on the few
+                     points off the plane); a support that does not
+                     determine the model at all raises SfmError instead
+
+    and, when this build's C library reports them, polish_rounds,
+    inner_runs, stop_share, samples_needed (the stopping rule's share and
+    the samples it asked for) and covariance ((6, 6) of the pose, rows (w,
+    t), w the rotation increment in radians; None for F, H and T).
 
     plus the model entries each estimator lists (R, t, E, F, H, T, P, ...).
     """
@@ -50,7 +60,31 @@ class Result(dict):
 
 
 _COMMON = ("inliers", "num_inliers", "iterations", "models", "sprt_rejected", "lo_runs",
-           "polished", "score", "seed", "stop_reason", "flags", "degenerate", "degeneracy")
+           "polished", "score", "seed", "stop_reason", "flags", "degenerate", "degeneracy",
+           "polish_rounds", "inner_runs", "stop_share", "samples_needed", "covariance")
+
+
+_STATS_FIELDS = {name for name, _ in ffi.typeof("sfm_ransac_stats").fields}
+
+#: Flag bits naming a partial answer, in order of precedence. A bit this
+#: build's headers do not define is skipped.
+_DEGENERACY_FLAGS = (("SFM_RANSAC_FLAG_PURE_ROTATION", "pure_rotation"),
+                     ("SFM_RANSAC_FLAG_LOW_PARALLAX", "low_parallax"),
+                     ("SFM_RANSAC_FLAG_PLANAR", "planar"),
+                     ("SFM_RANSAC_FLAG_DEGENSAC", "planar"))
+
+#: Run diagnostics exported when the C stats carry them: name -> type.
+_OPTIONAL_STATS = (("polish_rounds", int), ("inner_runs", int), ("stop_share", float),
+                   ("samples_needed", float))
+
+
+def degeneracy_name(flags):
+    """The degeneracy named by SFM_RANSAC_FLAG_* bits ("" when none)."""
+    for const, name in _DEGENERACY_FLAGS:
+        bit = getattr(lib, const, None)
+        if bit is not None and flags & bit:
+            return name
+    return ""
 
 
 def ransac_result(st, mask, where, **model):
@@ -67,6 +101,13 @@ def ransac_result(st, mask, where, **model):
                lo_runs=int(st.lo_runs), polished=bool(st.polished), score=float(st.score),
                seed=int(st.seed),
                stop_reason=STOP_REASONS.get(int(st.stop_reason), "unknown (%d)" % int(st.stop_reason)),
-               flags=int(st.flags), degenerate=False, degeneracy="")
+               flags=int(st.flags))
+    name = degeneracy_name(int(st.flags))
+    r.update(degenerate=bool(name), degeneracy=name)
+    for field, kind in _OPTIONAL_STATS:
+        if field in _STATS_FIELDS:
+            r[field] = kind(getattr(st, field))
+    if "cov_dim" in _STATS_FIELDS:
+        r["covariance"] = (np.array(list(st.covariance)).reshape(6, 6) if st.cov_dim == 6 else None)
     r.update(model)
     return r
