@@ -15,9 +15,9 @@ DEMO_SYN := $(DEMO_DIR)/synthetic
 DEMO_HJ := $(DEMO_DIR)/herzjesu
 DEMO_HJ_SRC ?= ../shared/data/herzjesu-p8
 
-$(DEMO_BIN): firmware_examples/linux/three_view_demo.c firmware_examples/linux/calib_file.c firmware_examples/linux/calib_file.h $(PUBLIC_HEADERS) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a
+$(DEMO_BIN): firmware_examples/linux/three_view_demo.c $(PUBLIC_HEADERS) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a
 	@mkdir -p $(@D)
-	cc $(native_CFLAGS) -Iinclude -o $@ $(filter %.c,$^) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
+	cc $(native_CFLAGS) -Iinclude -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
 
 # The generator needs numpy and OpenCV from the venv: set it up only when
 # they are missing (tools/setup_deps.sh installs what `make test` needs).
