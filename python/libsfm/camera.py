@@ -146,6 +146,11 @@ class Camera:
 
     __hash__ = None
 
+    def __reduce__(self):
+        # picklable (for process pools): rebuilt from its parameters
+        return (Camera, (self.model, self.fx, self.fy, self.cx, self.cy, self.dist.copy(),
+                         self.width, self.height))
+
     def __repr__(self):
         size = "" if self.width is None else ", width=%d, height=%d" % (self.width, self.height or 0)
         return "Camera(%r, fx=%g, fy=%g, cx=%g, cy=%g, dist=%s%s)" % (

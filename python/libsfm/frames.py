@@ -237,6 +237,7 @@ class Recorder:
                "Recorder(%s)" % directory)
         self._r = out[0]
         self._next_seq = 0
+        self._shape = None  # of the first frame: every frame must match it
 
     def write(self, image, timestamp_ns, sequence=None):
         """Append one frame. image: (h, w) gray or (h, w, 3) RGB uint8, of the
@@ -262,7 +263,11 @@ class Recorder:
         f.format = 1 if img.ndim == 2 else 5
         f.timestamp_ns = ts
         f.sequence = seq
-        _check(self._lib.sfm_recorder_write(self._r, f), "Recorder.write")
+        st = self._lib.sfm_recorder_write(self._r, f)
+        if st < 0:
+            other = self._shape is not None and img.shape != self._shape
+            raise SfmError(st, "Recorder.write", "image" if other else None)
+        self._shape = self._shape or img.shape
         self._next_seq = seq + 1
 
     @property

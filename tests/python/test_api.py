@@ -317,6 +317,12 @@ def test_camera_constructors_follow_opencv():
         Camera.from_K([[500, 0, 320], [0, 500, 240], [0, 0, 2]])
     K2, d = c.to_opencv()
     assert np.array_equal(K2, K) and np.array_equal(d, d5)
+    import copy
+    import pickle
+    for cam in (c, f, Camera("pinhole", 1.0, 2.0, 3.0, 4.0, width=5, height=6)):
+        back = pickle.loads(pickle.dumps(cam))
+        assert back == cam and np.array_equal(back.project(X), cam.project(X))
+        assert copy.deepcopy(cam) == cam
 
 
 # --- version, docs ------------------------------------------------------------

@@ -98,8 +98,9 @@ def test_recorder_refuses_a_frame_of_another_size_or_kind(tmp_path):
     d = tmp_path / "rec"
     with frames.Recorder(str(d)) as r:
         r.write(np.zeros((4, 6), np.uint8), 10)
-        with pytest.raises(SfmError):
+        with pytest.raises(SfmError) as e:
             r.write(np.zeros((4, 7), np.uint8), 20)
+        assert e.value.argument == "image" and e.value.name == "SFM_E_ARGUMENT"
         with pytest.raises(SfmError):
             r.write(np.zeros((4, 6, 3), np.uint8), 20)
         with pytest.raises(ValueError, match="timestamp_ns"):
