@@ -27,6 +27,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "calib_file.h"
 #include "sfm/sfm.h"
 #include "sfm/sfm_capture.h"
 
@@ -46,6 +47,13 @@ static void usage(FILE *f)
             "                  intrinsics of all three views (pixels; Brown-Conrady\n"
             "                  distortion as OpenCV's when given); default: the\n"
             "                  cameras of the --gt file\n"
+            "  --calib FILE    intrinsics of all three views from a calibration file:\n"
+            "                  OpenCV FileStorage YAML/XML, ROS camera_info, Kalibr\n"
+            "                  camchain, EuRoC sensor.yaml or KITTI calib.txt; a file\n"
+            "                  holding an image size must match the frames'\n"
+            "  --calib-camera NAME\n"
+            "                  which camera of the file (Kalibr cam0, cam1...; KITTI\n"
+            "                  P0..P3); default the first\n"
             "  --gt FILE       ground truth: lines 'camera V fx fy cx cy' and\n"
             "                  'pose V r00 .. r22 t0 t1 t2' (x_cam = R X + t), V = 1..3;\n"
             "                  prints the errors of the estimate against it\n"
@@ -202,7 +210,8 @@ static void print_pose(const char *name, const sfm_pose *p)
 int main(int argc, char **argv)
 {
     const char *dir = NULL, *gt_path = NULL, *ply_path = NULL;
-    int max_features = 2000, have_cam = 0;
+    const char *calib_path = NULL, *calib_camera = NULL;
+    int max_features = 2000, have_cam = 0, calib_w = 0, calib_h = 0;
     double threshold = 1.0, min_parallax = 0.1;
     unsigned long long seed = 1;
     sfm_camera cam_arg;
@@ -221,6 +230,10 @@ int main(int argc, char **argv)
                 return 2;
             }
             have_cam = 1;
+        } else if (strcmp(a, "--calib") == 0 && v) {
+            calib_path = argv[++i];
+        } else if (strcmp(a, "--calib-camera") == 0 && v) {
+            calib_camera = argv[++i];
         } else if (strcmp(a, "--gt") == 0 && v) {
             gt_path = argv[++i];
         } else if (strcmp(a, "--ply") == 0 && v) {
@@ -267,6 +280,23 @@ int main(int argc, char **argv)
     if (dir == NULL) {
         usage(stderr);
         return 2;
+    }
+    if (calib_path != NULL && have_cam) {
+        fprintf(stderr, "three_view_demo: give --camera or --calib, not both\n");
+        return 2;
+    }
+    if (calib_camera != NULL && calib_path == NULL) {
+        fprintf(stderr, "three_view_demo: --calib-camera needs --calib\n");
+        return 2;
+    }
+    if (calib_path != NULL) {
+        char err[768];
+        int st = calib_file_read(calib_path, calib_camera, &cam_arg, &calib_w, &calib_h, err, sizeof err);
+        if (st != SFM_OK) {
+            fprintf(stderr, "three_view_demo: --calib %s (%s)\n", err, sfm_status_str(st));
+            return 2;
+        }
+        have_cam = 1;
     }
 
     ground_truth gt;
@@ -326,7 +356,10 @@ int main(int argc, char **argv)
     printf("three_view_demo: %s\n", dir);
     for (int v = 0; v < 3; v++)
         printf("  camera %d: fx %.3f fy %.3f cx %.3f cy %.3f%s\n", v + 1, cams[v].fx, cams[v].fy,
-               cams[v].cx, cams[v].cy, cams[v].model == SFM_CAMERA_BROWN ? " (Brown distortion)" : "");
+               cams[v].cx, cams[v].cy,
+               cams[v].model == SFM_CAMERA_BROWN     ? " (Brown distortion)"
+               : cams[v].model == SFM_CAMERA_FISHEYE ? " (Kannala-Brandt fisheye)"
+                                                     : "");
 
     /* 1. Frames and features. Each frame is a borrowed view: features are
      * computed while it is held, then it goes back to the source. */
@@ -352,6 +385,14 @@ int main(int argc, char **argv)
         if (v == 0) {
             w = fr.width;
             h = fr.height;
+            /* Intrinsics hold for the image size they were calibrated at. */
+            if (calib_w > 0 && (calib_w != w || calib_h != h)) {
+                fprintf(stderr, "three_view_demo: --calib %s is for %dx%d images, the frames are %dx%d\n",
+                        calib_path, calib_w, calib_h, w, h);
+                sfm_capture_release(src, &fr);
+                status = SFM_E_ARGUMENT;
+                goto done;
+            }
             /* The largest workspace any step needs, for this frame size. */
             size_t need[5] = {sfm_features_workspace_size(&fp, w, h),
                               sfm_features_match_workspace_size(cap, cap),

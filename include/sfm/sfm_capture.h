@@ -121,7 +121,10 @@ SFM_API int sfm_capture_get_info(const sfm_capture *c, sfm_capture_info *out);
  * each row is either "sequence,timestamp_ns,file" or "timestamp_ns,file"
  * (sequence = row index). Timestamps are integers in nanoseconds and never
  * decrease. Files are relative to the directory (else to its "data/"
- * subdirectory); absolute names and ".." are refused. Images are PGM/PPM
+ * subdirectory); absolute names and ".." are refused, and so is a file whose
+ * resolved path (symbolic links followed, the directory's own path resolved
+ * first) lies outside the directory: SFM_E_FORMAT at open, or from acquire
+ * for a file replaced after open. Images are PGM/PPM
  * (P2, P3, P5, P6; 8 or 16 bits), PNG or JPEG; every frame has the size of
  * the first. */
 
@@ -138,7 +141,8 @@ typedef struct sfm_replay_options {
 
 /* opt may be NULL (as fast as possible, no loop). Returns SFM_OK,
  * SFM_E_ARGUMENT, SFM_E_NO_DEVICE (no directory or no manifest), SFM_E_IO,
- * SFM_E_FORMAT (bad manifest, empty manifest, first image unreadable),
+ * SFM_E_FORMAT (bad manifest, empty manifest, first image unreadable, a
+ * file resolving outside the directory),
  * SFM_E_UNSUPPORTED (PNG/JPEG file in a build without that library),
  * SFM_E_CAPACITY (image larger than SFM_CAPTURE_MAX_SIDE). */
 SFM_API int sfm_capture_open_replay(const char *dir, const sfm_replay_options *opt,
@@ -200,9 +204,11 @@ typedef struct sfm_recorder sfm_recorder;
 SFM_API int sfm_recorder_open(const char *dir, int image_format, sfm_recorder **out);
 
 /* Writes one SFM_PIX_GRAY8 or SFM_PIX_RGB24 frame as the next file and adds
- * its manifest row (sequence, timestamp_ns, file), flushed at once. Returns
- * SFM_OK, SFM_E_ARGUMENT (NULL, bad size or format, timestamp going back),
- * SFM_E_IO. */
+ * its manifest row (sequence, timestamp_ns, file), flushed at once. Every
+ * frame must have the width, height and format of the first (a replay plays
+ * frames of one size). Returns SFM_OK, SFM_E_ARGUMENT (NULL, bad size or
+ * format, a size or format other than the first frame's, timestamp going
+ * back, sequence not increasing; nothing is written), SFM_E_IO. */
 SFM_API int sfm_recorder_write(sfm_recorder *r, const sfm_frame *frame);
 
 /* Frames written so far, or SFM_E_ARGUMENT. */

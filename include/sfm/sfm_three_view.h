@@ -34,7 +34,10 @@ extern "C" {
 SFM_API size_t sfm_recon_three_view_pose_workspace_size(int n);
 
 /* On success returns the inlier count and writes poses[3], inlier_mask (n
- * bytes, may be NULL) and stats (may be NULL). opt may be NULL (defaults;
+ * bytes, may be NULL) and stats (may be NULL): stats->num_inliers is the
+ * returned count, the triplets within the threshold under the metric cameras
+ * (the mask's ones); the other counters, the score and the stop reason are
+ * those of the trifocal RANSAC search. opt may be NULL (defaults;
  * threshold 1 px, per view, on the three-view reprojection error).
  * Statuses: SFM_E_ARGUMENT (NULL, n < 7, invalid camera), SFM_E_NONFINITE,
  * SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no tensor found, or a pixel that

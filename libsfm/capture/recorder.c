@@ -21,6 +21,7 @@ struct sfm_recorder {
     int failed;
     int64_t last_ts;
     uint64_t last_seq;
+    int width, height, format; /* of the first frame; every later one matches */
 };
 
 static int write_all(int fd, const char *p, size_t n)
@@ -90,6 +91,10 @@ int sfm_recorder_write(sfm_recorder *r, const sfm_frame *f)
         return SFM_E_ARGUMENT;
     if (r->count > 0 && (f->timestamp_ns < r->last_ts || f->sequence <= r->last_seq))
         return SFM_E_ARGUMENT;
+    /* Replay plays frames of one size; one format keeps the files of one
+     * recording alike (gray stays gray). */
+    if (r->count > 0 && (f->width != r->width || f->height != r->height || f->format != r->format))
+        return SFM_E_ARGUMENT;
     if (r->failed)
         return SFM_E_IO;
     static const char *ext[] = {"pgm", "png", "jpg"};
@@ -114,6 +119,11 @@ int sfm_recorder_write(sfm_recorder *r, const sfm_frame *f)
     }
     if (rc != SFM_OK)
         return SFM_E_IO;
+    if (r->count == 0) {
+        r->width = f->width;
+        r->height = f->height;
+        r->format = f->format;
+    }
     r->count++;
     r->last_ts = f->timestamp_ns;
     r->last_seq = f->sequence;

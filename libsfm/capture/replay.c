@@ -2,8 +2,10 @@
  * Everything is allocated at open (manifest rows, one file buffer as large
  * as the largest file, one gray frame); acquire reads and decodes into them. */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +16,7 @@
 
 typedef struct replay {
     char dir[SFM_CAPTURE_PATH_MAX];
+    char real_dir[PATH_MAX]; /* dir with every symbolic link resolved */
     sfm_manifest_entry *rows;
     unsigned char *in_data; /* per row: the file is under "data/" */
     int n, next;
@@ -53,10 +56,29 @@ static int row_path(const replay *r, int i, char *path, size_t cap)
     return (k < 0 || (size_t)k >= cap) ? SFM_E_ARGUMENT : SFM_OK;
 }
 
-/* Reads path into buf (cap bytes); SFM_E_IO, or SFM_E_FORMAT if larger. */
-static int read_file(const char *path, uint8_t *buf, size_t cap, size_t *len)
+/* The resolved path of row i's file in out (PATH_MAX bytes): SFM_E_IO when
+ * it does not resolve, SFM_E_FORMAT when it lies outside the recording
+ * directory (a symbolic link, or a symlinked "data/", pointing elsewhere). */
+static int frame_path(const replay *r, int i, char *out)
 {
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    char path[2 * SFM_CAPTURE_PATH_MAX + 8];
+    int rc = row_path(r, i, path, sizeof path);
+    if (rc != SFM_OK)
+        return rc;
+    if (realpath(path, out) == NULL)
+        return SFM_E_IO;
+    const size_t k = strlen(r->real_dir);
+    const int root = k == 1; /* the directory is "/" */
+    if (strncmp(out, r->real_dir, k) != 0 || (!root && out[k] != '/'))
+        return SFM_E_FORMAT;
+    return SFM_OK;
+}
+
+/* Reads path into buf (cap bytes); SFM_E_IO, or SFM_E_FORMAT if larger.
+ * nofollow: refuse a final symbolic link (a resolved path that changed). */
+static int read_file(const char *path, uint8_t *buf, size_t cap, size_t *len, int nofollow)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC | (nofollow ? O_NOFOLLOW : 0));
     if (fd < 0)
         return SFM_E_IO;
     size_t n = 0;
@@ -161,12 +183,12 @@ static int replay_acquire(sfm_capture *c, int timeout_ms, sfm_frame *frame)
             sfm_capture_sleep_ns(due - now);
         }
     }
-    char path[2 * SFM_CAPTURE_PATH_MAX + 8];
+    char path[PATH_MAX];
     const int i = r->next++;
     size_t len = 0;
-    int rc = row_path(r, i, path, sizeof path);
+    int rc = frame_path(r, i, path);
     if (rc == SFM_OK)
-        rc = read_file(path, r->file, r->file_cap, &len);
+        rc = read_file(path, r->file, r->file_cap, &len, 1);
     if (rc == SFM_OK)
         rc = decode(r, r->file, len);
     /* A frame that fails to decode is an error, not a drop: the sequence
@@ -215,7 +237,7 @@ static int slurp(const char *path, char **out, size_t *len)
     if (buf == NULL)
         return SFM_E_IO;
     size_t n = 0;
-    int rc = read_file(path, (uint8_t *)buf, (size_t)st.st_size, &n);
+    int rc = read_file(path, (uint8_t *)buf, (size_t)st.st_size, &n, 0);
     if (rc != SFM_OK) {
         free(buf);
         return SFM_E_IO;
@@ -251,11 +273,16 @@ int sfm_capture_open_replay(const char *dir, const sfm_replay_options *opt, sfm_
         return SFM_E_IO;
     sfm_capture_strlcpy(r->dir, sizeof r->dir, dir);
     r->opt = o;
-    char path[2 * SFM_CAPTURE_PATH_MAX + 8];
+    char path[2 * SFM_CAPTURE_PATH_MAX + 8], resolved[PATH_MAX];
+    int rc;
     char *text = NULL;
     size_t tlen = 0;
+    if (realpath(dir, r->real_dir) == NULL) {
+        rc = SFM_E_IO;
+        goto fail;
+    }
     snprintf(path, sizeof path, "%s/manifest.csv", dir);
-    int rc = slurp(path, &text, &tlen);
+    rc = slurp(path, &text, &tlen);
     if (rc == SFM_E_NO_DEVICE) {
         snprintf(path, sizeof path, "%s/data.csv", dir);
         rc = slurp(path, &text, &tlen);
@@ -294,6 +321,9 @@ int sfm_capture_open_replay(const char *dir, const sfm_replay_options *opt, sfm_
             rc = SFM_E_IO;
             goto fail;
         }
+        rc = frame_path(r, i, resolved);
+        if (rc != SFM_OK)
+            goto fail;
         if (st.st_size > (off_t)1 << 30) {
             rc = SFM_E_CAPACITY;
             goto fail;
@@ -309,8 +339,9 @@ int sfm_capture_open_replay(const char *dir, const sfm_replay_options *opt, sfm_
         goto fail;
     }
     size_t len = 0;
-    row_path(r, 0, path, sizeof path);
-    rc = read_file(path, r->file, r->file_cap, &len);
+    rc = frame_path(r, 0, resolved);
+    if (rc == SFM_OK)
+        rc = read_file(resolved, r->file, r->file_cap, &len, 1);
     if (rc == SFM_OK)
         rc = image_size(r, r->file, len, &r->w, &r->h);
     if (rc != SFM_OK)

@@ -371,7 +371,11 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     memcpy(poses, best, 3 * sizeof(sfm_pose));
     if (inlier_mask != NULL)
         memcpy(inlier_mask, w.mask, (size_t)n);
-    if (stats != NULL)
+    if (stats != NULL) {
+        /* The counters are the trifocal search's; the inliers are those of
+         * the metric cameras returned, as in the mask and the return value. */
         *stats = rs;
+        stats->num_inliers = cnt;
+    }
     return cnt;
 }

@@ -8,6 +8,8 @@ system loader (libsfm.so.<major> from an installed prefix, LD_LIBRARY_PATH).
 The cdef is the public headers after the preprocessor (tools/gen_cdef.sh),
 kept beside the library it describes, so the two cannot disagree.
 """
+import numbers
+import operator
 import os
 
 import numpy as np
@@ -109,31 +111,131 @@ ffi, lib, _libpath, _found_by = _open()
 
 
 class SfmError(RuntimeError):
-    """A libsfm call returned a negative status."""
+    """A libsfm call returned a negative status.
 
-    def __init__(self, status, where=""):
+    Attributes: status (the negative sfm_status value), name (its C name,
+    e.g. "SFM_E_SINGULAR"), message (sfm_status_str), where (the C function
+    or the Python call) and argument (the argument at fault when the binding
+    can tell, else None)."""
+
+    def __init__(self, status, where="", argument=None):
         self.status = int(status)
         self.message = ffi.string(lib.sfm_status_str(self.status)).decode()
-        super().__init__("%s%s (status %d)" % (where + ": " if where else "", self.message, self.status))
+        self.name = status_name(self.status)
+        self.where = where
+        self.argument = argument
+        text = "%s%s%s (%s, status %d)" % (where + ": " if where else "",
+                                            "argument %r: " % argument if argument else "",
+                                            self.message, self.name, self.status)
+        super().__init__(text)
 
 
-def check(status, where=""):
-    """Return a non-negative status unchanged; raise SfmError otherwise."""
+def status_name(status):
+    """The C name of a status value ("SFM_OK", "SFM_E_SINGULAR", ...)."""
+    for name in dir(lib):
+        if (name == "SFM_OK" or name.startswith("SFM_E_")) and getattr(lib, name) == status:
+            return name
+    return "status %d" % status
+
+
+def check(status, where="", inputs=None, argument=None):
+    """Return a non-negative status unchanged; raise SfmError otherwise.
+
+    inputs: optional {name: array} of the call's float inputs; on
+    SFM_E_NONFINITE the first one holding a NaN or an infinity is named in
+    the error. argument: the argument to name for any failure."""
     if status < 0:
-        raise SfmError(status, where)
+        if argument is None and inputs and status == lib.SFM_E_NONFINITE:
+            for name, arr in inputs.items():
+                if arr is not None and not np.all(np.isfinite(arr)):
+                    argument = name
+                    break
+        raise SfmError(status, where, argument)
     return status
+
+
+def _refuse_complex(arr, a, name):
+    if np.iscomplexobj(arr) or isinstance(a, complex):
+        raise TypeError("%s must be real, got complex values" % name)
 
 
 def as_array(a, shape, name="array"):
     """A C-contiguous float64 copy-or-view of `a`, checked against `shape`.
 
     `shape` entries may be None (any size) or an int. Raises ValueError before
-    any C call when the shape does not fit.
-    """
-    arr = np.ascontiguousarray(np.asarray(a, dtype=np.float64))
+    any C call when the shape does not fit, TypeError for complex or
+    non-numeric input (numpy would drop an imaginary part silently)."""
+    raw = np.asarray(a)
+    _refuse_complex(raw, a, name)
+    if raw.dtype.kind not in "biuf":
+        raise TypeError("%s must hold real numbers, got dtype %s" % (name, raw.dtype))
+    arr = np.ascontiguousarray(raw, dtype=np.float64)
     if arr.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, arr.shape)):
         raise ValueError("%s must have shape %s, got %s" % (name, tuple("n" if s is None else s for s in shape), arr.shape))
     return arr
+
+
+INT_MIN, INT_MAX = -2 ** 31, 2 ** 31 - 1
+
+
+def _index(value, name):
+    """A Python int from an integer argument (numpy integers included);
+    TypeError naming it for a bool, a float or anything else."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError("%s must be an integer, got a bool" % name)
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError("%s must be an integer, got %s" % (name, type(value).__name__)) from None
+
+
+def to_int(value, name, lo=INT_MIN, hi=INT_MAX):
+    """An integer argument for a C int, checked to lie in [lo, hi] (within
+    int32 by default). TypeError for a non-integer (floats included: 2.5
+    would be truncated), ValueError naming the argument when out of range."""
+    v = _index(value, name)
+    if not lo <= v <= hi:
+        raise ValueError("%s must be in [%d, %d], got %d" % (name, lo, hi, v))
+    return v
+
+
+def to_float(value, name, finite=True):
+    """A real scalar argument; TypeError for complex or non-numbers,
+    ValueError for NaN or infinity when finite."""
+    if isinstance(value, (complex, np.complexfloating)):
+        raise TypeError("%s must be real, got complex %r" % (name, value))
+    if not isinstance(value, (numbers.Real, np.floating, np.integer)) or isinstance(value, bool):
+        raise TypeError("%s must be a real number, got %s" % (name, type(value).__name__))
+    v = float(value)
+    if finite and not np.isfinite(v):
+        raise ValueError("%s must be finite, got %r" % (name, v))
+    return v
+
+
+def to_seed(seed, name="seed"):
+    """The seed rule used by every function: any Python (or numpy) integer,
+    taken modulo 2**64 (so -1 is 2**64 - 1); the C generator takes uint64."""
+    return _index(seed, name) % (1 << 64)
+
+
+def int_array(a, shape, name, lo=INT_MIN, hi=INT_MAX):
+    """A C-contiguous int32 copy of an integer array `a`, shape checked as in
+    as_array, every entry checked to lie in [lo, hi] before the narrowing
+    (an int64 index of 2**32 + 3 would otherwise wrap to 3)."""
+    arr = np.asarray(a)
+    _refuse_complex(arr, a, name)
+    if arr.size == 0 and arr.dtype.kind == "f":
+        arr = arr.astype(np.int64)
+    if arr.dtype.kind not in "iu":
+        raise TypeError("%s must hold integers, got dtype %s" % (name, arr.dtype))
+    if arr.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, arr.shape)):
+        raise ValueError("%s must have shape %s, got %s" % (name, tuple("n" if s is None else s for s in shape), arr.shape))
+    if arr.size:
+        amin, amax = int(arr.min()), int(arr.max())
+        if amin < lo or amax > hi:
+            bad = amin if amin < lo else amax
+            raise ValueError("%s entries must be in [%d, %d], got %d" % (name, lo, hi, bad))
+    return np.ascontiguousarray(arr, dtype=np.int32)
 
 
 def dptr(arr):
@@ -144,6 +246,11 @@ def dptr(arr):
 def iptr(arr):
     """int* into a C-contiguous int32 numpy array."""
     return ffi.cast("int *", ffi.from_buffer(arr))
+
+
+def u8ptr(arr):
+    """uint8_t* into a C-contiguous uint8 numpy array."""
+    return ffi.cast("uint8_t *", ffi.from_buffer(arr))
 
 
 def workspace(nbytes):

@@ -9,7 +9,10 @@ import threading
 
 import numpy as np
 
-from ._ffi import check, ffi, lib
+from ._ffi import SfmError, check, ffi, int_array, lib, to_float, to_int
+
+__all__ = ["detect_and_describe", "match", "associate_three_views", "KEYPOINT_COLUMNS",
+           "FEATURE_DEFAULTS", "MATCH_DEFAULTS"]
 
 # One detector workspace per thread, grown on demand and reused: a frame loop
 # then touches the same pages every call instead of mapping ~2 MB afresh.
@@ -29,15 +32,29 @@ _KP_DTYPE = np.dtype([("x", "<f8"), ("y", "<f8"), ("angle", "<f8"), ("response",
                       ("scale", "<f8"), ("level", "<i4"), ("reserved", "<i4")])
 
 
-def _int_pairs(m, cols, name):
+def _int_pairs(m, cols, name, hi):
+    """An (n, cols) int32 copy of integer indices, each in [0, hi], checked
+    before narrowing (an int64 2**32 + 3 would otherwise wrap to 3)."""
     arr = np.asarray(m)
     if arr.size == 0:
         arr = arr.reshape(0, cols)
-    if arr.ndim != 2 or arr.shape[1] != cols:
-        raise ValueError("%s must have shape (n, %d), got %s" % (name, cols, arr.shape))
-    if arr.size and not np.issubdtype(arr.dtype, np.integer):
-        raise ValueError("%s must hold integers" % name)
-    return np.ascontiguousarray(arr, dtype=np.int32)
+    return int_array(arr, (None, cols), name, 0, hi)
+
+
+def _c_defaults():
+    p = ffi.new("sfm_features_params *")
+    check(lib.sfm_features_default_params(p), "sfm_features_default_params")
+    q = ffi.new("sfm_match_params *")
+    check(lib.sfm_features_default_match_params(q), "sfm_features_default_match_params")
+    return (dict(max_features=p.max_features, n_levels=p.n_levels,
+                 scale_factor=p.scale_factor, fast_threshold=p.fast_threshold,
+                 cell_size=p.cell_size),
+            dict(ratio=q.ratio, mutual=bool(q.mutual), max_distance=q.max_distance))
+
+
+#: The C defaults (sfm_features_default_params, sfm_features_default_match_params).
+FEATURE_DEFAULTS, MATCH_DEFAULTS = _c_defaults()
+_F, _M = FEATURE_DEFAULTS, MATCH_DEFAULTS
 
 
 def _descriptors(d, name):
@@ -49,11 +66,20 @@ def _descriptors(d, name):
     return np.ascontiguousarray(arr)
 
 
-def detect_and_describe(image, max_features=2000, n_levels=None, scale_factor=None,
-                        fast_threshold=None, cell_size=None):
-    """Detect keypoints in a 2-D uint8 gray image and describe them.
+def detect_and_describe(image, max_features=_F["max_features"], n_levels=_F["n_levels"],
+                        scale_factor=_F["scale_factor"], fast_threshold=_F["fast_threshold"],
+                        cell_size=_F["cell_size"]):
+    """Detect FAST-9 corners ranked by Harris response on an image pyramid
+    (grid-bucketed) and describe them with steered BRIEF-256.
 
-    Returns (keypoints (n, 6) float64, descriptors (n, 32) uint8).
+    image: (h, w) uint8 gray. max_features: budget over all levels
+    (1..SFM_FEATURES_MAX_FEATURES); n_levels: pyramid levels; scale_factor:
+    size ratio between levels, in [1.05, 2]; fast_threshold: intensity
+    threshold 1..254; cell_size: bucketing cell side in level pixels, 8..1024.
+    Defaults are the C library's (FEATURE_DEFAULTS).
+
+    Returns (keypoints (n, 6) float64, descriptors (n, 32) uint8); keypoint
+    columns x, y (level-0 pixels), angle (radians), response, scale, level.
     """
     img = np.asarray(image)
     if img.ndim != 2 or img.dtype != np.uint8:
@@ -61,15 +87,13 @@ def detect_and_describe(image, max_features=2000, n_levels=None, scale_factor=No
     img = np.ascontiguousarray(img)
     p = ffi.new("sfm_features_params *")
     check(lib.sfm_features_default_params(p))
-    p.max_features = int(max_features)
-    if n_levels is not None:
-        p.n_levels = int(n_levels)
-    if scale_factor is not None:
-        p.scale_factor = float(scale_factor)
-    if fast_threshold is not None:
-        p.fast_threshold = int(fast_threshold)
-    if cell_size is not None:
-        p.cell_size = int(cell_size)
+    p.max_features = to_int(max_features, "max_features", 1, lib.SFM_FEATURES_MAX_FEATURES)
+    p.n_levels = to_int(n_levels, "n_levels", 1, lib.SFM_FEATURES_MAX_LEVELS)
+    p.scale_factor = to_float(scale_factor, "scale_factor")
+    if not 1.05 <= p.scale_factor <= 2.0:
+        raise ValueError("scale_factor must be in [1.05, 2], got %r" % p.scale_factor)
+    p.fast_threshold = to_int(fast_threshold, "fast_threshold", 1, 254)
+    p.cell_size = to_int(cell_size, "cell_size", 8, 1024)
     h, w = img.shape
     need = lib.sfm_features_workspace_size(p, w, h)
     if need == 0:
@@ -92,19 +116,27 @@ def detect_and_describe(image, max_features=2000, n_levels=None, scale_factor=No
     return out, desc[:n].copy()
 
 
-def match(d1, d2, ratio=0.8, mutual=True, max_distance=256, return_distances=False):
-    """Brute-force Hamming matching: (m, 2) int array of (index in d1, index in d2).
+def match(d1, d2, ratio=_M["ratio"], mutual=_M["mutual"], max_distance=_M["max_distance"],
+          return_distances=False):
+    """Brute-force Hamming matching of two descriptor sets.
 
-    ratio: Lowe's test best < ratio * second (1.0 disables); mutual: keep a
-    pair only when each is the other's nearest neighbour.
+    d1: (n1, 32) uint8, d2: (n2, 32) uint8. ratio: Lowe's test best < ratio
+    * second, in (0, 1] (1.0 disables); mutual: keep a pair only when each is
+    the other's nearest neighbour; max_distance: 0..256 bits. Defaults are
+    the C library's (MATCH_DEFAULTS).
+
+    Returns (m, 2) int array of (index in d1, index in d2), and with
+    return_distances also their (m,) Hamming distances.
     """
     a = _descriptors(d1, "d1")
     b = _descriptors(d2, "d2")
     p = ffi.new("sfm_match_params *")
     check(lib.sfm_features_default_match_params(p))
-    p.ratio = float(ratio)
+    p.ratio = to_float(ratio, "ratio")
+    if not 0 < p.ratio <= 1:
+        raise ValueError("ratio must be in (0, 1], got %r" % p.ratio)
     p.mutual = 1 if mutual else 0
-    p.max_distance = int(max_distance)
+    p.max_distance = to_int(max_distance, "max_distance", 0, 256)
     n1, n2 = a.shape[0], b.shape[0]
     ws = np.empty(max(lib.sfm_features_match_workspace_size(n1, n2), 1), dtype=np.uint8)
     out = np.zeros((max(n1, 1), 2), dtype=np.int32)
@@ -124,31 +156,48 @@ def match(d1, d2, ratio=0.8, mutual=True, max_distance=256, return_distances=Fal
 def associate_three_views(m12, m23, m31, n1=None, n2=None, n3=None):
     """Cyclic three-view association: (t, 3) int array of (i1, i2, i3).
 
-    m12: (n, 2) pairs (i1, i2); m23: (i2, i3); m31: (i3, i1). n1, n2, n3 are
-    the feature counts of the views (default: one more than the largest index
-    seen). A triplet is kept when 1 -> 2 -> 3 -> 1 returns to its start.
+    m12: (k12, 2) integer pairs (i1, i2); m23: (i2, i3); m31: (i3, i1). n1,
+    n2, n3 are the feature counts of the views (default: one more than the
+    largest index seen). Indices must lie in [0, n_view); each list must map
+    a source index once. A triplet is kept when 1 -> 2 -> 3 -> 1 returns to
+    its start; triplets come in increasing i1.
     """
-    a = _int_pairs(m12, 2, "m12")
-    b = _int_pairs(m23, 2, "m23")
-    c = _int_pairs(m31, 2, "m31")
+    int_max = 2 ** 31 - 2
+    a = _int_pairs(m12, 2, "m12", int_max)
+    b = _int_pairs(m23, 2, "m23", int_max)
+    c = _int_pairs(m31, 2, "m31", int_max)
 
-    def count(given, *cols):
-        if given is not None:
-            return int(given)
-        return int(max([col.max() + 1 for col in cols if col.size] + [0]))
+    def count(given, name, *cols):
+        seen = int(max([col.max() + 1 for col in cols if col.size] + [0]))
+        if given is None:
+            return seen
+        v = to_int(given, name, 0)
+        if seen > v:
+            raise ValueError("%s is %d but an index %d is given for that view" % (name, v, seen - 1))
+        return v
 
-    n1 = count(n1, a[:, 0], c[:, 1])
-    n2 = count(n2, a[:, 1], b[:, 0])
-    n3 = count(n3, b[:, 1], c[:, 0])
+    n1 = count(n1, "n1", a[:, 0], c[:, 1])
+    n2 = count(n2, "n2", a[:, 1], b[:, 0])
+    n3 = count(n3, "n3", b[:, 1], c[:, 0])
     cap = max(min(len(a), len(b), len(c)), 1)
-    ws = np.empty(max(lib.sfm_features_associate_workspace_size(n1, n2, n3), 1), dtype=np.uint8)
+    need = lib.sfm_features_associate_workspace_size(n1, n2, n3)
+    ws = np.empty(max(need, 1), dtype=np.uint8)
     out = np.zeros((cap, 3), dtype=np.int32)
 
     def ptr(x):
         return ffi.cast("const int *", ffi.from_buffer(x)) if x.size else ffi.NULL
 
-    n = check(lib.sfm_features_associate_three_views(ptr(a), len(a), ptr(b), len(b), ptr(c), len(c),
-                                                     n1, n2, n3, ffi.from_buffer(ws), ws.nbytes,
-                                                     ffi.cast("int *", ffi.from_buffer(out)), cap),
-              "sfm_features_associate_three_views")
+    try:
+        n = check(lib.sfm_features_associate_three_views(ptr(a), len(a), ptr(b), len(b), ptr(c),
+                                                         len(c), n1, n2, n3, ffi.from_buffer(ws),
+                                                         ws.nbytes,
+                                                         ffi.cast("int *", ffi.from_buffer(out)), cap),
+                  "sfm_features_associate_three_views")
+    except SfmError as e:
+        # The one argument error left once the ranges are checked here: a
+        # source index repeated within one list.
+        for name, arr in (("m12", a), ("m23", b), ("m31", c)):
+            if arr.size and np.unique(arr[:, 0]).size != arr.shape[0]:
+                raise SfmError(e.status, e.where, name) from None
+        raise
     return out[:n].astype(np.intp)

@@ -17,7 +17,10 @@ import numpy as np
 from cffi import FFI
 
 from . import _ffi
-from ._ffi import SfmError
+from ._ffi import SfmError, to_float, to_int
+
+__all__ = ["Frame", "Source", "Recorder", "open_replay", "open_device", "open_libcamera",
+           "list_libcamera"]
 
 Frame = collections.namedtuple("Frame", "image timestamp_ns sequence")
 
@@ -65,10 +68,12 @@ class Source:
     def __init__(self, handle, timeout_ms):
         self._ffi, self._lib = _load()
         self._c = handle
-        self.timeout_ms = int(timeout_ms)
+        self.timeout_ms = to_int(timeout_ms, "timeout_ms")
 
     @property
     def info(self):
+        """dict: width, height (pixels), source_format, fourcc, buffers, fps
+        (frames per second or None), driver, card."""
         ffi, lib = self._ffi, self._lib
         i = ffi.new("sfm_capture_info *")
         _check(lib.sfm_capture_get_info(self._c, i), "info")
@@ -83,6 +88,7 @@ class Source:
 
     @property
     def stats(self):
+        """dict: frames delivered, drops (sequence gaps), errors."""
         s = self._ffi.new("sfm_capture_stats *")
         _check(self._lib.sfm_capture_get_stats(self._c, s), "stats")
         return {"frames": s.frames, "drops": s.drops, "errors": s.errors}
@@ -94,7 +100,7 @@ class Source:
             raise ValueError("source is closed")
         ffi, lib = self._ffi, self._lib
         f = ffi.new("sfm_frame *")
-        t = self.timeout_ms if timeout_ms is None else int(timeout_ms)
+        t = self.timeout_ms if timeout_ms is None else to_int(timeout_ms, "timeout_ms")
         rc = _check(lib.sfm_capture_acquire(self._c, t, f), "acquire")
         if rc == 0:
             return None
@@ -117,6 +123,7 @@ class Source:
         return fr
 
     def close(self):
+        """Release the source (idempotent)."""
         if self._c is not None:
             self._lib.sfm_capture_close(self._c)
             self._c = None
@@ -138,7 +145,11 @@ def open_replay(directory, rate="max", speed=1.0, loop=False, timeout_ms=-1):
     """A recording (manifest.csv or data.csv plus images) as a Source.
 
     rate: "max" (as fast as read), "recorded" (at the recorded pace, `speed`
-    times faster) or a number of frames per second.
+    times faster) or a number of frames per second; loop: start again after
+    the last frame; timeout_ms: how long read() waits for a frame that is
+    not due yet (milliseconds, -1 forever). Frames are (h, w) uint8 gray.
+    A frame file whose resolved path (symbolic links followed) leaves the
+    directory is refused (SfmError SFM_E_FORMAT).
     """
     ffi, lib = _load()
     o = ffi.new("sfm_replay_options *")
@@ -147,12 +158,13 @@ def open_replay(directory, rate="max", speed=1.0, loop=False, timeout_ms=-1):
     elif rate == "recorded":
         o.rate = 1
     elif isinstance(rate, (int, float)) and not isinstance(rate, bool) and rate > 0:
-        o.rate, o.fixed_fps = 2, float(rate)
+        o.rate, o.fixed_fps = 2, to_float(rate, "rate")
     else:
         raise ValueError("rate must be 'max', 'recorded' or a positive number, got %r" % (rate,))
-    if not float(speed) > 0:
-        raise ValueError("speed must be positive")
-    o.speed = float(speed)
+    speed = to_float(speed, "speed")
+    if not speed > 0:
+        raise ValueError("speed must be positive, got %r" % speed)
+    o.speed = speed
     o.loop = 1 if loop else 0
     out = ffi.new("sfm_capture **")
     _check(lib.sfm_capture_open_replay(os.fsencode(directory), o, out), "open_replay(%s)" % directory)
@@ -161,26 +173,34 @@ def open_replay(directory, rate="max", speed=1.0, loop=False, timeout_ms=-1):
 
 def open_device(device="/dev/video0", width=0, height=0, pixel_format=None, fps=0,
                 buffers=0, timeout_ms=2000):
-    """A V4L2 camera as a Source (frames delivered as 8-bit gray).
+    """A V4L2 camera as a Source (frames delivered as (h, w) uint8 gray).
 
-    pixel_format: None (first offered of grey, nv12, yuyv, mjpeg) or one of
-    those names.
+    width, height: requested size in pixels (0: the driver's); pixel_format:
+    None (first offered of grey, nv12, yuyv, mjpeg) or one of those names;
+    fps: requested frames per second (0: as is); buffers: driver buffers (0:
+    4); timeout_ms: read()'s wait in milliseconds (-1 forever).
     """
     if pixel_format not in _PIXFMT:
         raise ValueError("pixel_format must be one of grey, yuyv, nv12, mjpeg or None")
     ffi, lib = _load()
     o = ffi.new("sfm_v4l2_options *")
-    o.width, o.height, o.format, o.fps, o.buffers = int(width), int(height), _PIXFMT[pixel_format], int(fps), int(buffers)
+    o.width, o.height = to_int(width, "width", 0), to_int(height, "height", 0)
+    o.format, o.fps, o.buffers = _PIXFMT[pixel_format], to_int(fps, "fps", 0), to_int(buffers, "buffers", 0)
     out = ffi.new("sfm_capture **")
     _check(lib.sfm_capture_open_v4l2(os.fsencode(device), o, out), "open_device(%s)" % device)
     return Source(out[0], timeout_ms)
 
 
 def open_libcamera(camera_id=None, width=0, height=0, buffers=0, timeout_ms=2000):
-    """A libcamera camera (e.g. a Raspberry Pi camera) as a Source."""
+    """A libcamera camera (e.g. a Raspberry Pi camera) as a Source.
+
+    camera_id: an id from list_libcamera() or None for the first; width,
+    height in pixels (0: the camera's default); buffers (0: 4); timeout_ms:
+    read()'s wait in milliseconds."""
     ffi, lib = _load()
     o = ffi.new("sfm_libcamera_options *")
-    o.width, o.height, o.buffers = int(width), int(height), int(buffers)
+    o.width, o.height = to_int(width, "width", 0), to_int(height, "height", 0)
+    o.buffers = to_int(buffers, "buffers", 0)
     out = ffi.new("sfm_capture **")
     cid = ffi.NULL if camera_id is None else os.fsencode(camera_id)
     _check(lib.sfm_capture_open_libcamera(cid, o, out), "open_libcamera")
@@ -213,10 +233,14 @@ class Recorder:
                "Recorder(%s)" % directory)
         self._r = out[0]
         self._next_seq = 0
+        self._shape = None  # of the first frame: every frame must match it
 
     def write(self, image, timestamp_ns, sequence=None):
-        """image: (h, w) or (h, w, 3) uint8. sequence defaults to one more
-        than the last."""
+        """Append one frame. image: (h, w) gray or (h, w, 3) RGB uint8, of the
+        size and kind of the first frame written (SfmError SFM_E_ARGUMENT
+        otherwise, nothing written); timestamp_ns: int nanoseconds, never
+        decreasing; sequence: int, increasing, default one more than the
+        last."""
         if self._r is None:
             raise ValueError("recorder is closed")
         img = np.asarray(image)
@@ -225,23 +249,30 @@ class Recorder:
         if img.shape[0] < 1 or img.shape[1] < 1:
             raise ValueError("image must not be empty")
         img = np.ascontiguousarray(img)
-        seq = self._next_seq if sequence is None else int(sequence)
+        seq = self._next_seq if sequence is None else to_int(sequence, "sequence", 0, 2 ** 64 - 1)
+        ts = to_int(timestamp_ns, "timestamp_ns", 0, 2 ** 63 - 1)
         ffi = self._ffi
         f = ffi.new("sfm_frame *")
         f.data = ffi.cast("const uint8_t *", ffi.from_buffer(img))
         f.height, f.width = img.shape[0], img.shape[1]
         f.stride = img.strides[0]
         f.format = 1 if img.ndim == 2 else 5
-        f.timestamp_ns = int(timestamp_ns)
+        f.timestamp_ns = ts
         f.sequence = seq
-        _check(self._lib.sfm_recorder_write(self._r, f), "Recorder.write")
+        st = self._lib.sfm_recorder_write(self._r, f)
+        if st < 0:
+            other = self._shape is not None and img.shape != self._shape
+            raise SfmError(st, "Recorder.write", "image" if other else None)
+        self._shape = self._shape or img.shape
         self._next_seq = seq + 1
 
     @property
     def count(self):
+        """Frames written so far."""
         return _check(self._lib.sfm_recorder_count(self._r), "count") if self._r is not None else 0
 
     def close(self):
+        """Close the manifest; raises SfmError when a write had failed."""
         if self._r is not None:
             r, self._r = self._r, None
             _check(self._lib.sfm_recorder_close(r), "Recorder.close")

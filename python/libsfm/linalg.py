@@ -5,7 +5,10 @@ before any C call (ValueError); a negative C status raises SfmError.
 """
 import numpy as np
 
-from ._ffi import as_array, check, dptr, ffi, iptr, lib, workspace
+from ._ffi import as_array, check, dptr, ffi, iptr, lib, to_int, workspace
+
+__all__ = ["svd", "sym_eig", "eig", "nullspace", "lu_factor", "lu_solve", "cholesky",
+           "cholesky_solve", "qr", "lstsq"]
 
 
 def _matrix(A, name="A", square=False):
@@ -30,7 +33,7 @@ def svd(A, compute_uv=True):
     V = np.empty((n, n)) if compute_uv else None
     buf, ws, size = workspace(lib.sfm_svd_workspace_size(m, n))
     check(lib.sfm_svd(dptr(A), m, n, dptr(U) if compute_uv else ffi.NULL, dptr(S),
-                      dptr(V) if compute_uv else ffi.NULL, ws, size), "sfm_svd")
+                      dptr(V) if compute_uv else ffi.NULL, ws, size), "sfm_svd", {"A": A})
     return (U, S, V) if compute_uv else S
 
 
@@ -44,7 +47,7 @@ def sym_eig(A, eigvals_only=False):
     V = None if eigvals_only else np.empty((n, n))
     buf, ws, size = workspace(lib.sfm_sym_eig_workspace_size(n))
     check(lib.sfm_sym_eig(dptr(A), n, dptr(w), ffi.NULL if V is None else dptr(V), ws, size),
-          "sfm_sym_eig")
+          "sfm_sym_eig", {"A": A})
     return w if eigvals_only else (w, V)
 
 
@@ -64,7 +67,7 @@ def eig(A, eigvals_only=False, raw=False):
     V = np.empty((n, n)) if want_v else None
     buf, ws, size = workspace(lib.sfm_eig_workspace_size(n))
     check(lib.sfm_eig(dptr(A), n, dptr(wr), dptr(wi), dptr(V) if want_v else ffi.NULL, ws, size),
-          "sfm_eig")
+          "sfm_eig", {"A": A})
     if raw:
         return (wr, wi, V) if want_v else (wr, wi)
     w = wr + 1j * wi
@@ -88,13 +91,11 @@ def nullspace(A, k=1):
     Returns (N (n,k), S (k,)), smallest first."""
     A = _matrix(A)
     m, n = A.shape
-    k = int(k)
-    if k < 1 or k > n:
-        raise ValueError("k must be in 1..%d, got %d" % (n, k))
+    k = to_int(k, "k", 1, n)
     N = np.empty((n, k))
     S = np.empty(k)
     buf, ws, size = workspace(lib.sfm_nullspace_workspace_size(m, n))
-    check(lib.sfm_nullspace(dptr(A), m, n, k, dptr(N), dptr(S), ws, size), "sfm_nullspace")
+    check(lib.sfm_nullspace(dptr(A), m, n, k, dptr(N), dptr(S), ws, size), "sfm_nullspace", {"A": A})
     return N, S
 
 
@@ -105,7 +106,7 @@ def lu_factor(A):
     n = A.shape[0]
     LU = A.copy()
     piv = np.empty(n, dtype=np.int32)
-    check(lib.sfm_lu_factor(dptr(LU), n, iptr(piv)), "sfm_lu_factor")
+    check(lib.sfm_lu_factor(dptr(LU), n, iptr(piv)), "sfm_lu_factor", {"A": A})
     return LU, piv
 
 
@@ -119,20 +120,22 @@ def lu_solve(A, B):
     if X.shape[1] < 1:
         raise ValueError("B must have at least one column")
     LU, piv = lu_factor(A)
-    check(lib.sfm_lu_solve(dptr(LU), iptr(piv), n, dptr(X), X.shape[1]), "sfm_lu_solve")
+    check(lib.sfm_lu_solve(dptr(LU), iptr(piv), n, dptr(X), X.shape[1]), "sfm_lu_solve", {"B": X})
     return X[:, 0] if vec else X
 
 
 def cholesky(A):
-    """Lower-triangular L with A = L L^T (only A's lower triangle is read)."""
+    """Lower-triangular L (n, n) with A = L L^T for a symmetric positive
+    definite A (n, n) (only its lower triangle is read)."""
     A = _matrix(A, square=True)
     L = A.copy()
-    check(lib.sfm_cholesky_factor(dptr(L), A.shape[0]), "sfm_cholesky_factor")
+    check(lib.sfm_cholesky_factor(dptr(L), A.shape[0]), "sfm_cholesky_factor", {"A": A})
     return L
 
 
 def cholesky_solve(L, B):
-    """X with L L^T X = B, L from cholesky()."""
+    """X with L L^T X = B: L (n, n) from cholesky(), B (n,) or (n, k); X has
+    B's shape."""
     L = _matrix(L, "L", square=True)
     n = L.shape[0]
     Barr = np.asarray(B, dtype=np.float64)
@@ -140,7 +143,7 @@ def cholesky_solve(L, B):
     X = as_array(Barr.reshape(-1, 1) if vec else Barr, (n, None), "B").copy()
     if X.shape[1] < 1:
         raise ValueError("B must have at least one column")
-    check(lib.sfm_cholesky_solve(dptr(L), n, dptr(X), X.shape[1]), "sfm_cholesky_solve")
+    check(lib.sfm_cholesky_solve(dptr(L), n, dptr(X), X.shape[1]), "sfm_cholesky_solve", {"L": L, "B": X})
     return X[:, 0] if vec else X
 
 
@@ -152,7 +155,7 @@ def qr(A):
         raise ValueError("qr needs rows >= columns, got shape %s" % (A.shape,))
     F = A.copy()
     tau = np.empty(n)
-    check(lib.sfm_qr_factor(dptr(F), m, n, dptr(tau)), "sfm_qr_factor")
+    check(lib.sfm_qr_factor(dptr(F), m, n, dptr(tau)), "sfm_qr_factor", {"A": A})
     Q = np.empty((m, m))
     check(lib.sfm_qr_form_q(dptr(F), dptr(tau), m, n, dptr(Q)), "sfm_qr_form_q")
     return Q, np.triu(F)
@@ -167,6 +170,6 @@ def lstsq(A, b):
     x = as_array(b, (m,), "b").copy()
     F = A.copy()
     tau = np.empty(n)
-    check(lib.sfm_qr_factor(dptr(F), m, n, dptr(tau)), "sfm_qr_factor")
-    check(lib.sfm_qr_solve(dptr(F), dptr(tau), m, n, dptr(x)), "sfm_qr_solve")
+    check(lib.sfm_qr_factor(dptr(F), m, n, dptr(tau)), "sfm_qr_factor", {"A": A})
+    check(lib.sfm_qr_solve(dptr(F), dptr(tau), m, n, dptr(x)), "sfm_qr_solve", {"b": x})
     return x[:n].copy()

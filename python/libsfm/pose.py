@@ -9,6 +9,8 @@ from ._ffi import as_array, check, dptr, ffi, iptr, lib
 
 _TRI_METHODS = ("dlt", "midpoint", "optimal")
 
+__all__ = ["p3p", "relpose_upright_3pt", "essential_to_poses", "triangulate", "BEHIND", "INFINITY"]
+
 BEHIND = lib.SFM_TRI_BEHIND
 INFINITY = lib.SFM_TRI_INFINITY
 
@@ -38,22 +40,29 @@ def _poses_to_list(buf, n):
 
 
 def p3p(x, X):
-    """Absolute pose from 3 bearings x (3,3) and world points X (3,3).
+    """Absolute pose from 3 bearings and their world points (P3P, Lambda
+    Twist).
 
-    Returns a list of up to 4 (R (3,3), t (3,)) with x_cam = R X + t."""
+    x: (3, 3) bearings (rows; directions in the camera frame), X: (3, 3)
+    world points. Returns a list of up to 4 (R (3, 3), t (3,)) with x_cam =
+    R X + t, t in X's unit."""
     x = _in(x, (3, 3), "x")
     X = _in(X, (3, 3), "X")
     buf, poses = _pose_buffer(4)
     n = lib.sfm_p3p(_dp(x), _dp(X), poses)
     if n < 0:
-        check(n, "sfm_p3p")
+        check(n, "sfm_p3p", {"x": x, "X": X})
     return _poses_to_list(buf, n)
 
 
 def relpose_upright_3pt(x1, x2, d1, d2):
-    """Relative pose from 3 bearing pairs (3,3) and a direction d1 (frame 1),
-    d2 = R d1 (frame 2). Returns up to 4 (R, t), x2 ~ R x1 + t, |t| = 1;
-    solutions leaving a point behind a camera are not returned."""
+    """Relative pose from 3 bearing pairs and a direction known in both
+    frames.
+
+    x1, x2: (3, 3) bearings (rows) in cameras 1 and 2; d1 (3,): the
+    direction in frame 1, d2 (3,) = R d1 in frame 2. Returns up to 4 (R (3,
+    3), t (3,)), x2 ~ R x1 + t, |t| = 1; solutions leaving a point behind a
+    camera are not returned."""
     x1 = _in(x1, (3, 3), "x1")
     x2 = _in(x2, (3, 3), "x2")
     d1 = _in(d1, (3,), "d1")
@@ -61,16 +70,17 @@ def relpose_upright_3pt(x1, x2, d1, d2):
     buf, poses = _pose_buffer(4)
     n = lib.sfm_relpose_upright_3pt(_dp(x1), _dp(x2), _dp(d1), _dp(d2), poses)
     if n < 0:
-        check(n, "sfm_relpose_upright_3pt")
+        check(n, "sfm_relpose_upright_3pt", {"x1": x1, "x2": x2, "d1": d1, "d2": d2})
     return _poses_to_list(buf, n)
 
 
 def essential_to_poses(E, x1=None, x2=None):
     """The four decompositions (R, t) of E = [t]x R, best first.
 
-    With bearing pairs x1, x2 (n,3) the poses are ordered by the number of
-    points in front of both cameras. Returns (list of 4 (R, t), counts (4,)
-    int array); an empty list and zero counts when E has rank below 2."""
+    E: (3, 3). With bearing pairs x1, x2 ((n, 3)) the poses are ordered by
+    the number of points in front of both cameras. Returns (list of 4 (R
+    (3, 3), t (3,)), counts (4,) int array); an empty list and zero counts
+    when E has rank below 2."""
     E = as_array(E, (3, 3), "E")
     if (x1 is None) != (x2 is None):
         raise ValueError("give both x1 and x2, or neither")
@@ -78,12 +88,13 @@ def essential_to_poses(E, x1=None, x2=None):
     counts = np.zeros(4, dtype=np.int32)
     if x1 is None:
         n = check(lib.sfm_essential_to_poses(dptr(E), ffi.NULL, ffi.NULL, 0, poses, iptr(counts)),
-                  "sfm_essential_to_poses")
+                  "sfm_essential_to_poses", {"E": E})
     else:
         x1 = as_array(x1, (None, 3), "x1")
         x2 = as_array(x2, (x1.shape[0], 3), "x2")
         n = check(lib.sfm_essential_to_poses(dptr(E), dptr(x1), dptr(x2), x1.shape[0], poses,
-                                             iptr(counts)), "sfm_essential_to_poses")
+                                             iptr(counts)), "sfm_essential_to_poses",
+                  {"E": E, "x1": x1, "x2": x2})
     return _poses_to_list(buf, n), counts
 
 
@@ -125,17 +136,18 @@ def triangulate(P_list, x_list, method="dlt"):
             poses[k].R = list(P[k, :, :3].ravel())
             poses[k].t = list(P[k, :, 3])
         check(lib.sfm_triangulate_midpoint(v, poses, m, dptr(f), dptr(X), iptr(flags)),
-              "sfm_triangulate_midpoint")
+              "sfm_triangulate_midpoint", {"P_list": P, "x_list": f})
         return X, flags
     x = np.ascontiguousarray(np.stack([as_array(o, (m, 2), "x") for o in x_list]))
     if method == "dlt":
         check(lib.sfm_triangulate_dlt(v, dptr(P), m, dptr(x), dptr(X), iptr(flags)),
-              "sfm_triangulate_dlt")
+              "sfm_triangulate_dlt", {"P_list": P, "x_list": x})
     else:
         x1 = np.ascontiguousarray(x[0])
         x2 = np.ascontiguousarray(x[1])
         P1 = np.ascontiguousarray(P[0])
         P2 = np.ascontiguousarray(P[1])
         check(lib.sfm_triangulate_optimal2(dptr(P1), dptr(P2), m, dptr(x1), dptr(x2), dptr(X),
-                                           iptr(flags)), "sfm_triangulate_optimal2")
+                                           iptr(flags)), "sfm_triangulate_optimal2",
+              {"P_list": P, "x_list": x})
     return X, flags

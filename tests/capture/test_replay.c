@@ -1,10 +1,12 @@
 /* Record a synthetic sequence, replay it, and get back the same frames,
  * timestamps and sequence numbers; replay's errors and contracts. */
 #define _DEFAULT_SOURCE
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cap_test.h"
 #include "sfm_test.h"
@@ -291,13 +293,103 @@ SFM_TEST(recorder_contracts)
     f.format = SFM_PIX_RGB24;
     SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_E_ARGUMENT); /* stride < 3w */
     f.stride = 6;
+    SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_E_ARGUMENT); /* not the first's format */
+    f.format = SFM_PIX_GRAY8;
+    f.width = 3;
+    SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_E_ARGUMENT); /* not the first's size */
+    f.width = 2;
+    f.height = 3;
+    SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_E_ARGUMENT);
+    f.height = 2;
+    SFM_CHECK_EQ_INT(sfm_recorder_count(r), 1);
+    char path[600];
+    snprintf(path, sizeof path, "%s/00000001.ppm", dir);
+    struct stat st;
+    SFM_CHECK(stat(path, &st) != 0); /* nothing written for a refused frame */
+    snprintf(path, sizeof path, "%s/00000001.pgm", dir);
+    SFM_CHECK(stat(path, &st) != 0);
     SFM_CHECK_EQ_INT(sfm_recorder_write(r, &f), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_recorder_count(r), 2);
     SFM_CHECK_EQ_INT(sfm_recorder_close(r), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_recorder_close(NULL), SFM_OK);
-    char path[600];
-    snprintf(path, sizeof path, "%s/00000001.ppm", dir);
-    struct stat st;
     SFM_CHECK(stat(path, &st) == 0);
+    /* the manifest holds the header and the two accepted rows only, and the
+     * recording replays */
+    char man[256];
+    snprintf(path, sizeof path, "%s/manifest.csv", dir);
+    long n = cap_read_file(path, man, sizeof man - 1);
+    SFM_CHECK(n > 0);
+    man[n > 0 ? n : 0] = '\0';
+    SFM_CHECK(strcmp(man, "sequence,timestamp_ns,file\n5,100,00000000.pgm\n6,100,00000001.pgm\n") == 0);
+    sfm_capture *c = NULL;
+    SFM_CHECK_EQ_INT(sfm_capture_open_replay(dir, NULL, &c), SFM_OK);
+    sfm_capture_close(c);
     cap_rmtree(dir);
+}
+
+/* A frame whose file is a symbolic link to a file outside the recording, or
+ * sits under a "data/" that links elsewhere, is refused; links that stay
+ * inside, and a recording directory reached through a link, play. */
+SFM_TEST(replay_refuses_files_resolving_outside_the_directory)
+{
+    char rel_dir[512], rel_out[512], dir[PATH_MAX], out[PATH_MAX], p1[PATH_MAX + 64], p2[PATH_MAX + 64];
+    SFM_CHECK(cap_tmpdir(rel_dir, sizeof rel_dir) == 0);
+    SFM_CHECK(cap_tmpdir(rel_out, sizeof rel_out) == 0);
+    /* absolute, so that the links' targets do not depend on where they sit */
+    SFM_CHECK(realpath(rel_dir, dir) != NULL);
+    SFM_CHECK(realpath(rel_out, out) != NULL);
+    static const char a[] = "P5\n1 1\n255\n\1";
+    SFM_CHECK(cap_write_file(out, "secret.pgm", a, sizeof a - 1) == 0);
+    SFM_CHECK(cap_write_file(dir, "in.pgm", a, sizeof a - 1) == 0);
+    snprintf(p1, sizeof p1, "%s/secret.pgm", out);
+    snprintf(p2, sizeof p2, "%s/link.pgm", dir);
+    SFM_CHECK(symlink(p1, p2) == 0);
+    sfm_capture *c = (sfm_capture *)&c;
+    sfm_capture *const sentinel = c;
+    static const char m1[] = "0,0,in.pgm\n1,1,link.pgm\n";
+    SFM_CHECK(cap_write_file(dir, "manifest.csv", m1, sizeof m1 - 1) == 0);
+    SFM_CHECK_EQ_INT(sfm_capture_open_replay(dir, NULL, &c), SFM_E_FORMAT);
+    SFM_CHECK(c == sentinel);
+    /* "data/" itself a link out of the directory */
+    snprintf(p2, sizeof p2, "%s/data", dir);
+    SFM_CHECK(symlink(out, p2) == 0);
+    static const char m2[] = "0,0,secret.pgm\n";
+    SFM_CHECK(cap_write_file(dir, "manifest.csv", m2, sizeof m2 - 1) == 0);
+    SFM_CHECK_EQ_INT(sfm_capture_open_replay(dir, NULL, &c), SFM_E_FORMAT);
+    SFM_CHECK(c == sentinel);
+    /* a link inside the directory is fine, and so is reaching it by a link */
+    snprintf(p1, sizeof p1, "%s/in.pgm", dir);
+    snprintf(p2, sizeof p2, "%s/alias.pgm", dir);
+    SFM_CHECK(symlink(p1, p2) == 0);
+    static const char m3[] = "0,0,in.pgm\n1,1,alias.pgm\n";
+    SFM_CHECK(cap_write_file(dir, "manifest.csv", m3, sizeof m3 - 1) == 0);
+    snprintf(p2, sizeof p2, "%s/via", out);
+    SFM_CHECK(symlink(dir, p2) == 0);
+    c = NULL;
+    SFM_CHECK_EQ_INT(sfm_capture_open_replay(p2, NULL, &c), SFM_OK);
+    if (c) {
+        sfm_frame f;
+        for (int k = 0; k < 2; k++) {
+            SFM_CHECK_EQ_INT(sfm_capture_acquire(c, 0, &f), 1);
+            SFM_CHECK_EQ_INT(sfm_capture_release(c, &f), SFM_OK);
+        }
+        /* a file swapped for an outside link after open: refused at acquire */
+        sfm_capture_close(c);
+        c = NULL;
+        SFM_CHECK_EQ_INT(sfm_capture_open_replay(dir, NULL, &c), SFM_OK);
+        snprintf(p1, sizeof p1, "%s/alias.pgm", dir);
+        unlink(p1);
+        snprintf(p2, sizeof p2, "%s/secret.pgm", out);
+        SFM_CHECK(symlink(p2, p1) == 0);
+        SFM_CHECK_EQ_INT(sfm_capture_acquire(c, 0, &f), 1);
+        SFM_CHECK_EQ_INT(sfm_capture_release(c, &f), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_capture_acquire(c, 0, &f), SFM_E_FORMAT);
+    }
+    sfm_capture_close(c);
+    snprintf(p2, sizeof p2, "%s/data", dir);
+    unlink(p2); /* the links, not what they point to */
+    snprintf(p2, sizeof p2, "%s/via", out);
+    unlink(p2);
+    cap_rmtree(dir);
+    cap_rmtree(out);
 }

@@ -97,5 +97,26 @@ check "three identical frames (no baseline): exit 1 with SFM_E_SINGULAR (-5)" \
     '[ $rc -eq 1 ] && grep -qF "(-5)" "$TMP/o4.txt"'
 cat "$TMP/o4.txt"
 
+# --calib: the scene's camera from an OpenCV FileStorage file gives the same
+# figures as --camera; a file for another image size, or a broken one, is
+# refused before any pose is printed.
+calib() { # file, width, height
+    printf '%%YAML:1.0\n---\nimage_width: %d\nimage_height: %d\ncamera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 500., 0., 319.5, 0., 500., 239.5, 0., 0., 1. ]\ndistortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n' "$2" "$3" > "$1"
+}
+calib "$TMP/cam.yaml" 640 480
+"$BIN" "$DIR" --calib "$TMP/cam.yaml" --gt "$DIR/ground_truth.txt" 2>&1 | grep -v " ms" | grep -v "^  camera " > "$TMP/c1.txt"
+"$BIN" "$DIR" --camera 500,500,319.5,239.5 --gt "$DIR/ground_truth.txt" 2>&1 | grep -v " ms" | grep -v "^  camera " > "$TMP/c2.txt"
+check "--calib FILE gives the figures of --camera" 'grep -q "rotation error" "$TMP/c1.txt" && cmp -s "$TMP/c1.txt" "$TMP/c2.txt"'
+calib "$TMP/cam2x.yaml" 1280 960
+"$BIN" "$DIR" --calib "$TMP/cam2x.yaml" > "$TMP/o5.txt" 2>&1
+rc=$?
+check "--calib for another image size: exit 1, no poses" '[ $rc -eq 1 ] && grep -q "1280x960" "$TMP/o5.txt" && ! grep -q "poses" "$TMP/o5.txt"'
+printf 'camera_matrix:\n  rows: 3\n  cols: 3\n  data: [500, 0, 319.5, 0, 500]\n' > "$TMP/bad.yaml"
+"$BIN" "$DIR" --calib "$TMP/bad.yaml" > "$TMP/o6.txt" 2>&1
+rc=$?
+check "--calib with a malformed field: exit 2 naming the file and field" \
+    '[ $rc -eq 2 ] && grep -q "bad.yaml: field .camera_matrix." "$TMP/o6.txt"'
+cat "$TMP/o6.txt"
+
 echo "test-demo: $pass passed, $fail failed"
 [ $fail -eq 0 ]

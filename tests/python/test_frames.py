@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import libsfm
-from libsfm import frames
+from libsfm import SfmError, frames
 
 
 def synthetic(k, h=48, w=64):
@@ -90,3 +90,47 @@ def test_missing_v4l2_device_is_no_device():
     assert e.value.status == -11
     with pytest.raises(ValueError):
         frames.open_device("/dev/video0", pixel_format="rgb")
+
+
+def test_recorder_refuses_a_frame_of_another_size_or_kind(tmp_path):
+    """The recorder wrote such frames; its own replay then refused the
+    recording."""
+    d = tmp_path / "rec"
+    with frames.Recorder(str(d)) as r:
+        r.write(np.zeros((4, 6), np.uint8), 10)
+        with pytest.raises(SfmError) as e:
+            r.write(np.zeros((4, 7), np.uint8), 20)
+        assert e.value.argument == "image" and e.value.name == "SFM_E_ARGUMENT"
+        with pytest.raises(SfmError):
+            r.write(np.zeros((4, 6, 3), np.uint8), 20)
+        with pytest.raises(ValueError, match="timestamp_ns"):
+            r.write(np.zeros((4, 6), np.uint8), -1)
+        with pytest.raises(ValueError, match="sequence"):
+            r.write(np.zeros((4, 6), np.uint8), 30, sequence=2 ** 64)
+        r.write(np.ones((4, 6), np.uint8), 30)
+        assert r.count == 2
+    got = list(frames.open_replay(str(d)))
+    assert [f.timestamp_ns for f in got] == [10, 30]
+
+
+def test_replay_refuses_a_frame_linked_outside_the_recording(tmp_path):
+    d = tmp_path / "rec"
+    with frames.Recorder(str(d)) as r:
+        r.write(np.zeros((4, 6), np.uint8), 10)
+        r.write(np.zeros((4, 6), np.uint8), 20)
+    outside = tmp_path / "elsewhere.pgm"
+    os.rename(str(d / "00000001.pgm"), str(outside))
+    os.symlink(str(outside), str(d / "00000001.pgm"))
+    with pytest.raises(SfmError) as e:
+        frames.open_replay(str(d))
+    assert e.value.name == "SFM_E_FORMAT"
+
+
+def test_source_integers_are_checked(tmp_path):
+    d = tmp_path / "rec"
+    with frames.Recorder(str(d)) as r:
+        r.write(np.zeros((4, 6), np.uint8), 10)
+    with pytest.raises(ValueError, match="timeout_ms"):
+        frames.open_replay(str(d), timeout_ms=2 ** 31)
+    with pytest.raises(TypeError, match="timeout_ms"):
+        frames.open_replay(str(d), timeout_ms=1.5)

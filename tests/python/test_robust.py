@@ -135,10 +135,11 @@ def test_relative_pose_same_seed_same_mask_and_shapes():
 def test_relative_pose_degeneracy_flags():
     rng = np.random.default_rng(5)
     p1, p2, R, t, _ = twoview(rng, 300, 0.3, sigma=0.5, planar=True)
-    assert libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=1.5)["planar"]
+    r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=1.5)
+    assert r["planar"] and r.degenerate and r.degeneracy == "planar"
     p1, p2, R, t, _ = twoview(rng, 300, 0.3, sigma=0.5, rot_only=True)
     r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=1.5)
-    assert r["pure_rotation"]
+    assert r["pure_rotation"] and r.degenerate and r.degeneracy == "pure_rotation"
     assert rot_err(r["R"], R) < 0.5
 
 

@@ -97,3 +97,30 @@ SFM_TEST(three_view_pose_contracts)
                      SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(est, sizeof est));
 }
+
+/* The count returned, stats->num_inliers and the mask describe one set: the
+ * inliers under the returned metric cameras, not those of the projective
+ * tensor found on the way (noise near the threshold makes the two differ). */
+SFM_TEST(three_view_pose_stats_count_the_returned_inliers)
+{
+    scene(t);
+    for (int v = 0; v < 3; v++)
+        for (int k = 0; k < 2 * N; k++)
+            px[v][k] += sfm_test_normal(t, 0.6);
+    size_t need = sfm_recon_three_view_pose_workspace_size(N);
+    sfm_ransac_options opt;
+    sfm_ransac_default_options(&opt);
+    opt.threshold = 1.0;
+    sfm_pose est[3];
+    uint8_t mask[N];
+    sfm_ransac_stats st;
+    int cnt = sfm_recon_three_view_pose(px[0], px[1], px[2], N, &cam, &cam, &cam, &opt, est, mask, &st, ws, need);
+    SFM_CHECK(cnt >= N / 2);
+    if (cnt < 0)
+        return;
+    int in_mask = 0;
+    for (int i = 0; i < N; i++)
+        in_mask += mask[i];
+    SFM_CHECK_EQ_INT(in_mask, cnt);
+    SFM_CHECK_EQ_INT(st.num_inliers, cnt);
+}
