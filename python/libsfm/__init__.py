@@ -21,3 +21,4 @@ from .geometry import *  # noqa: F401,F403,E402
 from .ba import bundle_adjust  # noqa: F401,E402
 from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402
                      estimate_relative_pose, estimate_relative_pose_upright)
+from .stereo import *  # noqa: F401,F403,E402
