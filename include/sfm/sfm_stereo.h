@@ -54,10 +54,12 @@ typedef struct sfm_stereo_rectification {
  * both images; alpha chooses it as OpenCV's stereoRectify does: alpha = 0
  * scales so that every rectified pixel of the inner rectangles has a source
  * pixel, alpha = 1 so that every source pixel lands in the rectified image,
- * values between interpolate. out_width/out_height <= 0 mean the size of
- * image 1.
+ * values between interpolate; alpha = -1 keeps the mean focal length of
+ * the two cameras and centres the valid regions. out_width/out_height <= 0
+ * mean the size of image 1.
  * Statuses: SFM_OK; SFM_E_ARGUMENT (NULL, sizes < 8 or > 32767, alpha
- * outside [0, 1], R not a rotation to 1e-6); SFM_E_NONFINITE; SFM_E_SINGULAR
+ * outside [0, 1] and not -1, R not a rotation to 1e-4: within that, the
+ * nearest rotation is used); SFM_E_NONFINITE; SFM_E_SINGULAR
  * (baseline below 1e-9 of the camera distance scale, or the baseline along
  * the mean optical axis within 1 degree: the epipoles lie inside the images
  * and a planar rectification does not exist; or no part of the images is
@@ -189,7 +191,7 @@ typedef struct sfm_stereo_block_options {
     int subpixel;
 } sfm_stereo_block_options;
 
-/* min 0, 64 disparities, radius 3, uniqueness 15, lr 1, texture 16,
+/* min 0, 64 disparities, radius 2, uniqueness 15, lr 1, texture 8,
  * subpixel 1. */
 SFM_API void sfm_stereo_block_default_options(sfm_stereo_block_options *opt);
 SFM_API size_t sfm_stereo_block_workspace_size(int width, int height,

@@ -42,10 +42,10 @@ void sfm_stereo_block_default_options(sfm_stereo_block_options *opt)
         return;
     opt->min_disparity = 0;
     opt->num_disparities = 64;
-    opt->radius = 3;
+    opt->radius = 2;
     opt->uniqueness = 15;
     opt->lr_max_diff = 1;
-    opt->texture = 16;
+    opt->texture = 8;
     opt->subpixel = 1;
 }
 

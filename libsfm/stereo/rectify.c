@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "sfm/sfm_linalg.h"
+#include "sfm/sfm_rotation.h"
 #include "sfm/sfm_stereo.h"
 #include "solvers/small_math.h"
 #include "stereo/stereo_internal.h"
@@ -24,11 +25,11 @@ static int is_rotation(const double *R)
         for (int c = 0; c < 3; c++)
             RtR[3 * r + c] = R[r] * R[c] + R[3 + r] * R[3 + c] + R[6 + r] * R[6 + c];
     for (int i = 0; i < 9; i++)
-        if (fabs(RtR[i] - (i % 4 == 0 ? 1.0 : 0.0)) > 1e-6)
+        if (fabs(RtR[i] - (i % 4 == 0 ? 1.0 : 0.0)) > 1e-4)
             return 0;
     double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
                  R[2] * (R[3] * R[7] - R[4] * R[6]);
-    return fabs(det - 1.0) <= 1e-6;
+    return fabs(det - 1.0) <= 1e-4;
 }
 
 /* Where the border of one image lands in rectified normalized coordinates:
@@ -148,6 +149,12 @@ int sfm_stereo_rectify(const sfm_camera *cam1, const sfm_camera *cam2, int width
         return SFM_E_ARGUMENT;
     if (!is_rotation(R))
         return SFM_E_ARGUMENT;
+    /* Rotations read from files carry a few digits only: use the nearest
+     * rotation, so that the rectified frames are exactly orthonormal. */
+    double Rn[9];
+    if (sfm_rot_nearest(R, Rn) != SFM_OK)
+        return SFM_E_ARGUMENT;
+    R = Rn;
 
     /* c2 = -R^T t in camera 1's frame; camera 2's optical axis there is the
      * third row of R. */

@@ -213,8 +213,8 @@ def disparity_sgm(left, right, num_disparities=64, min_disparity=0, p1=5, p2=60,
     return out
 
 
-def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=3, uniqueness=15,
-                    lr_max_diff=1, texture=16, subpixel=True):
+def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=2, uniqueness=15,
+                    lr_max_diff=1, texture=8, subpixel=True):
     """Correlation matching with multiple supporting windows (Hirschmüller,
     Innocent, Garibaldi 2002): SAD over (2 radius + 1)^2 plus the two best
     corner windows, left-right check. Returns float32 (h, w), NaN invalid."""
