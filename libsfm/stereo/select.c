@@ -78,22 +78,13 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
                     sfmi_v16_store(rd + d, pick(m, idx, sfmi_v16_load(rd + d)));
                 }
             }
-            int16_t a1[8], b1[8], a2[8];
-            memcpy(a1, &m1, sizeof a1);
-            memcpy(b1, &i1, sizeof b1);
-            memcpy(a2, &m2, sizeof a2);
-            int bc = a1[0], bd = b1[0];
-            for (int k = 1; k < 8; k++)
-                if (a1[k] < bc || (a1[k] == bc && b1[k] < bd)) {
-                    bc = a1[k];
-                    bd = b1[k];
-                }
-            int sec = NONE;
-            for (int k = 0; k < 8; k++) {
-                int cand = (b1[k] >= bd - 1 && b1[k] <= bd + 1) ? a2[k] : a1[k];
-                if (cand < sec)
-                    sec = cand;
-            }
+            /* Lane reduction in vector form: the smallest cost, the
+             * smallest index holding it, then the second candidates. */
+            int bc = sfmi_v16_hmin(m1);
+            sfmi_v16 at = m1 == sfmi_v16_splat(bc);
+            int bd = sfmi_v16_hmin(pick(at, i1, sfmi_v16_splat(NONE)));
+            sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
+            int sec = sfmi_v16_hmin(pick(near, m2, m1));
             best_d[x] = (int16_t)bd;
             best_c[x] = (int16_t)bc;
             second[x] = (int16_t)sec;

@@ -169,6 +169,35 @@ static inline int step(const int16_t *c, const int16_t *pred, int minp, int D, s
     return sfmi_v16_hmin(mn);
 }
 
+/* n path steps at one pixel in one sweep over the lanes, adding all n
+ * outputs into S; called with a constant n so that the loop over paths
+ * unrolls. mn[k] receives min_d of path k's output. */
+static inline void steps(int n, const int16_t *c, const int16_t *const *pred, const int *minp,
+                         int16_t *const *out, int *mn, int D, sfmi_v16 vp1, int p2, int16_t *S)
+{
+    sfmi_v16 base[4], sub[4], m[4];
+    for (int k = 0; k < n; k++) {
+        base[k] = sfmi_v16_splat(minp[k] + p2);
+        sub[k] = sfmi_v16_splat(minp[k]);
+        m[k] = sfmi_v16_splat(0x7fff);
+    }
+    for (int d = 0; d < D; d += 8) {
+        sfmi_v16 cv = sfmi_v16_load(c + d), acc = sfmi_v16_load(S + d);
+        for (int k = 0; k < n; k++) {
+            const int16_t *p = pred[k] + d;
+            sfmi_v16 t = sfmi_v16_min(sfmi_v16_min(sfmi_v16_load(p), sfmi_v16_load(p - 1) + vp1),
+                                      sfmi_v16_min(sfmi_v16_load(p + 1) + vp1, base[k]));
+            sfmi_v16 o = cv + t - sub[k];
+            sfmi_v16_store(out[k] + d, o);
+            m[k] = sfmi_v16_min(m[k], o);
+            acc += o;
+        }
+        sfmi_v16_store(S + d, acc);
+    }
+    for (int k = 0; k < n; k++)
+        mn[k] = sfmi_v16_hmin(m[k]);
+}
+
 static void fill_block(int16_t *blk, int Dp, int16_t v)
 {
     for (int i = 0; i < Dp; i++)
@@ -213,36 +242,62 @@ static void aggregate_row(sgm *s, int y, int horizontal, int vmask, int16_t *Sro
         }
         fill_block(prev, Dp, 0);
         minp = 0;
+        /* Right-to-left and the vertical paths share one sweep: the
+         * vertical ones depend on the previous row only. */
+        const int all3 = vmask == 7;
         for (int x = w - 1; x >= 0; x--) {
-            minp = step(s->C + (size_t)x * D, prev + PAD, minp, D, vp1, p2, cur + PAD);
+            const int16_t *pred[4];
+            int16_t *out[4];
+            int mp[4], mn[4], n = 1;
+            pred[0] = prev + PAD;
+            out[0] = cur + PAD;
+            mp[0] = minp;
+            for (int k = 0; k < 3; k++) {
+                if (!(vmask & (1 << k)))
+                    continue;
+                int dx = k - 1;
+                pred[n] = s->vp[k] + (size_t)(x + 1 + dx) * Dp + PAD;
+                out[n] = s->vc[k] + (size_t)(x + 1) * Dp + PAD;
+                mp[n] = s->mp[k][x + 1 + dx];
+                n++;
+            }
+            const int16_t *c = s->C + (size_t)x * D;
             int16_t *dst = Srow + (size_t)x * D;
-            for (int d = 0; d < D; d += 8)
-                sfmi_v16_store(dst + d, sfmi_v16_load(dst + d) + sfmi_v16_load(cur + PAD + d));
+            if (all3)
+                steps(4, c, pred, mp, out, mn, D, vp1, p2, dst);
+            else
+                steps(n, c, pred, mp, out, mn, D, vp1, p2, dst);
+            minp = mn[0];
+            for (int k = 0, j = 1; k < 3; k++)
+                if (vmask & (1 << k))
+                    s->mc[k][x + 1] = (int16_t)mn[j++];
             int16_t *t = prev;
             prev = cur;
             cur = t;
         }
-    }
-    for (int x = 0; x < w; x++) {
-        int16_t *dst = Srow + (size_t)x * D;
-        const int16_t *acc[3];
-        int na = 0;
-        for (int k = 0; k < 3; k++) {
-            if (!(vmask & (1 << k)))
-                continue;
-            /* Column x lives at block x + 1; its predecessor at x + dx. */
-            int dx = k - 1;
-            const int16_t *pred = s->vp[k] + (size_t)(x + 1 + dx) * Dp + PAD;
-            int16_t *out = s->vc[k] + (size_t)(x + 1) * Dp + PAD;
-            s->mc[k][x + 1] = (int16_t)step(s->C + (size_t)x * D, pred, s->mp[k][x + 1 + dx], D,
-                                            vp1, p2, out);
-            acc[na++] = out;
-        }
-        for (int d = 0; d < D; d += 8) {
-            sfmi_v16 v = sfmi_v16_load(dst + d);
-            for (int k = 0; k < na; k++)
-                v += sfmi_v16_load(acc[k] + d);
-            sfmi_v16_store(dst + d, v);
+    } else {
+        for (int x = 0; x < w; x++) {
+            const int16_t *pred[3];
+            int16_t *out[3];
+            int mp[3], mn[3], n = 0;
+            for (int k = 0; k < 3; k++) {
+                if (!(vmask & (1 << k)))
+                    continue;
+                int dx = k - 1;
+                pred[n] = s->vp[k] + (size_t)(x + 1 + dx) * Dp + PAD;
+                out[n] = s->vc[k] + (size_t)(x + 1) * Dp + PAD;
+                mp[n] = s->mp[k][x + 1 + dx];
+                n++;
+            }
+            const int16_t *c = s->C + (size_t)x * D;
+            int16_t *dst = Srow + (size_t)x * D;
+            if (n == 3)
+                steps(3, c, pred, mp, out, mn, D, vp1, p2, dst);
+            else
+                steps(n, c, pred, mp, out, mn, D, vp1, p2, dst);
+            for (int k = 0, j = 0; k < 3; k++)
+                if (vmask & (1 << k))
+                    s->mc[k][x + 1] = (int16_t)mn[j++];
         }
     }
     for (int k = 0; k < 3; k++) {
