@@ -137,7 +137,9 @@ def bilinear(tex, s, t):
     return (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy
 
 
-def render(quads, textures, R, t):
+def render(quads, textures, R, t, return_depth=False):
+    """Gray image of the scene from pose (R, t); with return_depth also the
+    exact depth (camera z) of the ray through each pixel's centre."""
     ss = SUPERSAMPLE
     offs = (np.arange(ss) + 0.5) / ss - 0.5
     u = (np.arange(WIDTH)[None, :, None, None] + offs[None, None, None, :])
@@ -162,7 +164,11 @@ def render(quads, textures, R, t):
         hit = cand[inside]
         out[hit] = bilinear(tex, s[inside], tt[inside])
         best[hit] = lc[inside]
-    return out.reshape(HEIGHT, WIDTH, ss, ss).mean(axis=(2, 3))
+    img = out.reshape(HEIGHT, WIDTH, ss, ss).mean(axis=(2, 3))
+    if not return_depth:
+        return img
+    # d has unit z in the camera frame, so the ray parameter is the depth.
+    return img, best.reshape(HEIGHT, WIDTH, ss, ss)[:, :, ss // 2, ss // 2]
 
 
 def write_pgm(path, img):

@@ -58,6 +58,9 @@ from .ba import bundle_adjust
 from .robust import (RANSAC_DEFAULTS, estimate_absolute_pose, estimate_fundamental,
                      estimate_homography, estimate_relative_pose, estimate_relative_pose_upright)
 from . import calib  # noqa: F401
+from . import stereo as _stereo
+from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
+                     homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)
 
 
 def version():
@@ -87,4 +90,4 @@ __all__ = [
     "poly_roots", "rot_from_axis_angle", "rot_to_axis_angle", "rot_from_quat", "rot_to_quat",
     "rot_nearest", "skew", "rot_angle_between", "POLY_MAX_DEGREE",
     "linalg", "frames", "calib",
-]
+] + list(_stereo.__all__)

@@ -1,0 +1,114 @@
+/* Internal helpers of the stereo module. */
+#ifndef SFM_STEREO_INTERNAL_H
+#define SFM_STEREO_INTERNAL_H
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "sfm/sfm_common.h"
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#elif defined(__ARM_NEON)
+#include <arm_neon.h>
+#endif
+
+/* Eight 16-bit lanes through the GCC/Clang vector extension: SSE2 on
+ * x86-64, NEON on aarch64, scalar code elsewhere (the compiler lowers the
+ * vector type). The matchers' costs are integers, so every target computes
+ * the same values. Only min needs an intrinsic: the extension has none. */
+typedef int16_t sfmi_v16 __attribute__((vector_size(16)));
+typedef uint16_t sfmi_u16 __attribute__((vector_size(16)));
+
+static inline sfmi_v16 sfmi_v16_min(sfmi_v16 a, sfmi_v16 b)
+{
+#if defined(__SSE2__)
+    return (sfmi_v16)_mm_min_epi16((__m128i)a, (__m128i)b);
+#elif defined(__ARM_NEON)
+    return (sfmi_v16)vminq_s16((int16x8_t)a, (int16x8_t)b);
+#else
+    sfmi_v16 m = a < b;
+    return (a & m) | (b & ~m);
+#endif
+}
+
+static inline sfmi_v16 sfmi_v16_load(const int16_t *p)
+{
+    sfmi_v16 v;
+    memcpy(&v, p, sizeof v);
+    return v;
+}
+
+static inline void sfmi_v16_store(int16_t *p, sfmi_v16 v)
+{
+    memcpy(p, &v, sizeof v);
+}
+
+static inline sfmi_v16 sfmi_v16_splat(int x)
+{
+    int16_t s = (int16_t)x;
+    sfmi_v16 v = {s, s, s, s, s, s, s, s};
+    return v;
+}
+
+/* Smallest lane. */
+static inline int sfmi_v16_hmin(sfmi_v16 v)
+{
+#if defined(__SSE2__)
+    __m128i m = (__m128i)v;
+    m = _mm_min_epi16(m, _mm_srli_si128(m, 8));
+    m = _mm_min_epi16(m, _mm_srli_si128(m, 4));
+    m = _mm_min_epi16(m, _mm_srli_si128(m, 2));
+    return (int16_t)_mm_cvtsi128_si32(m);
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+    return vminvq_s16((int16x8_t)v);
+#else
+    int16_t a[8];
+    memcpy(a, &v, sizeof a);
+    int m = a[0];
+    for (int i = 1; i < 8; i++)
+        if (a[i] < m)
+            m = a[i];
+    return m;
+#endif
+}
+
+/* Bit counts of eight 16-bit lanes (SWAR). */
+static inline sfmi_v16 sfmi_v16_popcount(sfmi_v16 v)
+{
+    sfmi_u16 x = (sfmi_u16)v;
+    x = x - ((x >> 1) & 0x5555);
+    x = (x & 0x3333) + ((x >> 2) & 0x3333);
+    x = (x + (x >> 4)) & 0x0f0f;
+    x = (x + (x >> 8)) & 0x1f;
+    return (sfmi_v16)x;
+}
+
+/* Inverse of a 3x3 by the adjugate; SFM_E_SINGULAR when the determinant is
+ * not above 1e-14 of the product of the row norms. */
+static inline int sfmi_stereo_inv3(const double *A, double *Ai)
+{
+    double c0 = A[4] * A[8] - A[5] * A[7];
+    double c1 = A[5] * A[6] - A[3] * A[8];
+    double c2 = A[3] * A[7] - A[4] * A[6];
+    double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
+    double n0 = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
+    double n1 = sqrt(A[3] * A[3] + A[4] * A[4] + A[5] * A[5]);
+    double n2 = sqrt(A[6] * A[6] + A[7] * A[7] + A[8] * A[8]);
+    if (!(fabs(det) > 1e-14 * n0 * n1 * n2))
+        return SFM_E_SINGULAR;
+    double id = 1.0 / det;
+    Ai[0] = c0 * id;
+    Ai[1] = (A[2] * A[7] - A[1] * A[8]) * id;
+    Ai[2] = (A[1] * A[5] - A[2] * A[4]) * id;
+    Ai[3] = c1 * id;
+    Ai[4] = (A[0] * A[8] - A[2] * A[6]) * id;
+    Ai[5] = (A[2] * A[3] - A[0] * A[5]) * id;
+    Ai[6] = c2 * id;
+    Ai[7] = (A[1] * A[6] - A[0] * A[7]) * id;
+    Ai[8] = (A[0] * A[4] - A[1] * A[3]) * id;
+    return SFM_OK;
+}
+
+#endif
