@@ -7,30 +7,18 @@ disparity d = u1 - u2 is NaN where the matcher has no answer.
 """
 import numpy as np
 
-from ._ffi import as_array, check, dptr, ffi, lib, workspace
+from .camera import as_camera
+from ._ffi import as_array, check, dptr, ffi, lib, to_float, to_int, workspace
 
 __all__ = ["rectify_pair", "remap", "rectify_uncalibrated", "homography_maps",
            "rectification_error", "disparity_sgm", "disparity_block", "disparity_to_depth",
            "disparity_to_points"]
 
 
-def _camera(K, dist):
-    K = as_array(K, (3, 3), "K")
-    cam = ffi.new("sfm_camera *")
-    cam.fx, cam.fy, cam.cx, cam.cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
-    if dist is None or len(dist) == 0:
-        cam.model = lib.SFM_CAMERA_PINHOLE
-    else:
-        d = np.asarray(dist, dtype=np.float64).ravel()
-        if d.size == 4:
-            cam.model = lib.SFM_CAMERA_FISHEYE
-        elif d.size == 5:
-            cam.model = lib.SFM_CAMERA_BROWN
-        else:
-            raise ValueError("dist must have 4 (Kannala-Brandt) or 5 (Brown) entries, got %d" % d.size)
-        for i, v in enumerate(d):
-            cam.dist[i] = float(v)
-    return cam
+def _camera(K, dist, name):
+    """The C camera of a Camera or of a 3x3 K with an OpenCV distortion
+    vector (the rule of every libsfm function taking intrinsics)."""
+    return as_camera(K, dist, name)._c
 
 
 def _gray(img, name):
@@ -40,9 +28,9 @@ def _gray(img, name):
     return np.ascontiguousarray(a)
 
 
-def _size(size):
-    w, h = (int(v) for v in size)
-    return w, h
+def _size(size, name="size"):
+    w, h = size
+    return to_int(w, name + "[0]", 0, 32767), to_int(h, name + "[1]", 0, 32767)
 
 
 def _rect_dict(r):
@@ -84,8 +72,9 @@ def _map(cam, src_size, rect, view):
 def rectify_pair(K1, K2, R, t, size, dist1=None, dist2=None, alpha=-1.0, out_size=None):
     """Rectify a calibrated pair (Fusiello, Trucco, Verri 2000).
 
-    K1, K2: 3x3 intrinsics (pixels); dist1/dist2: None, Brown (k1, k2, p1,
-    p2, k3) or Kannala-Brandt (k1..k4); R (3x3), t (3,): camera 2's pose in
+    K1, K2: libsfm.Camera (any model: pinhole, Brown-Conrady,
+    Kannala-Brandt) or 3x3 intrinsics (pixels) with dist1/dist2 an OpenCV
+    distortion vector or None; R (3x3), t (3,): camera 2's pose in
     camera 1's frame, x2 = R x1 + t; size: (width, height) of both images;
     alpha: -1 keeps the mean focal length, 0 keeps only valid pixels, 1 keeps
     every source pixel (as OpenCV's stereoRectify); out_size: rectified
@@ -99,13 +88,13 @@ def rectify_pair(K1, K2, R, t, size, dist1=None, dist2=None, alpha=-1.0, out_siz
     Raises SfmError (SFM_E_SINGULAR) when the baseline is too short or
     points along the viewing direction.
     """
-    c1, c2 = _camera(K1, dist1), _camera(K2, dist2)
+    c1, c2 = _camera(K1, dist1, "K1"), _camera(K2, dist2, "K2")
     R = as_array(R, (3, 3), "R")
     t = as_array(np.asarray(t, dtype=np.float64).ravel(), (3,), "t")
     w, h = _size(size)
-    ow, oh = _size(out_size) if out_size is not None else (0, 0)
+    ow, oh = _size(out_size, "out_size") if out_size is not None else (0, 0)
     rect = ffi.new("sfm_stereo_rectification *")
-    check(lib.sfm_stereo_rectify(c1, c2, w, h, dptr(R), dptr(t), float(alpha), ow, oh, rect),
+    check(lib.sfm_stereo_rectify(c1, c2, w, h, dptr(R), dptr(t), to_float(alpha, "alpha"), ow, oh, rect),
           "sfm_stereo_rectify")
     out = _rect_dict(rect)
     out["maps"] = (_map(c1, (w, h), rect, 1), _map(c2, (w, h), rect, 2))
@@ -139,7 +128,7 @@ def remap(image, maps, view=1, fill=0):
     dst = np.empty((oh, ow), dtype=np.uint8)
     check(lib.sfm_stereo_remap(ffi.cast("uint8_t *", ffi.from_buffer(src)), src.shape[1],
                                src.shape[0], src.strides[0],
-                               ffi.cast("int32_t *", ffi.from_buffer(m)), ow, oh, int(fill),
+                               ffi.cast("int32_t *", ffi.from_buffer(m)), ow, oh, to_int(fill, "fill", 0, 255),
                                ffi.cast("uint8_t *", ffi.from_buffer(dst)), ow),
           "sfm_stereo_remap")
     return dst
@@ -171,7 +160,7 @@ def rectification_error(x1, x2, rect=None, K1=None, K2=None, dist1=None, dist2=N
     med = ffi.new("double *")
     mx = ffi.new("double *")
     if rect is not None:
-        n = lib.sfm_stereo_rectification_error(_camera(K1, dist1), _camera(K2, dist2),
+        n = lib.sfm_stereo_rectification_error(_camera(K1, dist1, "K1"), _camera(K2, dist2, "K2"),
                                                _rect_struct(rect), ffi.NULL, ffi.NULL,
                                                dptr(x1), dptr(x2), x1.shape[0], med, mx)
     else:
@@ -197,9 +186,11 @@ def disparity_sgm(left, right, num_disparities=64, min_disparity=0, p1=5, p2=60,
     5 (one pass, row memory) or 8."""
     L, R = _pair(left, right)
     o = ffi.new("sfm_stereo_sgm_options *")
-    o.min_disparity, o.num_disparities = int(min_disparity), int(num_disparities)
-    o.p1, o.p2, o.paths = int(p1), int(p2), int(paths)
-    o.uniqueness, o.lr_max_diff, o.subpixel = int(uniqueness), int(lr_max_diff), int(bool(subpixel))
+    o.min_disparity = to_int(min_disparity, "min_disparity")
+    o.num_disparities = to_int(num_disparities, "num_disparities")
+    o.p1, o.p2, o.paths = to_int(p1, "p1"), to_int(p2, "p2"), to_int(paths, "paths")
+    o.uniqueness, o.lr_max_diff = to_int(uniqueness, "uniqueness"), to_int(lr_max_diff, "lr_max_diff")
+    o.subpixel = int(bool(subpixel))
     h, w = L.shape
     n = lib.sfm_stereo_sgm_workspace_size(w, h, o)
     if n == 0:
@@ -220,8 +211,10 @@ def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=2, 
     corner windows, left-right check. Returns float32 (h, w), NaN invalid."""
     L, R = _pair(left, right)
     o = ffi.new("sfm_stereo_block_options *")
-    o.min_disparity, o.num_disparities, o.radius = int(min_disparity), int(num_disparities), int(radius)
-    o.uniqueness, o.lr_max_diff, o.texture = int(uniqueness), int(lr_max_diff), int(texture)
+    o.min_disparity = to_int(min_disparity, "min_disparity")
+    o.num_disparities, o.radius = to_int(num_disparities, "num_disparities"), to_int(radius, "radius")
+    o.uniqueness, o.lr_max_diff = to_int(uniqueness, "uniqueness"), to_int(lr_max_diff, "lr_max_diff")
+    o.texture = to_int(texture, "texture")
     o.subpixel = int(bool(subpixel))
     h, w = L.shape
     n = lib.sfm_stereo_block_workspace_size(w, h, o)
@@ -275,7 +268,7 @@ def disparity_to_points(disparity, rect=None, K=None, baseline=None, doffs=0.0, 
                                     ffi.NULL, 0), "sfm_stereo_points")
     pts = np.empty((n, 3))
     idx = np.empty(n, dtype=np.int32)
-    check(lib.sfm_stereo_points(dp, d.shape[1], d.shape[0], r, float(max_depth), dptr(pts),
+    check(lib.sfm_stereo_points(dp, d.shape[1], d.shape[0], r, max_depth, dptr(pts),
                                 ffi.cast("int32_t *", ffi.from_buffer(idx)), n),
           "sfm_stereo_points")
     return pts, idx
