@@ -99,6 +99,14 @@ extern "C" {
  *      best so far, before local optimisation (DEGENSAC's plane-and-parallax
  *      step); may overwrite model with a better one and return 1, else 0. May
  *      draw from rng.
+ *  set_scale(ctx, scale): optional (last, so that older positional
+ *      initialisers leave it NULL). When given, the engine estimates the
+ *      noise from each model's residuals before a refit (sigma: 1.4826 times
+ *      their median within wide_mult thresholds), refits on the points
+ *      within 3.5 sigma (between tau and wide_mult tau) and calls
+ *      set_scale(ctx, 2.385 sigma) (at most the band; threshold units, not
+ *      squared) for refine's robust loss. Without it LO refits on the whole
+ *      wide band at the estimator's own scale.
  */
 typedef struct sfm_ransac_estimator {
     int sample_size; /* 1..SFM_RANSAC_MAX_SAMPLE */
@@ -110,6 +118,7 @@ typedef struct sfm_ransac_estimator {
     int (*degenerate)(void *ctx, const int *sample);
     int (*fix_best)(void *ctx, const int *sample, double *model, sfm_rng *rng);
     void *ctx;
+    void (*set_scale)(void *ctx, double scale);
 } sfm_ransac_estimator;
 
 /* Monotonic clock in seconds, supplied by the caller (a microcontroller has no
@@ -152,6 +161,14 @@ typedef struct sfm_ransac_stats {
     uint64_t seed;        /* the seed used */
     int stop_reason;      /* an SFM_RANSAC_STOP_* value */
     int flags;            /* SFM_RANSAC_FLAG_* bits raised by the estimator */
+    int inner_runs;       /* inner RANSACs of the LO run */
+    int polish_rounds;    /* refits the final polish ran before its band
+                             stopped changing (0: no polish kept) */
+    double stop_share;    /* inlier share the stopping rule used last (of the
+                             best model, in the band the rule counts) */
+    double samples_needed; /* samples the stopping rule asked for at
+                              opt->confidence for that share, before the
+                              min/max iteration caps (may be +inf) */
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed

@@ -13,7 +13,13 @@ k1, k2, p1, p2, k3), and returns a plain dict:
   lo_runs       local optimisations run
   polished      the final polish (refit on the points within 3.5 robust
                 standard deviations of the winner's residuals, between 1 and
-                3 thresholds, under a Cauchy loss) was kept
+                3 thresholds, under a Cauchy loss, repeated until that set
+                stops changing) was kept
+  polish_rounds refits that polish ran
+  inner_runs    inner RANSACs of the local optimisation
+  stop_share    inlier share the stopping rule used (best model)
+  samples_needed samples the stopping rule asked for at that share and the
+                confidence, before the min/max caps (may be inf)
   score         MSAC cost (pixels squared)
   seed          the seed used
   stop_reason   "confidence", "max_iterations" or "time"
@@ -49,7 +55,7 @@ def _camera(K, dist, name):
 
 
 def _options(threshold_px, seed, confidence, max_iterations, min_iterations, lo_rounds,
-             use_sprt, quality, n, polish_rounds=2):
+             use_sprt, quality, n, polish_rounds=None):
     opt = ffi.new("sfm_ransac_options *")
     lib.sfm_ransac_default_options(opt)
     opt.threshold = float(threshold_px)
@@ -58,7 +64,8 @@ def _options(threshold_px, seed, confidence, max_iterations, min_iterations, lo_
     opt.max_iterations = int(max_iterations)
     opt.min_iterations = int(min_iterations)
     opt.lo_rounds = int(lo_rounds)
-    opt.polish_rounds = int(polish_rounds)
+    if polish_rounds is not None:  # None: the library's default
+        opt.polish_rounds = int(polish_rounds)
     opt.use_sprt = 1 if use_sprt else 0
     keep = None
     if quality is not None:
@@ -79,7 +86,9 @@ def _stats_dict(st, mask):
     return dict(inliers=mask.astype(bool), num_inliers=int(st.num_inliers),
                 iterations=int(st.iterations), models=int(st.models),
                 sprt_rejected=int(st.sprt_rejected), lo_runs=int(st.lo_runs),
-                polished=bool(st.polished),
+                polished=bool(st.polished), polish_rounds=int(st.polish_rounds),
+                inner_runs=int(st.inner_runs), stop_share=float(st.stop_share),
+                samples_needed=float(st.samples_needed),
                 score=float(st.score), seed=int(st.seed),
                 stop_reason=_STOP.get(int(st.stop_reason), str(int(st.stop_reason))),
                 flags=int(st.flags))
@@ -93,7 +102,7 @@ def _common_kwargs(kw):
     bad = set(kw) - set(_KW)
     if bad:
         raise TypeError("unknown option(s): %s" % ", ".join(sorted(bad)))
-    return dict(polish_rounds=kw.get("polish_rounds", 2), seed=kw.get("seed", 0), confidence=kw.get("confidence", 0.999),
+    return dict(polish_rounds=kw.get("polish_rounds", None), seed=kw.get("seed", 0), confidence=kw.get("confidence", 0.999),
                 max_iterations=kw.get("max_iterations", 10000),
                 min_iterations=kw.get("min_iterations", 0), lo_rounds=kw.get("lo_rounds", 3),
                 use_sprt=kw.get("use_sprt", True))
@@ -101,7 +110,7 @@ def _common_kwargs(kw):
 
 def estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=0, confidence=0.999,
                            max_iterations=10000, min_iterations=0, lo_rounds=3, use_sprt=True,
-                           quality=None, dist1=None, dist2=None, polish_rounds=2):
+                           quality=None, dist1=None, dist2=None, polish_rounds=None):
     """Relative pose from n >= 5 pixel pairs (5-point RANSAC).
 
     Returns the common entries plus R (3x3), t (3,), E (3x3, unit norm),
@@ -132,7 +141,7 @@ def estimate_relative_pose(p1, p2, K1, K2, threshold_px=1.0, seed=0, confidence=
 def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, threshold_px=1.0, seed=0,
                                    confidence=0.999, max_iterations=10000, min_iterations=0,
                                    lo_rounds=3, use_sprt=True, quality=None, dist1=None,
-                                   dist2=None, polish_rounds=2):
+                                   dist2=None, polish_rounds=None):
     """Relative pose from n >= 3 pixel pairs and a direction known in both
     frames (d1 in camera 1, d2 = R d1 in camera 2, e.g. gravity).
 
@@ -163,7 +172,7 @@ def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, threshold_px=1.0, see
 
 def estimate_absolute_pose(p, X, K, threshold_px=1.0, seed=0, confidence=0.999,
                            max_iterations=10000, min_iterations=0, lo_rounds=3, use_sprt=True,
-                           quality=None, dist=None, polish_rounds=2):
+                           quality=None, dist=None, polish_rounds=None):
     """Absolute pose from n >= 3 pixels (n x 2) and world points X (n x 3)
     (P3P RANSAC). Returns the common entries plus R (3x3), t (3,) with
     x_cam = R X + t."""
