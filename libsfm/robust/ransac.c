@@ -407,9 +407,16 @@ static uint64_t list_hash(const int *list, int c)
     return h ^ (uint64_t)(uint32_t)c;
 }
 
+/* A refit that moves no model entry by more than this has converged (the
+ * models are unit-norm matrices, rotations and unit vectors: 1e-7 is about
+ * 1e-5 deg). */
+#define POLISH_STILL 1e-7
+
 /* Final polish of e->best to a fixed point: collect the band (lo_band2,
  * from the current model's residuals), refine on it, and repeat until the
- * set of points in the band stops changing, at most `rounds` times. The
+ * set of points in the band stops changing and the last refit no longer
+ * moved the model (refine takes a few steps only), at most `rounds`
+ * times. The
  * MSAC cost at tau is not asked (it prefers models fitted to the points
  * inside tau only); the result is kept when it loses at most 5 % of the
  * inliers. Returns the rounds run (0: not kept). */
@@ -419,16 +426,23 @@ static int polish(const engine *e, int rounds, int best_inl)
     memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
     uint64_t last = 0;
     int done = 0;
+    double moved = INFINITY; /* largest change of a model entry in the last refit */
     for (int r = 0; r < rounds; r++) {
         int c = collect_within(e, e->spare, lo_band2(e, e->spare, 1), e->inl);
         if (c < e->k)
             break;
         uint64_t h = list_hash(e->inl, c);
-        if (r > 0 && h == last)
+        if (r > 0 && h == last && moved < POLISH_STILL)
             break;
         last = h;
+        memcpy(e->tmp, e->spare, sizeof(double) * (size_t)e->s);
         if (est->refine(est->ctx, e->inl, c, e->spare) < 0)
             break;
+        moved = 0.0;
+        for (int j = 0; j < e->s; j++) {
+            double d = fabs(e->spare[j] - e->tmp[j]);
+            moved = d > moved ? d : moved;
+        }
         done++;
     }
     if (done == 0)
