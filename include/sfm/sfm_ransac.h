@@ -22,7 +22,7 @@
  * and the refits alone cannot leave that local minimum.
  *
  * The LO band: the whole band of wide_mult thresholds, or, for estimators
- * with set_scale (relative and upright pose below), 3.5 robust standard
+ * with set_scale (relative and upright pose below), 3 robust standard
  * deviations of the model's own residuals (1.4826 times their median within
  * wide_mult thresholds), between tau and wide_mult tau, with the refit's
  * Cauchy scale at 2.385 of those deviations, at most tau.
@@ -118,8 +118,8 @@ extern "C" {
  *      initialisers leave it NULL). When given, the engine estimates the
  *      noise from each model's residuals before a refit (sigma: 1.4826 times
  *      their median within wide_mult thresholds), refits on the points
- *      within 3.5 sigma (between tau and wide_mult tau) and calls
- *      set_scale(ctx, 2.385 sigma) (at most the band; threshold units, not
+ *      within 3 sigma (between tau and wide_mult tau) and calls
+ *      set_scale(ctx, 2.385 sigma) (at most tau; threshold units, not
  *      squared) for refine's robust loss. Without it LO refits on the whole
  *      wide band at the estimator's own scale.
  */

@@ -11,10 +11,11 @@ k1, k2, p1, p2, k3), and returns a plain dict:
   models        models verified
   sprt_rejected models dropped early (SPRT or the bail-out test)
   lo_runs       local optimisations run
-  polished      the final polish (refit on the points within 3.5 robust
-                standard deviations of the winner's residuals, between 1 and
-                3 thresholds, under a Cauchy loss, repeated until that set
-                stops changing) was kept
+  polished      the final polish (refit on the points within 3 robust
+                standard deviations of the winner's residuals for relative
+                poses, 3.5 for the others, between 1 and 3 thresholds, under
+                a Cauchy loss, repeated until that set stops changing and
+                the fit stops moving) was kept
   polish_rounds refits that polish ran
   inner_runs    inner RANSACs of the local optimisation
   stop_share    inlier share the stopping rule used (best model)
