@@ -29,6 +29,16 @@ void sfmi_lm_default_options(sfmi_lm_options *o)
     o->want_covariance = 0;
 }
 
+int sfmi_lm_factor_full_rank(const double *L, const double *diag, int n)
+{
+    for (int i = 0; i < n; i++) {
+        const double l = L[(size_t)i * n + i];
+        if (!(l * l > SFMI_LM_COV_RANK_TOL * diag[i]))
+            return 0;
+    }
+    return 1;
+}
+
 double sfmi_lm_clamp_diag(double d)
 {
     return d < MIN_DIAG ? MIN_DIAG : (d > MAX_DIAG ? MAX_DIAG : d);
@@ -215,7 +225,7 @@ int sfmi_lm_tangent_size(const sfmi_lm_block *blocks, int n_blocks)
 }
 
 /* out = x (+) d on b's manifold; 0 when the result is not finite. */
-static int block_plus(const sfmi_lm_block *b, const double *x, const double *d, double *out)
+int sfmi_lm_block_plus(const sfmi_lm_block *b, const double *x, const double *d, double *out)
 {
     switch (b->manifold) {
     case SFMI_LM_EUCLIDEAN:
@@ -406,7 +416,7 @@ static double dense_trial(void *self)
     dense_ws *w = &c->w;
     const sfmi_lm_problem *p = c->p;
     for (int b = 0; b < p->n_blocks; b++) {
-        if (!block_plus(&p->blocks[b], w->cur + c->voff[b], w->h + c->toff[b], w->trial + c->voff[b]))
+        if (!sfmi_lm_block_plus(&p->blocks[b], w->cur + c->voff[b], w->h + c->toff[b], w->trial + c->voff[b]))
             return HUGE_VAL;
     }
     return dense_eval(c, w->trial, 0, NULL);
@@ -476,7 +486,9 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
         s.covariance_status = SFM_OK;
         if (nt > 0) {
             memcpy(c.w.A, c.w.H, sizeof(double) * (size_t)nt * nt);
-            if (sfm_cholesky_factor(c.w.A, nt) != SFM_OK) {
+            for (int a = 0; a < nt; a++)
+                c.w.D[a] = c.w.H[(size_t)a * nt + a];
+            if (sfm_cholesky_factor(c.w.A, nt) != SFM_OK || !sfmi_lm_factor_full_rank(c.w.A, c.w.D, nt)) {
                 s.covariance_status = SFM_E_SINGULAR;
             } else {
                 /* the inverse column by column into cov, then checked */

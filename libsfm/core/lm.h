@@ -51,7 +51,8 @@
  * Covariance (want_covariance): the inverse of the undamped Gauss-Newton
  * matrix J^T W J at the solution (robust weights included), in the tangent
  * coordinates of the free blocks; constant blocks have no rows. A gauge left
- * free makes it singular: covariance_status SFM_E_SINGULAR.
+ * free makes it singular: covariance_status SFM_E_SINGULAR (also when the
+ * factorisation only survives by rounding: sfmi_lm_factor_full_rank).
  *
  * Reentrant, no globals, no allocation; sfmi_lm_dense_solve works on its
  * workspace copy of the values and writes the blocks only when it returns
@@ -149,6 +150,15 @@ typedef struct sfmi_lm_system {
  * SFM_E_NONFINITE (the initial cost is not finite). */
 int sfmi_lm_run(const sfmi_lm_system *sys, const sfmi_lm_options *opt, sfmi_lm_summary *summary);
 
+/* 1 when the Cholesky factor L (n x n, row-major lower, of a matrix whose
+ * diagonal was diag) has every pivot L_ii^2 above SFMI_LM_COV_RANK_TOL
+ * diag_i: the relative share of row i not explained by the rows before it.
+ * A gauge direction left free leaves a pivot at rounding level (that
+ * factorisation may still succeed): its covariance is SFM_E_SINGULAR, not a
+ * number. */
+#define SFMI_LM_COV_RANK_TOL 1e-12
+int sfmi_lm_factor_full_rank(const double *L, const double *diag, int n);
+
 /* Damping diagonal entry of a normal-matrix diagonal value. */
 double sfmi_lm_clamp_diag(double d);
 
@@ -202,6 +212,11 @@ size_t sfmi_lm_dense_workspace_size(int n_values, int n_tangent, int residual_si
 #define SFMI_LM_DENSE_WS_DOUBLES(n_values, n_tangent, residual_size)                               \
     (2 * (n_values) + 2 * (n_tangent) * (n_tangent) + 4 * (n_tangent) +                          \
      (residual_size) * ((n_tangent) + 1) + 24)
+
+/* out = x (+) d on the block's manifold (the driver's update; also what a
+ * finite-difference check of a residual's Jacobian must follow). Returns 1,
+ * 0 when the result is not finite. */
+int sfmi_lm_block_plus(const sfmi_lm_block *b, const double *x, const double *d, double *out);
 
 /* Free parameters of the blocks (the column count of J); -1 when a block is
  * malformed. */
