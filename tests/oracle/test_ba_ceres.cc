@@ -65,7 +65,7 @@ int main(int, char **argv)
             sc.wgt[k] = 0.5 + sfm_test_uniform(&sc.ctx, 0.0, 2.0);
         run("weighted", sc, o);
     }
-    const int losses[3] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY, SFM_BA_LOSS_TRUNCATED};
+    const sfm_ba_loss losses[3] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY, SFM_BA_LOSS_TRUNCATED};
     const char *names[3] = {"huber+outliers", "cauchy+outliers", "truncated+outliers"};
     for (int l = 0; l < 3; l++) {
         Scene sc("ceres_robust", 5, 300, 0.5, l == 2 ? 0.5 : 2.0, l == 2 ? 0.01 : 0.05, 0.02);
