@@ -34,10 +34,7 @@
 
 #define NP 7
 
-typedef struct fnorm {
-    double t1[3], t2[3]; /* Hartley normalisations (s, -s cx, -s cy) */
-    const double *p1, *p2;
-} fnorm;
+typedef sfmi_fundamental_problem fnorm;
 
 static void mat3t_vec(const double *M, const double *x, double *y)
 {
@@ -179,19 +176,19 @@ static double det3(const double *a)
            a[2] * (a[3] * a[7] - a[4] * a[6]);
 }
 
-int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
-                              double F[9])
+int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, double scale,
+                                const double F[9], sfmi_fundamental_problem *N)
 {
-    fnorm N;
-    if (n < NP || sfm__hartley_2d(p1, n, N.t1) < 0 || sfm__hartley_2d(p2, n, N.t2) < 0)
+    if (n < NP || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
         return -1;
-    N.p1 = p1;
-    N.p2 = p2;
+    N->p1 = p1;
+    N->p2 = p2;
     /* F_n = T2^-T F T1^-1, then its SVD with U, V rotations (the third
      * singular vectors carry no weight, so their signs are free) */
-    double ti1[3], ti2[3], Fn[9], U[9], S[3], V[9];
-    inv_norm(N.t1, ti1);
-    inv_norm(N.t2, ti2);
+    double ti1[3], ti2[3], Fn[9], S[3];
+    double *U = N->U, *V = N->V;
+    inv_norm(N->t1, ti1);
+    inv_norm(N->t2, ti2);
     congruence(ti2, F, ti1, Fn);
     if (sfm__svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
         return -1;
@@ -202,24 +199,36 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
         for (int r = 0; r < 3; r++)
             V[3 * r + 2] = -V[3 * r + 2];
     const double sn = sqrt(S[0] * S[0] + S[1] * S[1]);
-    double cs[2] = {S[0] / sn, S[1] / sn};
+    N->cs[0] = S[0] / sn;
+    N->cs[1] = S[1] / sn;
     const sfmi_lm_block blocks[3] = {{U, 9, SFMI_LM_SO3_RIGHT, 0, NULL, NULL},
                                      {V, 9, SFMI_LM_SO3_RIGHT, 0, NULL, NULL},
-                                     {cs, 2, SFMI_LM_SPHERE, 0, NULL, NULL}};
-    const sfmi_lm_problem prob = {blocks, 3, n, 1, fundamental_residual, &N,
+                                     {N->cs, 2, SFMI_LM_SPHERE, 0, NULL, NULL}};
+    memcpy(N->blocks, blocks, sizeof blocks);
+    const sfmi_lm_problem prob = {N->blocks, 3, n, 1, fundamental_residual, N,
                                   scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    N->prob = prob;
+    return 0;
+}
+
+int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
+                              double F[9])
+{
+    fnorm N;
+    if (sfmi_fundamental_lm_problem(p1, p2, n, scale, F, &N) < 0)
+        return -1;
     sfmi_lm_options opt;
     sfmi_lm_default_options(&opt);
     opt.max_iterations = iters;
     opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(20, NP, 1)];
     sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
+    if (sfmi_lm_dense_solve(&N.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
         return -1;
     if (sum.successful_steps == 0)
         return 1;
-    double Fp[9];
-    compose(U, V, cs, Fn);
+    double Fn[9], Fp[9];
+    compose(N.U, N.V, N.cs, Fn);
     congruence(N.t2, Fn, N.t1, Fp);
     if (sfm__normalize9(Fp) != 0)
         return -1;

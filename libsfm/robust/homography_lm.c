@@ -108,11 +108,7 @@ double sfm_robust_homography_cost(const double *p1, const double *p2, int n, dou
     return c;
 }
 
-typedef struct hnorm {
-    double t1[3], t2[3];
-    const double *p1, *p2;
-    int ent[NP]; /* the free entries of H_n; the ninth is held */
-} hnorm;
+typedef sfmi_homography_problem hnorm;
 
 static void normalise(const hnorm *N, const double *p, const double *q, double *xn, double *yn)
 {
@@ -183,19 +179,19 @@ static int homography_residual(const void *user, const double *const *x, int i, 
     return 1;
 }
 
-int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
-                             double H[9])
+int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double scale,
+                               const double H[9], sfmi_homography_problem *N)
 {
-    hnorm N;
-    if (n < 4 || sfm__hartley_2d(p1, n, N.t1) < 0 || sfm__hartley_2d(p2, n, N.t2) < 0)
+    if (n < 4 || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
         return -1;
-    N.p1 = p1;
-    N.p2 = p2;
+    N->p1 = p1;
+    N->p2 = p2;
     /* H_n = T2 H T1^-1 */
-    double T1i[9], T2[9], tmp[9], Hn[9];
-    const double ti1[3] = {1.0 / N.t1[0], -N.t1[1] / N.t1[0], -N.t1[2] / N.t1[0]};
+    double T1i[9], T2[9], tmp[9];
+    double *Hn = N->Hn;
+    const double ti1[3] = {1.0 / N->t1[0], -N->t1[1] / N->t1[0], -N->t1[2] / N->t1[0]};
     sfm__hartley_matrix(ti1, T1i);
-    sfm__hartley_matrix(N.t2, T2);
+    sfm__hartley_matrix(N->t2, T2);
     sfm_matmul3(T2, H, tmp);
     sfm_matmul3(tmp, T1i, Hn);
     if (sfm__normalize9(Hn) != 0)
@@ -206,26 +202,37 @@ int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double s
             fixed = k;
     for (int k = 0, p = 0; k < 9; k++)
         if (k != fixed)
-            N.ent[p++] = k;
-    const sfmi_lm_block block = {Hn, 9, SFMI_LM_CUSTOM, NP, entries_plus, &N};
-    const sfmi_lm_problem prob = {&block, 1, n, 2, homography_residual, &N,
+            N->ent[p++] = k;
+    const sfmi_lm_block block = {Hn, 9, SFMI_LM_CUSTOM, NP, entries_plus, N};
+    N->block = block;
+    const sfmi_lm_problem prob = {&N->block, 1, n, 2, homography_residual, N,
                                   scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    N->prob = prob;
+    return 0;
+}
+
+int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
+                             double H[9])
+{
+    hnorm N;
+    if (sfmi_homography_lm_problem(p1, p2, n, scale, H, &N) < 0)
+        return -1;
     sfmi_lm_options opt;
     sfmi_lm_default_options(&opt);
     opt.max_iterations = iters;
     opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(9, NP, 2)];
     sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
+    if (sfmi_lm_dense_solve(&N.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
         return -1;
     if (sum.successful_steps == 0)
         return 1;
     /* H = T2^-1 H_n T1 */
-    double T2i[9], T1[9], Hp[9];
+    double T2i[9], T1[9], Hp[9], tmp[9];
     const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
     sfm__hartley_matrix(ti2, T2i);
     sfm__hartley_matrix(N.t1, T1);
-    sfm_matmul3(T2i, Hn, tmp);
+    sfm_matmul3(T2i, N.Hn, tmp);
     sfm_matmul3(tmp, T1, Hp);
     if (sfm__normalize9(Hp) != 0 || !sfm_all_finite9(Hp))
         return -1;

@@ -29,16 +29,11 @@ double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
     return u0 * u0 + u1 * u1 + u2 * u2;
 }
 
-typedef struct reproj_data {
-    const double *b, *X;
-    const int *idx;
-} reproj_data;
-
 /* Residual block j: the two tangent-plane coordinates of point idx[j]; left
  * out behind the camera (as the score leaves it out). */
 static int reproj_residual(const void *user, const double *const *x, int j, double *r, double *J)
 {
-    const reproj_data *d = user;
+    const sfmi_reproj_problem *d = user;
     const double *R = x[0], *t = x[1];
     const double *bb = d->b + 3 * d->idx[j], *XX = d->X + 3 * d->idx[j];
     double RX[3], Xc[3], e[2][3];
@@ -67,14 +62,26 @@ static int reproj_residual(const void *user, const double *const *x, int j, doub
     return 1;
 }
 
+void sfmi_reproj_lm_problem(const double *b, const double *X, const int *idx, int n, double scale,
+                            double R[9], double t[3], sfmi_reproj_problem *rp)
+{
+    rp->b = b;
+    rp->X = X;
+    rp->idx = idx;
+    const sfmi_lm_block rb = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
+    const sfmi_lm_block tb = {t, 3, SFMI_LM_EUCLIDEAN, 0, NULL, NULL};
+    rp->blocks[0] = rb;
+    rp->blocks[1] = tb;
+    const sfmi_lm_problem prob = {rp->blocks, 2, n, 2, reproj_residual, rp,
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    rp->prob = prob;
+}
+
 int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
                          int iters, double R[9], double t[3])
 {
-    const reproj_data d = {b, X, idx};
-    const sfmi_lm_block blocks[2] = {{R, 9, SFMI_LM_SO3, 0, NULL, NULL},
-                                     {t, 3, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
-    const sfmi_lm_problem prob = {blocks, 2, n, 2, reproj_residual, &d,
-                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    sfmi_reproj_problem rp;
+    sfmi_reproj_lm_problem(b, X, idx, n, scale, R, t, &rp);
     sfmi_lm_options opt;
     sfmi_lm_default_options(&opt);
     opt.max_iterations = iters;
@@ -82,7 +89,7 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
     opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 6, 2)];
     sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
+    if (sfmi_lm_dense_solve(&rp.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
         return -1;
     return sum.successful_steps > 0 ? 0 : 1;
 }

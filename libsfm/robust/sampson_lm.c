@@ -17,11 +17,6 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 
-typedef struct sampson_data {
-    const double *b1, *b2, *axis;
-    const int *idx;
-} sampson_data;
-
 /* The upright rotation: R <- exp([theta axis]x) R. */
 static void upright_plus(const double *R, const double *d, double *out, const void *user)
 {
@@ -40,7 +35,7 @@ static void upright_plus(const double *R, const double *d, double *out, const vo
  * vanishes (the pair at the epipoles). */
 static int sampson_residual(const void *user, const double *const *x, int j, double *r, double *J)
 {
-    const sampson_data *dat = user;
+    const sfmi_sampson_problem *dat = user;
     const double *R = x[0], *t = x[1];
     const double *x1 = dat->b1 + 3 * dat->idx[j], *x2 = dat->b2 + 3 * dat->idx[j];
     /* u = R b1, a = E b1 = t x u, v = b2 x t (so E^T b2 = R^T v and
@@ -91,27 +86,36 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     return 1;
 }
 
+void sfmi_sampson_lm_problem(const double *b1, const double *b2, const int *idx, int n,
+                             const double *axis, double scale, double R[9], double t[3],
+                             sfmi_sampson_problem *sp)
+{
+    sp->b1 = b1;
+    sp->b2 = b2;
+    sp->axis = axis;
+    sp->idx = idx;
+    const sfmi_lm_block rb = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
+    const sfmi_lm_block ub = {R, 9, SFMI_LM_CUSTOM, 1, upright_plus, axis};
+    const sfmi_lm_block tb = {t, 3, SFMI_LM_SPHERE, 0, NULL, NULL};
+    sp->blocks[0] = axis ? ub : rb;
+    sp->blocks[1] = tb;
+    const sfmi_lm_problem prob = {sp->blocks, 2, n, 1, sampson_residual, sp,
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    sp->prob = prob;
+}
+
 int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
                           const double *axis, double scale, int iters, double R[9], double t[3])
 {
-    const sampson_data d = {b1, b2, axis, idx};
-    sfmi_lm_block blocks[2] = {{R, 9, SFMI_LM_SO3, 0, NULL, NULL},
-                               {t, 3, SFMI_LM_SPHERE, 0, NULL, NULL}};
-    if (axis) {
-        blocks[0].manifold = SFMI_LM_CUSTOM;
-        blocks[0].tangent = 1;
-        blocks[0].plus = upright_plus;
-        blocks[0].plus_user = axis;
-    }
-    const sfmi_lm_problem prob = {blocks, 2, n, 1, sampson_residual, &d,
-                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    sfmi_sampson_problem sp;
+    sfmi_sampson_lm_problem(b1, b2, idx, n, axis, scale, R, t, &sp);
     sfmi_lm_options opt;
     sfmi_lm_default_options(&opt);
     opt.max_iterations = iters;
     opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 5, 1)];
     sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
+    if (sfmi_lm_dense_solve(&sp.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
         return -1;
     return sum.successful_steps > 0 ? 0 : 1;
 }

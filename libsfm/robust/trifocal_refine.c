@@ -57,13 +57,9 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
     return c;
 }
 
-/* Per-point blocks: Jp (6x3), Jc rows (view 2 -> cols 0..11, view 3 -> 12..23)
- * stored as two 2x12 blocks, residual r (6). */
-typedef struct point_blocks {
-    double Jp[18], Jc2[24], Jc3[24], r[6];
-} point_blocks;
+typedef sfmi_tf_point_blocks point_blocks;
 
-static int point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
+int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
                            const double X[4], point_blocks *b)
 {
     const double *P[3] = {P1, P2, P3};
@@ -171,7 +167,7 @@ static double tf_linearize(void *self, double *gmax)
     double m = 0.0;
     for (int q = 0; q < c->n; q++) {
         point_blocks b;
-        if (!point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], &b))
+        if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], &b))
             continue;
         double W[72], gcq[24], V[9], gp[3];
         point_products(&b, W, gcq, V, gp);
@@ -200,7 +196,7 @@ static int point_system(const tf_sys *c, int q, double mu, point_blocks *b, doub
                         double gp[3], double Vi[9], double Dp[3])
 {
     double gcq[24], V[9];
-    if (!point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b))
+    if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b))
         return 0;
     point_products(b, W, gcq, V, gp);
     for (int k = 0; k < 3; k++) {

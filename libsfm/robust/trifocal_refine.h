@@ -13,6 +13,19 @@ typedef struct sfm_tf_refine_ws {
     int cap;      /* n the buffers hold */
 } sfm_tf_refine_ws;
 
+/* Per-point blocks: Jp (6x3, along the sfmi_lm_sphere_basis of X), Jc rows
+ * (view 2 -> P2's 12 entries, view 3 -> P3's) stored as two 2x12 blocks,
+ * residual r (6: views 1, 2, 3). */
+typedef struct sfmi_tf_point_blocks {
+    double Jp[18], Jc2[24], Jc3[24], r[6];
+} sfmi_tf_point_blocks;
+
+/* The residuals and Jacobians of point p (x1..x3 in xs) at X (unit
+ * homogeneous) under P1 = [I | 0], P2, P3. Returns 0 when a view cannot
+ * project X. */
+int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
+                            const double X[4], sfmi_tf_point_blocks *b);
+
 /* Carves buffers for up to n points (measuring or real arena). */
 void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
 
