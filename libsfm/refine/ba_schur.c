@@ -38,8 +38,6 @@
 
 #define NLOC SFMI_BA_NLOC
 
-static const double zero_dist[SFMI_BA_NDIST] = {0.0, 0.0, 0.0, 0.0, 0.0};
-
 /* theta / rho for Kannala-Brandt, rho = |(X0, X1)| > 0 or on the axis
  * (z > 0): theta / rho = (1/z)(1 - q^2/3 + q^4/5 - ...), q = rho / z. */
 static double fisheye_theta_over_rho(const double *X, double *theta)
@@ -84,8 +82,44 @@ static void distortion_jacobian(const sfm_camera *cam, const double *Xc, double 
     dd[SFMI_BA_NDIST + 4] = y * r2 * r2 * r2;
 }
 
-int sfmi_ba_project(const sfm_camera *cam, double aspect, const double *R, const double *t,
-                    const double *X, double uv[2], double *J, double *Jp)
+/* Distorted normalised point of Xc and D = d(xd)/d(Xc) (2x3, when D is not
+ * NULL) by the camera's model. A pinhole camera, or a Brown one whose
+ * coefficients are all zero (the common case of an undistorted feed), is
+ * the plain perspective division, written here to keep the per-observation
+ * path free of a call; it gives the same bits as the Brown evaluation with
+ * zero coefficients. Returns 0 when the point cannot be projected. */
+static inline int distorted_point(const sfm_camera *cam, const double *Xc, double xd[2], double *D)
+{
+    const double *k = cam->dist;
+    const int plain = cam->model == SFM_CAMERA_PINHOLE ||
+                      (cam->model == SFM_CAMERA_BROWN && k[0] == 0.0 && k[1] == 0.0 && k[2] == 0.0 &&
+                       k[3] == 0.0 && k[4] == 0.0);
+    if (plain) {
+        if (!(Xc[2] > 0.0))
+            return 0;
+        const double iz = 1.0 / Xc[2];
+        const double x = Xc[0] / Xc[2], y = Xc[1] / Xc[2];
+        xd[0] = x;
+        xd[1] = y;
+        if (D) {
+            D[0] = iz;
+            D[1] = 0.0;
+            D[2] = -x * iz;
+            D[3] = 0.0;
+            D[4] = iz;
+            D[5] = -y * iz;
+        }
+        return 1;
+    }
+    int st = cam->model == SFM_CAMERA_FISHEYE ? sfm_cam__fisheye_project(k, Xc, xd, D)
+                                              : sfm_cam__brown_project(k, Xc, xd, D);
+    return st >= 0;
+}
+
+/* The projection and its Jacobians; the intrinsics columns only when
+ * with_intrinsics (a solve that holds them never reads them). */
+static inline int project(const sfm_camera *cam, double aspect, const double *R, const double *t,
+                          const double *X, double uv[2], double *J, double *Jp, int with_intrinsics)
 {
     const double a0 = R[0] * X[0] + R[1] * X[1] + R[2] * X[2];
     const double a1 = R[3] * X[0] + R[4] * X[1] + R[5] * X[2];
@@ -93,11 +127,7 @@ int sfmi_ba_project(const sfm_camera *cam, double aspect, const double *R, const
     const double Xc[3] = {a0 + t[0], a1 + t[1], a2 + t[2]};
     double xd[2], D[6];
     const int want = J != NULL || Jp != NULL;
-    int st = cam->model == SFM_CAMERA_FISHEYE
-                 ? sfm_cam__fisheye_project(cam->dist, Xc, xd, want ? D : NULL)
-                 : sfm_cam__brown_project(cam->model == SFM_CAMERA_BROWN ? cam->dist : zero_dist, Xc,
-                                          xd, want ? D : NULL);
-    if (st < 0)
+    if (!distorted_point(cam, Xc, xd, want ? D : NULL))
         return 0;
     const double fx = cam->fx, fy = cam->fy;
     uv[0] = fx * xd[0] + cam->cx;
@@ -118,19 +148,21 @@ int sfmi_ba_project(const sfm_camera *cam, double aspect, const double *R, const
         j1[2] = -P10 * a1 + P11 * a0;
         j0[3] = P00; j0[4] = P01; j0[5] = P02;
         j1[3] = P10; j1[4] = P11; j1[5] = P12;
-        j0[6] = xd[0];           j1[6] = aspect * xd[1];
-        j0[7] = 1.0;             j1[7] = 0.0;
-        j0[8] = 0.0;             j1[8] = 1.0;
-        if (cam->model != SFM_CAMERA_PINHOLE) {
-            double dd[2 * SFMI_BA_NDIST];
-            distortion_jacobian(cam, Xc, dd);
-            for (int e = 0; e < SFMI_BA_NDIST; e++) {
-                j0[9 + e] = fx * dd[e];
-                j1[9 + e] = fy * dd[SFMI_BA_NDIST + e];
+        if (with_intrinsics) {
+            j0[6] = xd[0];           j1[6] = aspect * xd[1];
+            j0[7] = 1.0;             j1[7] = 0.0;
+            j0[8] = 0.0;             j1[8] = 1.0;
+            if (cam->model != SFM_CAMERA_PINHOLE) {
+                double dd[2 * SFMI_BA_NDIST];
+                distortion_jacobian(cam, Xc, dd);
+                for (int e = 0; e < SFMI_BA_NDIST; e++) {
+                    j0[9 + e] = fx * dd[e];
+                    j1[9 + e] = fy * dd[SFMI_BA_NDIST + e];
+                }
+            } else {
+                for (int e = 0; e < SFMI_BA_NDIST; e++)
+                    j0[9 + e] = j1[9 + e] = 0.0;
             }
-        } else {
-            for (int e = 0; e < SFMI_BA_NDIST; e++)
-                j0[9 + e] = j1[9 + e] = 0.0;
         }
     }
     if (Jp != NULL) {
@@ -144,6 +176,23 @@ int sfmi_ba_project(const sfm_camera *cam, double aspect, const double *R, const
     return 1;
 }
 
+int sfmi_ba_project(const sfm_camera *cam, double aspect, const double *R, const double *t,
+                    const double *X, double uv[2], double *J, double *Jp)
+{
+    return project(cam, aspect, R, t, X, uv, J, Jp, 1);
+}
+
+/* rho(s) and the IRLS weight rho'(s): the squared loss inline. */
+static inline void loss(const sfmi_ba_ctx *c, double s, double *rho, double *rho1)
+{
+    if (c->o->loss == SFM_BA_LOSS_SQUARED) {
+        *rho = s;
+        *rho1 = 1.0;
+        return;
+    }
+    sfmi_lm_loss_eval((sfmi_lm_loss)c->o->loss, c->a2, s, rho, rho1);
+}
+
 /* Cost at (R, t, K, X); +Inf when a camera cannot project a point it sees
  * or the sum is not finite. */
 static double eval_cost(const sfmi_ba_ctx *c, const double *R, const double *t, const sfm_camera *K,
@@ -154,12 +203,12 @@ static double eval_cost(const sfmi_ba_ctx *c, const double *R, const double *t, 
     for (int k = 0; k < c->nobs; k++) {
         int ci = p->obs_camera[k], pj = p->obs_point[k];
         double uv[2];
-        if (!sfmi_ba_project(K + ci, c->w.aspect[ci], R + 9 * ci, t + 3 * ci, X + 3 * pj, uv, NULL, NULL))
+        if (!project(K + ci, c->w.aspect[ci], R + 9 * ci, t + 3 * ci, X + 3 * pj, uv, NULL, NULL, 0))
             return HUGE_VAL;
         double rx = uv[0] - p->obs_xy[2 * k], ry = uv[1] - p->obs_xy[2 * k + 1];
         double wgt = p->obs_weight ? p->obs_weight[k] : 1.0;
         double rho, rho1;
-        sfmi_lm_loss_eval((sfmi_lm_loss)c->o->loss, c->a2, wgt * (rx * rx + ry * ry), &rho, &rho1);
+        loss(c, wgt * (rx * rx + ry * ry), &rho, &rho1);
         cost += rho;
     }
     cost *= 0.5;
@@ -185,12 +234,13 @@ double sfmi_ba_linearize(void *self, double *grad_max)
     for (int k = 0; k < c->nobs; k++) {
         int ci = p->obs_camera[k], pj = p->obs_point[k];
         double uv[2], J[2 * NLOC], *Jp = w->Jp + 6 * (size_t)k;
-        if (!sfmi_ba_project(w->K + ci, w->aspect[ci], w->R + 9 * ci, w->t + 3 * ci, w->X + 3 * pj, uv, J, Jp))
+        if (!project(w->K + ci, w->aspect[ci], w->R + 9 * ci, w->t + 3 * ci, w->X + 3 * pj, uv, J, Jp,
+                     c->nic > 0))
             return HUGE_VAL;
         double rx = uv[0] - p->obs_xy[2 * k], ry = uv[1] - p->obs_xy[2 * k + 1];
         double wgt = p->obs_weight ? p->obs_weight[k] : 1.0;
         double rho, rho1;
-        sfmi_lm_loss_eval((sfmi_lm_loss)c->o->loss, c->a2, wgt * (rx * rx + ry * ry), &rho, &rho1);
+        loss(c, wgt * (rx * rx + ry * ry), &rho, &rho1);
         cost += rho;
         double sc = sqrt(wgt * rho1);
         rx *= sc;
