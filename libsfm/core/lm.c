@@ -510,3 +510,17 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
     *summary = s;
     return SFM_OK;
 }
+
+int sfmi_lm_refine(const sfmi_lm_problem *prob, int max_iterations, double function_tolerance,
+                   void *ws, size_t ws_size)
+{
+    sfmi_lm_options opt;
+    sfmi_lm_default_options(&opt);
+    opt.max_iterations = max_iterations;
+    opt.function_tolerance = function_tolerance;
+    opt.gradient_tolerance = 0.0;
+    sfmi_lm_summary sum;
+    if (sfmi_lm_dense_solve(prob, &opt, ws, ws_size, &sum, NULL) != SFM_OK)
+        return -1;
+    return sum.successful_steps > 0 ? 0 : 1;
+}

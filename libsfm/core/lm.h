@@ -235,6 +235,14 @@ int sfmi_lm_tangent_size(const sfmi_lm_block *blocks, int n_blocks);
 int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt, void *ws,
                         size_t ws_size, sfmi_lm_summary *summary, double *cov);
 
+/* The estimators' local optimisation: sfmi_lm_dense_solve from the blocks'
+ * values with at most max_iterations steps, the given relative cost
+ * tolerance and no gradient test (their residuals are in radians or
+ * normalised units). Returns 0 when a step was accepted (blocks updated),
+ * 1 when none lowered the cost (blocks unchanged), -1 on failure. */
+int sfmi_lm_refine(const sfmi_lm_problem *prob, int max_iterations, double function_tolerance,
+                   void *ws, size_t ws_size);
+
 /* An orthonormal basis of the tangent space of the unit vector x (size n,
  * 2 <= n <= SFMI_LM_SPHERE_MAX): B is n x (n - 1), row-major, the columns of
  * the Householder reflection taking x to a coordinate axis. The basis of

@@ -193,22 +193,35 @@ static inline void loss(const sfmi_ba_ctx *c, double s, double *rho, double *rho
     sfmi_lm_loss_eval((sfmi_lm_loss)c->o->loss, c->a2, s, rho, rho1);
 }
 
+/* Observation k's residual (r = projection - observed) at the estimate
+ * (R, t, K, X), with J and Jp as project(); its weight and loss terms.
+ * Returns 0 when its camera cannot project the point. */
+static inline int observation(const sfmi_ba_ctx *c, int k, const double *R, const double *t,
+                              const sfm_camera *K, const double *X, double *J, double *Jp,
+                              double r[2], double *wgt, double *rho, double *rho1)
+{
+    const sfm_ba_problem *p = c->p;
+    const int ci = p->obs_camera[k], pj = p->obs_point[k];
+    double uv[2];
+    if (!project(K + ci, c->w.aspect[ci], R + 9 * ci, t + 3 * ci, X + 3 * pj, uv, J, Jp, c->nic > 0))
+        return 0;
+    r[0] = uv[0] - p->obs_xy[2 * k];
+    r[1] = uv[1] - p->obs_xy[2 * k + 1];
+    *wgt = p->obs_weight ? p->obs_weight[k] : 1.0;
+    loss(c, *wgt * (r[0] * r[0] + r[1] * r[1]), rho, rho1);
+    return 1;
+}
+
 /* Cost at (R, t, K, X); +Inf when a camera cannot project a point it sees
  * or the sum is not finite. */
 static double eval_cost(const sfmi_ba_ctx *c, const double *R, const double *t, const sfm_camera *K,
                         const double *X)
 {
-    const sfm_ba_problem *p = c->p;
     double cost = 0.0;
     for (int k = 0; k < c->nobs; k++) {
-        int ci = p->obs_camera[k], pj = p->obs_point[k];
-        double uv[2];
-        if (!project(K + ci, c->w.aspect[ci], R + 9 * ci, t + 3 * ci, X + 3 * pj, uv, NULL, NULL, 0))
+        double r[2], wgt, rho, rho1;
+        if (!observation(c, k, R, t, K, X, NULL, NULL, r, &wgt, &rho, &rho1))
             return HUGE_VAL;
-        double rx = uv[0] - p->obs_xy[2 * k], ry = uv[1] - p->obs_xy[2 * k + 1];
-        double wgt = p->obs_weight ? p->obs_weight[k] : 1.0;
-        double rho, rho1;
-        loss(c, wgt * (rx * rx + ry * ry), &rho, &rho1);
         cost += rho;
     }
     cost *= 0.5;
@@ -232,15 +245,11 @@ double sfmi_ba_linearize(void *self, double *grad_max)
     memset(w->V, 0, sizeof(double) * 9 * (size_t)c->n);
     memset(w->gp, 0, sizeof(double) * 3 * (size_t)c->n);
     for (int k = 0; k < c->nobs; k++) {
-        int ci = p->obs_camera[k], pj = p->obs_point[k];
-        double uv[2], J[2 * NLOC], *Jp = w->Jp + 6 * (size_t)k;
-        if (!project(w->K + ci, w->aspect[ci], w->R + 9 * ci, w->t + 3 * ci, w->X + 3 * pj, uv, J, Jp,
-                     c->nic > 0))
+        const int ci = p->obs_camera[k], pj = p->obs_point[k];
+        double r[2], wgt, rho, rho1, J[2 * NLOC], *Jp = w->Jp + 6 * (size_t)k;
+        if (!observation(c, k, w->R, w->t, w->K, w->X, J, Jp, r, &wgt, &rho, &rho1))
             return HUGE_VAL;
-        double rx = uv[0] - p->obs_xy[2 * k], ry = uv[1] - p->obs_xy[2 * k + 1];
-        double wgt = p->obs_weight ? p->obs_weight[k] : 1.0;
-        double rho, rho1;
-        loss(c, wgt * (rx * rx + ry * ry), &rho, &rho1);
+        double rx = r[0], ry = r[1];
         cost += rho;
         double sc = sqrt(wgt * rho1);
         rx *= sc;

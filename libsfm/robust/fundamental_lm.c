@@ -217,16 +217,10 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
     fnorm N;
     if (sfmi_fundamental_lm_problem(p1, p2, n, scale, F, &N) < 0)
         return -1;
-    sfmi_lm_options opt;
-    sfmi_lm_default_options(&opt);
-    opt.max_iterations = iters;
-    opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(20, NP, 1)];
-    sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&N.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
-        return -1;
-    if (sum.successful_steps == 0)
-        return 1;
+    int st = sfmi_lm_refine(&N.prob, iters, 1e-6, ws, sizeof ws);
+    if (st != 0)
+        return st;
     double Fn[9], Fp[9];
     compose(N.U, N.V, N.cs, Fn);
     congruence(N.t2, Fn, N.t1, Fp);

@@ -217,16 +217,10 @@ int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double s
     hnorm N;
     if (sfmi_homography_lm_problem(p1, p2, n, scale, H, &N) < 0)
         return -1;
-    sfmi_lm_options opt;
-    sfmi_lm_default_options(&opt);
-    opt.max_iterations = iters;
-    opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(9, NP, 2)];
-    sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&N.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
-        return -1;
-    if (sum.successful_steps == 0)
-        return 1;
+    int st = sfmi_lm_refine(&N.prob, iters, 1e-6, ws, sizeof ws);
+    if (st != 0)
+        return st;
     /* H = T2^-1 H_n T1 */
     double T2i[9], T1[9], Hp[9], tmp[9];
     const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};

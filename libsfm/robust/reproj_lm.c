@@ -82,14 +82,6 @@ int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n
 {
     sfmi_reproj_problem rp;
     sfmi_reproj_lm_problem(b, X, idx, n, scale, R, t, &rp);
-    sfmi_lm_options opt;
-    sfmi_lm_default_options(&opt);
-    opt.max_iterations = iters;
-    opt.function_tolerance = 1e-10;
-    opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 6, 2)];
-    sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&rp.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
-        return -1;
-    return sum.successful_steps > 0 ? 0 : 1;
+    return sfmi_lm_refine(&rp.prob, iters, 1e-10, ws, sizeof ws);
 }

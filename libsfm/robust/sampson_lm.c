@@ -109,13 +109,6 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
 {
     sfmi_sampson_problem sp;
     sfmi_sampson_lm_problem(b1, b2, idx, n, axis, scale, R, t, &sp);
-    sfmi_lm_options opt;
-    sfmi_lm_default_options(&opt);
-    opt.max_iterations = iters;
-    opt.gradient_tolerance = 0.0;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 5, 1)];
-    sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(&sp.prob, &opt, ws, sizeof ws, &sum, NULL) != SFM_OK)
-        return -1;
-    return sum.successful_steps > 0 ? 0 : 1;
+    return sfmi_lm_refine(&sp.prob, iters, 1e-6, ws, sizeof ws);
 }

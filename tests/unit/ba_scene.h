@@ -137,7 +137,7 @@ static void bas_make(sfm_test_ctx *t, ba_scene *s, int m, int n, double sigma, d
 
 /* Intrinsics rows {fx, fy, cx, cy, k1, k2} of the scenes as Brown-Conrady
  * cameras (p1 = p2 = k3 = 0), and back. */
-static void bas_cameras_from_rows(const double *K, int m, sfm_camera *cams)
+static inline void bas_cameras_from_rows(const double *K, int m, sfm_camera *cams)
 {
     for (int i = 0; i < m; i++) {
         memset(&cams[i], 0, sizeof cams[i]);
@@ -151,7 +151,7 @@ static void bas_cameras_from_rows(const double *K, int m, sfm_camera *cams)
     }
 }
 
-static void bas_rows_from_cameras(const sfm_camera *cams, int m, double *K)
+static inline void bas_rows_from_cameras(const sfm_camera *cams, int m, double *K)
 {
     for (int i = 0; i < m; i++) {
         K[6 * i] = cams[i].fx;
