@@ -1,21 +1,33 @@
 """Robust estimation beside PoseLib and OpenCV on identical synthetic data.
 
 Relative pose: libsfm.estimate_relative_pose vs poselib.estimate_relative_pose
-and cv2.findEssentialMat (RANSAC and USAC_MAGSAC, + cv2.recoverPose), single
-thread. Absolute pose: libsfm.estimate_absolute_pose vs
-poselib.estimate_absolute_pose and cv2.solvePnPRansac (P3P, and USAC with
-MSAC + inner LO). K = [[500,0,320],[0,500,240],[0,0,1]], N = 200 and 1000,
-outlier ratios 25/50/75 %, 1 px Gaussian noise, thresholds 1 px and 2 px,
-confidence 0.999, at most 1000 iterations (minimum 0 everywhere; PoseLib's
-dyn_num_trials_mult set to 1 so its stopping rule is the standard one).
-Each call gets the same arrays. Reported: median time per call, ratio
-libsfm / best anchor (the faster of PoseLib and OpenCV USAC), median
-rotation error and translation-direction (relative) or camera-centre
-(absolute, scene units; depths are 2..10) error against the synthetic truth.
-Methods run interleaved scene by scene; each call is repeated --reps times
-and the fastest repetition counts (the machine may be shared).
+and cv2.findEssentialMat (USAC_MAGSAC, and RANSAC with --cv2-ransac, +
+cv2.recoverPose), single thread, on three scene classes:
+  unit   points 2..10 deep, camera 2 rotated up to 20 deg and moved by a
+         unit baseline (N = 200 and 1000);
+  small  points 4..10 deep, camera 2 at 0.5..1.5 units, rotated up to
+         30 deg (N = 1000);
+  tiny   points 4..10 deep, baseline / mean depth 0.05..0.3, rotated up to
+         30 deg (N = 1000).
+Absolute pose: libsfm.estimate_absolute_pose vs poselib.estimate_absolute_pose
+and cv2.solvePnPRansac (USAC with MSAC + inner LO, and P3P), N = 200 and 1000.
+K = [[500,0,320],[0,500,240],[0,0,1]], outlier ratios 25/50/75 %, 1 px
+Gaussian noise, thresholds 1 px and 2 px, confidence 0.999, at most 1000
+iterations (minimum 0 everywhere; PoseLib's dyn_num_trials_mult set to 1 so
+its stopping rule is the standard one). Each call gets the same arrays.
 
-Usage: python bench/ransac_bench.py [--trials 20] [--quick]
+Per row (--trials scenes, 200 by default) and method: median time per call,
+then the translation-direction error (relative pose, deg) or camera-centre
+error (absolute pose, scene units) against the synthetic truth as median,
+mean, 90th percentile and the count above 3 (deg or units), and the median
+rotation error. "ratio" is libsfm's time over the faster of PoseLib and
+OpenCV USAC; "target" says whether libsfm's median and 90th percentile are
+no worse than the better anchor's and its time at most half the faster
+one's. Methods run interleaved scene by scene, so a load spike on the shared
+machine hits all methods alike; each call is repeated --reps times and the
+fastest repetition counts.
+
+Usage: python bench/ransac_bench.py [--trials 200] [--quick] [--only rel|abs]
 """
 import argparse
 import os
@@ -54,21 +66,31 @@ def random_rotation(rng, max_deg):
     return cv2.Rodrigues(axis * ang)[0]
 
 
-def relpose_scene(rng, n, outlier_ratio, sigma=1.0):
-    """Points in front of camera 1 (depth 2..10), camera 2 rotated up to 20
-    degrees and moved by a unit baseline; both projections inside the image."""
+def relpose_scene(rng, n, outlier_ratio, sigma=1.0, cls="unit"):
+    """Points in front of camera 1, camera 2 placed as the class says; both
+    projections inside the image; outliers replace the second point by a
+    uniform one."""
     while True:
-        R = random_rotation(rng, 20.0)
-        t = rng.normal(size=3)
-        t /= np.linalg.norm(t)
-        m = 4 * n
+        if cls == "unit":
+            R = random_rotation(rng, 20.0)
+            d = rng.normal(size=3)
+            t = d / np.linalg.norm(d)
+            dmin, dmax = 2.0, 10.0
+        else:
+            R = random_rotation(rng, 30.0)
+            d = rng.normal(size=3)
+            d /= np.linalg.norm(d)
+            dmin, dmax = 4.0, 10.0
+            b = rng.uniform(0.5, 1.5) if cls == "small" else rng.uniform(0.05, 0.3) * 7.0
+            t = -R @ (d * b)  # camera 2's centre at d * b in camera 1's frame
+        m = 6 * n
         px = np.column_stack([rng.uniform(0, W, m), rng.uniform(0, H, m)])
-        depth = rng.uniform(2.0, 10.0, m)
+        depth = rng.uniform(dmin, dmax, m)
         X1 = np.column_stack([(px[:, 0] - K[0, 2]) / K[0, 0], (px[:, 1] - K[1, 2]) / K[1, 1],
                               np.ones(m)]) * depth[:, None]
         X2 = X1 @ R.T + t
         ok = X2[:, 2] > 0.1
-        p2 = (X2[:, :2] / X2[:, 2:3]) * K[0, 0] + K[:2, 2]
+        p2 = (X2[:, :2] / np.where(ok, X2[:, 2], 1.0)[:, None]) * K[0, 0] + K[:2, 2]
         ok &= (p2[:, 0] >= 0) & (p2[:, 0] < W) & (p2[:, 1] >= 0) & (p2[:, 1] < H)
         if ok.sum() >= n:
             break
@@ -78,7 +100,7 @@ def relpose_scene(rng, n, outlier_ratio, sigma=1.0):
     n_out = int(round(outlier_ratio * n))
     out = rng.choice(n, n_out, replace=False)
     p2[out] = np.column_stack([rng.uniform(0, W, n_out), rng.uniform(0, H, n_out)])
-    return p1, p2, R, t
+    return p1, p2, R, t / np.linalg.norm(t)
 
 
 def abspose_scene(rng, n, outlier_ratio, sigma=1.0):
@@ -171,19 +193,25 @@ def abs_cv2_usac(p, X, thr, seed):
     return cv2.Rodrigues(rvec)[0], tvec.ravel()
 
 
+def stats(e):
+    e = np.asarray(e)
+    return np.median(e), e.mean(), np.percentile(e, 90), int((e > 3.0).sum())
+
+
 def run_grid(kind, methods, trials, grid, anchor_names, reps):
     rows = []
-    for n, ratio, thr in grid:
-        rng = np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr))
-        scenes = [(relpose_scene if kind == "rel" else abspose_scene)(rng, n, ratio)
-                  for _ in range(trials)]
+    for cls, n, ratio, thr in grid:
+        rng = np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr) +
+                                    {"unit": 0, "small": 7, "tiny": 13}[cls])
+        if kind == "rel":
+            scenes = [relpose_scene(rng, n, ratio, cls=cls) for _ in range(trials)]
+        else:
+            scenes = [abspose_scene(rng, n, ratio) for _ in range(trials)]
         for name, fn in methods:
             fn(scenes[0][0], scenes[0][1], thr, 0)  # warm-up: first-call costs are not per-call
-        # methods interleaved per scene, each call repeated `reps` times and
-        # the fastest kept, so a load spike on the shared machine hits all
-        # methods alike and does not land in one method's figure
         times = {name: [] for name, _ in methods}
-        errs = {name: [] for name, _ in methods}
+        rerr = {name: [] for name, _ in methods}
+        terr = {name: [] for name, _ in methods}
         for k, (a, b, Rg, tg) in enumerate(scenes):
             for name, fn in methods:
                 best = None
@@ -192,72 +220,99 @@ def run_grid(kind, methods, trials, grid, anchor_names, reps):
                     best = dt if best is None else min(best, dt)
                 times[name].append(best)
                 if R is None:
-                    errs[name].append((180.0, 180.0))
+                    rerr[name].append(180.0)
+                    terr[name].append(180.0)
                 elif kind == "rel":
-                    errs[name].append((rot_angle_deg(R, Rg), dir_angle_deg(t, tg)))
+                    rerr[name].append(rot_angle_deg(R, Rg))
+                    terr[name].append(dir_angle_deg(t, tg))
                 else:
                     # camera centre error, in scene units
-                    errs[name].append((rot_angle_deg(R, Rg),
-                                       float(np.linalg.norm(-R.T @ t + Rg.T @ tg))))
+                    rerr[name].append(rot_angle_deg(R, Rg))
+                    terr[name].append(float(np.linalg.norm(-R.T @ t + Rg.T @ tg)))
         res = {}
         for name, _ in methods:
-            e = np.median(np.array(errs[name]), axis=0)
-            res[name] = (np.median(times[name]) * 1e3, e[0], e[1])
-        rows.append(((n, ratio, thr), res))
-        anchors = [res[a][0] for a in anchor_names if a in res]
-        best = min(anchors)
-        line = "N=%4d out=%2d%% thr=%.0fpx | " % (n, round(100 * ratio), thr)
-        line += " | ".join("%s %.2f ms R %.3f t %.3f" % (nm, *res[nm]) for nm, _ in methods)
-        line += " | ratio libsfm/best-anchor %.2f" % (res["libsfm"][0] / best)
-        print(line, flush=True)
+            res[name] = (np.median(times[name]) * 1e3,) + stats(terr[name]) + (np.median(rerr[name]),)
+        rows.append(((cls, n, ratio, thr), res))
+        print(row_line(rows[-1], methods, anchor_names), flush=True)
     return rows
+
+
+def verdict(res, anchor_names):
+    fast = min(res[a][0] for a in anchor_names)
+    med = min(res[a][1] for a in anchor_names)
+    p90 = min(res[a][3] for a in anchor_names)
+    lib = res["libsfm"]
+    ok = lib[1] <= med and lib[3] <= p90 and lib[0] <= 0.5 * fast
+    return lib[0] / fast, ("met" if ok else "missed (%s)" % ", ".join(
+        w for w, bad in (("median", lib[1] > med), ("p90", lib[3] > p90),
+                         ("time", lib[0] > 0.5 * fast)) if bad))
+
+
+def row_line(row, methods, anchor_names):
+    (cls, n, ratio, thr), res = row
+    ratio_t, ok = verdict(res, anchor_names)
+    line = "%-5s N=%4d out=%2d%% thr=%.0fpx | " % (cls, n, round(100 * ratio), thr)
+    line += " | ".join("%s %.2f ms  med %.3f mean %.3f p90 %.3f >3: %d  R %.3f" % ((nm,) + res[nm])
+                       for nm, _ in methods)
+    return line + " | ratio %.2f | target %s" % (ratio_t, ok)
 
 
 def table(title, rows, methods, anchor_names, terr):
     print()
-    print("### " + title)
-    head = "| N | out | thr | " + " | ".join("%s ms" % m for m, _ in methods) + \
-           " | ratio | " + " | ".join("%s R deg / %s" % (m, terr) for m, _ in methods) + " |"
+    print("### " + title + " (error: " + terr + ")")
+    head = "| scenes | N | out | thr | " + " | ".join("%s ms" % m for m, _ in methods) + \
+           " | ratio | " + " | ".join("%s med / mean / p90 / >3" % m for m, _ in methods) + \
+           " | " + " | ".join("%s R med" % m for m, _ in methods) + " | target |"
     print(head)
     print("|" + "---|" * (head.count("|") - 1))
-    for (n, ratio, thr), res in rows:
-        best = min(res[a][0] for a in anchor_names)
-        cells = ["%d" % n, "%d%%" % round(100 * ratio), "%.0f" % thr]
+    for (cls, n, ratio, thr), res in rows:
+        ratio_t, ok = verdict(res, anchor_names)
+        cells = [cls, "%d" % n, "%d%%" % round(100 * ratio), "%.0f" % thr]
         cells += ["%.2f" % res[m][0] for m, _ in methods]
-        cells += ["%.2f" % (res["libsfm"][0] / best)]
-        cells += ["%.3f / %.3f" % (res[m][1], res[m][2]) for m, _ in methods]
+        cells += ["%.2f" % ratio_t]
+        cells += ["%.3f / %.3f / %.3f / %d" % res[m][1:5] for m, _ in methods]
+        cells += ["%.3f" % res[m][5] for m, _ in methods]
+        cells += [ok]
         print("| " + " | ".join(cells) + " |")
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--trials", type=int, default=20)
-    ap.add_argument("--reps", type=int, default=3, help="calls per scene and method; the fastest counts")
-    ap.add_argument("--quick", action="store_true", help="N=1000, 50%% outliers, 1 px only")
+    ap.add_argument("--trials", type=int, default=200)
+    ap.add_argument("--reps", type=int, default=1, help="calls per scene and method; the fastest counts")
+    ap.add_argument("--quick", action="store_true", help="small scenes, N=1000, 50%% outliers, 1 and 2 px")
     ap.add_argument("--only", choices=["rel", "abs"], default=None)
+    ap.add_argument("--classes", default="unit,small,tiny", help="relative-pose scene classes")
+    ap.add_argument("--cv2-ransac", action="store_true", help="also run OpenCV's plain RANSAC")
     args = ap.parse_args()
     cv2.setNumThreads(1)
-    grid = [(n, r, thr) for n in (200, 1000) for r in (0.25, 0.5, 0.75) for thr in (1.0, 2.0)]
+    classes = args.classes.split(",")
+    rel_grid = [(c, n, r, thr) for c in classes for n in ((200, 1000) if c == "unit" else (1000,))
+                for r in (0.25, 0.5, 0.75) for thr in (1.0, 2.0)]
+    abs_grid = [("unit", n, r, thr) for n in (200, 1000) for r in (0.25, 0.5, 0.75) for thr in (1.0, 2.0)]
     if args.quick:
-        grid = [(1000, 0.5, 1.0)]
-    print("libsfm %s, poselib %s, OpenCV %s; %d trials per scenario, fastest of %d calls, "
-          "median over trials" % (libsfm.version(), poselib.__version__, cv2.__version__,
-                                  args.trials, args.reps))
+        rel_grid = [("small", 1000, 0.5, 1.0), ("small", 1000, 0.5, 2.0)]
+        abs_grid = [("unit", 1000, 0.5, 1.0)]
+    print("libsfm %s, poselib %s, OpenCV %s; %d scenes per row, fastest of %d calls, "
+          "median time over scenes" % (libsfm.version(), poselib.__version__, cv2.__version__,
+                                       args.trials, args.reps))
     rel_methods = [("libsfm", rel_libsfm), ("poselib", rel_poselib),
-                   ("cv2_usac_magsac", rel_cv2(cv2.USAC_MAGSAC)), ("cv2_ransac", rel_cv2(cv2.RANSAC))]
+                   ("cv2_usac_magsac", rel_cv2(cv2.USAC_MAGSAC))]
+    if args.cv2_ransac:
+        rel_methods.append(("cv2_ransac", rel_cv2(cv2.RANSAC)))
     abs_methods = [("libsfm", abs_libsfm), ("poselib", abs_poselib), ("cv2_usac", abs_cv2_usac),
                    ("cv2_p3p", abs_cv2_p3p)]
     out = []
     if args.only in (None, "rel"):
         print("\n== relative pose")
-        out.append(("Relative pose", run_grid("rel", rel_methods, args.trials, grid,
+        out.append(("Relative pose", run_grid("rel", rel_methods, args.trials, rel_grid,
                                               ["poselib", "cv2_usac_magsac"], args.reps),
-                    rel_methods, ["poselib", "cv2_usac_magsac"], "t deg"))
+                    rel_methods, ["poselib", "cv2_usac_magsac"], "translation direction, deg"))
     if args.only in (None, "abs"):
         print("\n== absolute pose")
-        out.append(("Absolute pose", run_grid("abs", abs_methods, args.trials, grid,
+        out.append(("Absolute pose", run_grid("abs", abs_methods, args.trials, abs_grid,
                                               ["poselib", "cv2_usac"], args.reps),
-                    abs_methods, ["poselib", "cv2_usac"], "centre err"))
+                    abs_methods, ["poselib", "cv2_usac"], "camera centre, scene units"))
     for title, rows, methods, anchors, terr in out:
         table(title, rows, methods, anchors, terr)
 

@@ -11,28 +11,43 @@
  * budget read from a caller-supplied clock.
  *
  * Local optimisation (LO-RANSAC, Chum, Matas & Kittler 2003): a few
- * nonlinear refinement rounds on the inliers, or on the points within
- * wide_mult thresholds (at most 128 of them, evenly spread), kept while the
- * MSAC cost drops. While the best model's inlier ratio says the run will not
- * reach its confidence before max_iterations, and once it has drawn at least
- * 40 samples, the best model also gets, once, an inner RANSAC (of the paper):
- * 40 minimal samples from its points within the band, solved, scored and the
- * winner refined: a model from a noisy sample often fits only part of the
- * inliers, and the refits alone cannot leave that local minimum.
+ * nonlinear refinement rounds on the inliers, or on the points within the
+ * LO band (at most 128 of them, evenly spread), kept while the MSAC cost
+ * drops. Every new best model (from a sample or from an LO) then gets an
+ * inner RANSAC of the paper: 40 minimal samples from its points within the
+ * band, solved, scored on all points and the winner refined, repeated while
+ * it improves (at most 3 times in a row). A model from a noisy sample often
+ * fits only part of the inliers (at small parallax: a wrong rotation and
+ * translation along the valley that still explains 75-87 % of the points),
+ * and the refits alone cannot leave that local minimum.
+ *
+ * The LO band: the whole band of wide_mult thresholds, or, for estimators
+ * with set_scale (relative and upright pose below), 3 robust standard
+ * deviations of the model's own residuals (1.4826 times their median within
+ * wide_mult thresholds), between tau and wide_mult tau, with the refit's
+ * Cauchy scale at 2.385 of those deviations, at most tau.
  *
  * Stopping: the samples needed at opt->confidence follow from the inlier
  * ratio counted within wide_mult thresholds (when wide_mult > 1), not at tau:
  * with noise near tau the count at tau misses a third or more of the true
  * inliers, and the rule would ask for 2^k times the samples an all-inlier
- * draw needs.
+ * draw needs. They are counted from the sample at which the best model last
+ * improved (a second test: the run stops only once the best model has stood
+ * that many samples), and the inner RANSAC above does not depend on the
+ * forecast, so a run that reaches its confidence after a dozen samples on a
+ * plausible wrong model still searches that model's support.
+ * stats->stop_share and stats->samples_needed report the ratio the rule used
+ * and the count it asked for.
  *
- * With opt->wide_mult > 1 the winner is then polished: refine() on every point
- * within 3.5 robust standard deviations of its residuals (1.4826 times their
- * median), at least tau and at most wide_mult tau, under a robust loss of
- * scale tau (with 1 px noise a 1 px threshold keeps only about half of the
- * true inliers; the polish uses nearly all of them, while the band and the
- * loss keep the outliers out). The polished model is kept unless it loses
- * more than 5 % of the inliers.
+ * With opt->wide_mult > 1 the winner is then polished to a fixed point:
+ * refine() on every point within the polish band (the LO band above, from
+ * the current model's residuals; for estimators without set_scale 3.5
+ * robust deviations between tau and wide_mult tau), re-collected after each
+ * refit, until the set of points in the band stops changing, at most
+ * opt->polish_rounds refits (with 1 px noise a 1 px threshold keeps only
+ * about half of the true inliers; the polish uses nearly all of them, while
+ * the band and the loss keep the outliers out). The polished model is kept
+ * unless it loses more than 5 % of the inliers.
  *
  * Memory: the run call works in caller memory only. Its size comes from
  * sfm_ransac_workspace_size(dims) or, for a static buffer, from the macro
@@ -99,6 +114,14 @@ extern "C" {
  *      best so far, before local optimisation (DEGENSAC's plane-and-parallax
  *      step); may overwrite model with a better one and return 1, else 0. May
  *      draw from rng.
+ *  set_scale(ctx, scale): optional (last, so that older positional
+ *      initialisers leave it NULL). When given, the engine estimates the
+ *      noise from each model's residuals before a refit (sigma: 1.4826 times
+ *      their median within wide_mult thresholds), refits on the points
+ *      within 3 sigma (between tau and wide_mult tau) and calls
+ *      set_scale(ctx, 2.385 sigma) (at most tau; threshold units, not
+ *      squared) for refine's robust loss. Without it LO refits on the whole
+ *      wide band at the estimator's own scale.
  */
 typedef struct sfm_ransac_estimator {
     int sample_size; /* 1..SFM_RANSAC_MAX_SAMPLE */
@@ -110,6 +133,7 @@ typedef struct sfm_ransac_estimator {
     int (*degenerate)(void *ctx, const int *sample);
     int (*fix_best)(void *ctx, const int *sample, double *model, sfm_rng *rng);
     void *ctx;
+    void (*set_scale)(void *ctx, double scale);
 } sfm_ransac_estimator;
 
 /* Monotonic clock in seconds, supplied by the caller (a microcontroller has no
@@ -130,8 +154,10 @@ typedef struct sfm_ransac_options {
                               within wide_mult thresholds. 0 (default) lets the
                               estimators below pick SFM_RANSAC_WIDE_MULT (their
                               refits are robust); sfm_ransac_run reads 0 as 1 */
-    int polish_rounds;     /* final polish rounds on the winner (0: none; only
-                              with wide_mult > 1) */
+    int polish_rounds;     /* at most this many refits in the final polish of
+                              the winner, which stops earlier once its band
+                              stops changing (0: none; only with
+                              wide_mult > 1) */
     int use_sprt;          /* 1: early rejection (SPRT, bail-out); 0: full
                               MSAC scoring */
     const double *quality; /* optional per-point quality (higher is better):
@@ -152,10 +178,18 @@ typedef struct sfm_ransac_stats {
     uint64_t seed;        /* the seed used */
     int stop_reason;      /* an SFM_RANSAC_STOP_* value */
     int flags;            /* SFM_RANSAC_FLAG_* bits raised by the estimator */
+    int inner_runs;       /* inner RANSACs of the LO run */
+    int polish_rounds;    /* refits the final polish ran before its band
+                             stopped changing (0: no polish kept) */
+    double stop_share;    /* inlier share the stopping rule used last (of the
+                             best model, in the band the rule counts) */
+    double samples_needed; /* samples the stopping rule asked for at
+                              opt->confidence for that share, before the
+                              min/max iteration caps (may be +inf) */
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
- * SFM_RNG_DEFAULT_SEED, 3 LO rounds, wide_mult 0, 2 polish rounds, SPRT on,
+ * SFM_RNG_DEFAULT_SEED, 3 LO rounds, wide_mult 0, at most 8 polish rounds, SPRT on,
  * no quality, no clock.
  * Statuses: SFM_OK, SFM_E_ARGUMENT (opt NULL). */
 SFM_API int sfm_ransac_default_options(sfm_ransac_options *opt);

@@ -125,7 +125,7 @@ int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, in
     if (!sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
     tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine};
-    sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx};
+    sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};
     double model[MODEL];
     int cnt = sfm_ransac_run(&est, n, &o, model, inlier_mask, stats, lay.ransac_ws, lay.ransac_size);
     if (cnt < 0)

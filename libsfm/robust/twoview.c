@@ -119,6 +119,11 @@ static int upright_sign(const twoview_ctx *c, const int *idx, int n, const doubl
     return cp;
 }
 
+void sfm_twoview_set_scale(void *ctx, double scale)
+{
+    ((twoview_ctx *)ctx)->scale = scale;
+}
+
 int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model)
 {
     const twoview_ctx *c = ctx;
@@ -190,7 +195,8 @@ int sfm_twoview_run(twoview_ctx *c, twoview_ws *w, const sfm_ransac_options *eop
                                 sfm_twoview_refine,
                                 NULL,
                                 NULL,
-                                c};
+                                c,
+                                sfm_twoview_set_scale};
     double model[SFM_RANSAC_RELPOSE_MODEL];
     sfm_ransac_stats es;
     int ni = sfm_ransac_run(&est, c->n, eopt, model, NULL, &es, w->eng, w->eng_size);

@@ -20,7 +20,8 @@ typedef struct twoview_ctx {
     const double *b1, *b2; /* unit bearings, n x 3 */
     int n;
     const double *d1, *d2; /* upright: unit known directions; NULL otherwise */
-    double scale;          /* robust scale of the refit: the angular threshold */
+    double scale;          /* robust scale of the refit (radians): the angular
+                              threshold until the engine sets it from the noise */
 } twoview_ctx;
 
 typedef struct twoview_ws {
@@ -39,6 +40,8 @@ int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_cam
 
 double sfm_twoview_residual(void *ctx, const double *model, int i);
 int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model);
+/* The engine's set_scale: the Cauchy scale of the next refits (radians). */
+void sfm_twoview_set_scale(void *ctx, double scale);
 /* Sets model E from its R, t (unit Frobenius norm) and marks the pose valid. */
 void sfm_twoview_set_pose(double *model, const double R[9], const double t[3]);
 

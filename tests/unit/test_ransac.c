@@ -380,8 +380,11 @@ SFM_TEST(ransac_time_budget_uses_caller_clock)
     int a = sfm_ransac_run(&est, NPTS, &opt, model, NULL, &st, ws_buf, sizeof ws_buf);
     SFM_CHECK(a > 0);
     SFM_CHECK_EQ_INT(st.stop_reason, SFM_RANSAC_STOP_TIME);
-    /* start reading at 1, then 2..: the 10th later reading ends the run */
-    SFM_CHECK_EQ_INT(st.iterations, 9);
+    /* start reading at 1, then 2..: the 10th later reading ends the run and
+     * is the last one; inner RANSACs read the clock too, so at most 9
+     * samples were drawn */
+    SFM_CHECK(now == 11.0);
+    SFM_CHECK(st.iterations >= 1 && st.iterations <= 9);
 }
 
 SFM_TEST(ransac_prosac_uses_quality)
