@@ -18,5 +18,6 @@
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_factorize.h"
+#include "sfm/sfm_selfcal.h"
 
 #endif
