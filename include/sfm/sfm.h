@@ -19,5 +19,6 @@
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_factorize.h"
 #include "sfm/sfm_selfcal.h"
+#include "sfm/sfm_uncalibrated.h"
 
 #endif

@@ -161,3 +161,30 @@ int sfmi_resection_dlt(const double *xv, int n, const double *X, const int *pt_o
         P[k] = V[k * 12];
     return SFM_OK;
 }
+
+double sfmi_third_view_scale(const sfm_pose *p3, int m, const double *X, const int *flags,
+                             const double *b3)
+{
+    double num = 0, den = 0;
+    const double *R3 = p3->R, *t3 = p3->t;
+    for (int j = 0; j < m; j++) {
+        if (flags[j] != 0)
+            continue;
+        const double *Xj = &X[3 * j], *b = &b3[3 * j];
+        double y[3], ca[3], cc[3];
+        for (int r = 0; r < 3; r++)
+            y[r] = R3[r * 3] * Xj[0] + R3[r * 3 + 1] * Xj[1] + R3[r * 3 + 2] * Xj[2];
+        ca[0] = b[1] * t3[2] - b[2] * t3[1];
+        ca[1] = b[2] * t3[0] - b[0] * t3[2];
+        ca[2] = b[0] * t3[1] - b[1] * t3[0];
+        cc[0] = b[1] * y[2] - b[2] * y[1];
+        cc[1] = b[2] * y[0] - b[0] * y[2];
+        cc[2] = b[0] * y[1] - b[1] * y[0];
+        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
+        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
+    }
+    double s = num / den;
+    if (!(den > 0) || !isfinite(s))
+        return NAN;
+    return s;
+}

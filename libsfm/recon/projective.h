@@ -36,4 +36,12 @@ int sfmi_triangulate_homog(int m, int n, const double *x, const double *P, const
 int sfmi_resection_dlt(const double *xv, int n, const double *X, const int *pt_ok, double P[12],
                        void *ws, size_t ws_size);
 
+/* Scale s of the third view's translation given the points X (m x 3,
+ * triangulated in views 1 and 2, flags non-zero skipped) and the third
+ * view's bearings b3 (m x 3): least squares on b3 x (R3 X + s t3) = 0.
+ * NaN when the system is empty or degenerate. */
+struct sfm_pose;
+double sfmi_third_view_scale(const struct sfm_pose *p3, int m, const double *X, const int *flags,
+                             const double *b3);
+
 #endif

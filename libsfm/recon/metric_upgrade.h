@@ -1,0 +1,45 @@
+/*
+ * Internal: the metric stage shared by the uncalibrated pipelines (see
+ * sfm_uncalibrated.h): metric cameras of a candidate focal length from the
+ * fundamental matrices, metric bundle adjustment, the focal sweep, inlier
+ * re-collection and the physical checks. All pixels are centred on the
+ * principal point. Not API.
+ */
+#ifndef SFM_RECON_METRIC_UPGRADE_H
+#define SFM_RECON_METRIC_UPGRADE_H
+
+#include "core/arena.h"
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_uncalibrated.h"
+
+typedef struct sfmi_mu {
+    int nv;           /* 2 or 3 views */
+    int nmax;         /* capacity (input count) */
+    int m;            /* current inliers, compacted into x */
+    double *x[3];     /* m x 2 centred pixels per view */
+    int *idx;         /* m: input index of each inlier */
+    double F[2][9];   /* F21, F31 (x_v^T F x_1 = 0, centred pixels) */
+    double thr;       /* pixels per view */
+    double *bear;     /* nv x m x 3 */
+    double *X;        /* m x 3 (BA points, compacted) */
+    int *flags;       /* m */
+    int *pidx;        /* m: inlier index of BA point k */
+    int np;           /* BA points */
+    int *obs_cam, *obs_pt;
+    double *obs_xy;
+    void *ba_ws;
+    size_t ba_size;
+    int evaluations;
+} sfmi_mu;
+
+void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c);
+
+/* Runs sweep, starts and the final checks; fills report fields focal_sweep,
+ * evaluations, path, profile_rise, focal, inliers, rms, front_fraction and
+ * stage. xall: the nv full centred arrays (nmax x 2) for re-collection.
+ * On success writes poses[nv], *f, and leaves the final inliers in c (x,
+ * idx, m) and their points in c->X / c->pidx / c->np. */
+int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
+                  const sfm_uncal_options *o, sfm_pose poses[3], double *f, sfm_uncal_report *rep);
+
+#endif

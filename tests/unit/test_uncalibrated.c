@@ -1,0 +1,159 @@
+/* Uncalibrated three- and two-view reconstruction on synthetic scenes with
+ * a known camera: the focal length and poses recovered from pixels alone,
+ * critical motions reported as failures, and the contract. */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm.h"
+#include "sfm_test.h"
+
+enum { NU = 150 };
+
+static unsigned char ws[3 << 20];
+static double px[3][2 * NU];
+static sfm_pose truth[3];
+static const double FT = 700, WI = 640, HE = 480;
+
+/* motion: 0 general, 1 pure translation (parallel axes), 2 along the
+ * optical axis, 3 pure rotation */
+static void scene(sfm_test_ctx *t, int motion, double sigma, double outliers)
+{
+    memset(truth, 0, sizeof truth);
+    for (int v = 0; v < 3; v++) {
+        double aa[3] = {0, 0, 0}, C[3] = {0, 0, 0};
+        if (v > 0) {
+            if (motion == 0 || motion == 3) {
+                aa[0] = sfm_test_normal(t, 0.05);
+                aa[1] = (v == 1 ? -0.15 : 0.15) + sfm_test_normal(t, 0.03);
+                aa[2] = sfm_test_normal(t, 0.05);
+            }
+            if (motion == 0 || motion == 1) {
+                C[0] = (v == 1 ? 1.0 : -1.0) + sfm_test_normal(t, 0.1);
+                C[1] = sfm_test_normal(t, 0.2);
+                C[2] = sfm_test_normal(t, 0.2);
+            } else if (motion == 2) {
+                C[2] = 0.8 * v;
+            }
+        }
+        sfm_rot_from_axis_angle(aa, truth[v].R);
+        for (int r = 0; r < 3; r++)
+            truth[v].t[r] = -(truth[v].R[3 * r] * C[0] + truth[v].R[3 * r + 1] * C[1] + truth[v].R[3 * r + 2] * C[2]);
+    }
+    for (int i = 0; i < NU;) {
+        double X[3] = {sfm_test_uniform(t, -3, 3), sfm_test_uniform(t, -2, 2), sfm_test_uniform(t, 6, 12)};
+        double y[3][2];
+        int ok = 1;
+        for (int v = 0; v < 3 && ok; v++) {
+            double Y[3];
+            for (int r = 0; r < 3; r++)
+                Y[r] = truth[v].R[3 * r] * X[0] + truth[v].R[3 * r + 1] * X[1] + truth[v].R[3 * r + 2] * X[2] + truth[v].t[r];
+            y[v][0] = FT * Y[0] / Y[2] + (WI - 1) / 2;
+            y[v][1] = FT * Y[1] / Y[2] + (HE - 1) / 2;
+            ok = Y[2] > 0 && y[v][0] >= 0 && y[v][0] < WI && y[v][1] >= 0 && y[v][1] < HE;
+        }
+        if (!ok)
+            continue;
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 2; k++)
+                px[v][2 * i + k] = y[v][k] + sfm_test_normal(t, sigma);
+        if (sfm_test_uniform(t, 0, 1) < outliers) {
+            px[2][2 * i] = sfm_test_uniform(t, 0, WI);
+            px[2][2 * i + 1] = sfm_test_uniform(t, 0, HE);
+        }
+        i++;
+    }
+}
+
+static double rot_err_deg(const double A[9], const double B[9])
+{
+    double tr = 0;
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++)
+            tr += A[3 * r + k] * B[3 * r + k];
+    double c = (tr - 1) / 2;
+    c = c > 1 ? 1 : (c < -1 ? -1 : c);
+    return acos(c) * 57.29577951308232;
+}
+
+static void run3(sfm_test_ctx *t, double sigma, double outliers, double tol, int *path)
+{
+    scene(t, 0, sigma, outliers);
+    size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
+    SFM_CHECK(need > 0 && need <= sizeof ws);
+    sfm_uncal_options o;
+    sfm_uncal_default_options(&o);
+    o.ransac.threshold = sigma > 0 ? 3 * sigma : 0.5;
+    double K[9], X[3 * NU];
+    sfm_pose est[3];
+    uint8_t mask[NU];
+    sfm_uncal_report r;
+    int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, &o, K, est, X, mask,
+                                               &r, ws, need);
+    SFM_CHECK_MSG(st > 0, "status %d stage %d", st, r.stage);
+    if (st <= 0)
+        return;
+    *path = r.path;
+    SFM_TEST_LOG("sigma %.2f outliers %.0f%%: f %.2f (linear %.1f, sweep %.1f, path %d), inliers %d, "
+                 "rms %.3f px, profile %.3g, %d evaluations",
+                 sigma, 100 * outliers, K[0], r.focal_linear, r.focal_sweep, r.path, st, r.rms,
+                 r.profile_rise, r.evaluations);
+    SFM_CHECK(fabs(K[0] / FT - 1) < tol);
+    SFM_CHECK_NEAR(K[2], (WI - 1) / 2, 1e-12);
+    for (int v = 1; v < 3; v++)
+        SFM_CHECK(rot_err_deg(est[v].R, truth[v].R) < 100 * tol);
+    SFM_CHECK(r.front_fraction >= 0.95);
+}
+
+SFM_TEST(uncal_three_view_noise_free_focal_within_1_percent)
+{
+    int path;
+    run3(t, 0.0, 0.0, 0.01, &path);
+}
+
+SFM_TEST(uncal_three_view_noise_and_outliers)
+{
+    int path;
+    for (int k = 0; k < SFM_TEST_ITERS(5); k++)
+        run3(t, 0.5, 0.15, 0.05, &path);
+}
+
+SFM_TEST(uncal_three_view_critical_motions_are_failures)
+{
+    size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
+    for (int motion = 1; motion <= 3; motion++) {
+        scene(t, motion, 0.3, 0.0);
+        double K[9] = {0}, X[3 * NU];
+        sfm_pose est[3];
+        sfm_uncal_report r;
+        int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, NULL, K, est, X,
+                                                   NULL, &r, ws, need);
+        SFM_TEST_LOG("motion %d: status %d, stage %d, profile %.3g, f %.1f", motion, st, r.stage,
+                     r.profile_rise, r.focal);
+        SFM_CHECK(st == SFM_E_SINGULAR || st == SFM_E_NO_CONVERGENCE);
+        SFM_CHECK(K[0] == 0);
+    }
+}
+
+SFM_TEST(uncal_three_view_contract)
+{
+    scene(t, 0, 0.3, 0.0);
+    size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
+    double K[9] = {0};
+    sfm_pose est[3];
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated_workspace_size(6), 0);
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(NULL, px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 1, 480, NULL, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
+                                                       NULL, NULL, ws, need - 1), SFM_E_WORKSPACE);
+    sfm_uncal_options o;
+    sfm_uncal_default_options(&o);
+    o.focal_max = o.focal_min;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    px[1][7] = NAN;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_NONFINITE);
+    SFM_CHECK(K[0] == 0);
+}
