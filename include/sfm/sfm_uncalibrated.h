@@ -24,6 +24,9 @@
  *     factor 1.5 away must exceed the best by options.min_profile times the
  *     noise variance; otherwise (pure translation, parallel optical axes,
  *     motion along the optical axis) f is not determined: SFM_E_SINGULAR;
+ *     the same when the profile's curvature at the answer (fixed-focal
+ *     costs at f e^{+-0.05}, the flatter side) puts the standard deviation of f above
+ *     options.max_focal_sigma (relative);
  *  6. the inliers re-collected under the metric cameras (three-view error
  *     below the threshold), one more bundle adjustment on them, and the
  *     physical checks: f > 0, at least options.min_front of the inlier
@@ -77,6 +80,8 @@ typedef struct sfm_uncal_options {
     double max_rms;            /* px, default 0 = the RANSAC threshold */
     double min_front;          /* default 0.95 */
     double min_profile;        /* default 25 (a 5-sigma rise for one parameter) */
+    double max_focal_sigma;    /* default 0.05 / 3 (three sigma within 5 %): largest
+                                  relative standard deviation of f answered */
     double min_parallax_deg;   /* default 0.5: median triangulation angle below it
                                   (rotation only) is SFM_E_SINGULAR */
 } sfm_uncal_options;
@@ -94,6 +99,7 @@ typedef struct sfm_uncal_report {
     int evaluations;           /* metric bundle adjustments run */
     int path;                  /* SFM_UNCAL_PATH_* */
     double profile_rise;       /* cost rise at f off by > 1.5x, in noise variances */
+    double focal_sigma;        /* relative standard deviation of f from the profile */
     double focal;              /* px, final */
     int inliers;               /* final inliers */
     double rms;                /* px, final inliers, sqrt(mean squared error per view) */

@@ -34,6 +34,7 @@ void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c)
     c->idx = SFM_ARENA_ARRAY(a, int, nmax);
     c->bear = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nv * nmax);
     c->X = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nmax);
+    c->Xkeep = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nmax);
     c->flags = SFM_ARENA_ARRAY(a, int, nmax);
     c->pidx = SFM_ARENA_ARRAY(a, int, nmax);
     c->obs_cam = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
@@ -94,14 +95,13 @@ static int start_from_focal(sfmi_mu *c, double f, sfm_pose poses[3])
     return 1;
 }
 
-/* Triangulate (midpoint) and bundle-adjust the current inliers from poses
- * and f; the focal length free or held. Writes poses, *f, *cost (with the
- * penalty of untriangulated points) and c->X / c->pidx / c->np. */
-static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
+/* Triangulate (midpoint) the current inliers under poses and f and build
+ * the observations of the points that triangulate: c->X / c->pidx / c->np
+ * and the obs arrays. */
+static int build(sfmi_mu *c, const sfm_pose poses[3], double f)
 {
     const int nv = c->nv;
-    c->evaluations++;
-    bearings(c, *f);
+    bearings(c, f);
     if (sfm_triangulate_midpoint(nv, poses, c->m, c->bear, c->X, c->flags) < 0)
         return SFM_E_SINGULAR;
     int np = 0, no = 0;
@@ -120,8 +120,16 @@ static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
         np++;
     }
     c->np = np;
-    if (np < SFM_TRIFOCAL_MIN_POINTS + 1)
-        return SFM_E_SINGULAR;
+    return np < SFM_TRIFOCAL_MIN_POINTS + 1 ? SFM_E_SINGULAR : SFM_OK;
+}
+
+/* Metric bundle adjustment of poses, c->X and f (free or held) over the
+ * observations of build(); *cost with the penalty of the inliers that did
+ * not triangulate. */
+static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
+{
+    const int nv = c->nv, np = c->np, no = np * nv;
+    c->evaluations++;
     double Rs[27], ts[9], K[18];
     for (int v = 0; v < nv; v++) {
         memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
@@ -153,6 +161,12 @@ static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     *f = K[0];
     *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
     return SFM_OK;
+}
+
+static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
+{
+    int st = build(c, poses, *f);
+    return st < 0 ? st : adjust(c, poses, f, free_focal, max_it, cost);
 }
 
 /* Fixed-focal score of f (INFINITY when no metric cameras follow). */
@@ -361,10 +375,12 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     rep->path = path;
 
     /* observability of f: the fixed-focal cost far from the answer */
-    double c_far = INFINITY;
+    double c_far = INFINITY, d_far = 0;
     for (int k = 0; k < K; k++)
-        if (fabs(sfmi_log(fk[k] / best_f)) > sfmi_log(FAR_FACTOR) && ck[k] < c_far)
+        if (fabs(sfmi_log(fk[k] / best_f)) > sfmi_log(FAR_FACTOR) && ck[k] < c_far) {
             c_far = ck[k];
+            d_far = fabs(sfmi_log(fk[k] / best_f));
+        }
     int nobs = c->np * nv * 2;
     int dof = c->np * 3 + 6 * (nv - 1) - 1 + 1;
     double sigma2 = nobs > dof ? 2 * c_sweep_fixed / (nobs - dof) : 0;
@@ -373,6 +389,37 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     rep->profile_rise = 2 * (c_far - fmin(c_sweep_fixed, best_cost)) / sigma2;
     if (!(rep->profile_rise >= o->min_profile))
         return SFM_E_SINGULAR;
+    /* local curvature of the profile likelihood: the fixed-focal optimum at
+     * f e^{+-d}, started from the answer (its cameras and points), against
+     * the free optimum; the chi-square rise on the flatter side gives the standard deviation of
+     * log f, d / sqrt(rise) */
+    {
+        const double d = 0.05;
+        double ff = best_f, c0, cpm[2];
+        memcpy(cand, best, sizeof cand);
+        if (refine(c, cand, &ff, 1, FINAL_ITERS, &c0) != SFM_OK)
+            return SFM_E_SINGULAR;
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        for (int sgn = 0; sgn < 2; sgn++) {
+            sfm_pose pp[3];
+            memcpy(pp, cand, sizeof pp);
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            double fd = ff * sfmi_exp(sgn ? -d : d);
+            if (adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]) != SFM_OK)
+                cpm[sgn] = c0;
+        }
+        /* the flatter side: a profile steep on one side only does not pin f */
+        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2;
+        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
+        /* a valley flatter far away than the curvature says (the profile
+         * below its parabola) widens it: the far candidate's rise as a
+         * second estimate, the larger one kept */
+        double s_far = d_far / sqrt(rep->profile_rise);
+        if (s_far > rep->focal_sigma)
+            rep->focal_sigma = s_far;
+        if (!(rep->focal_sigma <= o->max_focal_sigma))
+            return SFM_E_SINGULAR;
+    }
 
     /* inliers under the metric cameras, one more adjustment, checks */
     rep->stage = SFM_UNCAL_STAGE_VALIDATE;

@@ -22,6 +22,7 @@ typedef struct sfmi_mu {
     double thr;       /* pixels per view */
     double *bear;     /* nv x m x 3 */
     double *X;        /* m x 3 (BA points, compacted) */
+    double *Xkeep;    /* m x 3 copy of X */
     int *flags;       /* m */
     int *pidx;        /* m: inlier index of BA point k */
     int np;           /* BA points */

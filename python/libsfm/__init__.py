@@ -21,3 +21,5 @@ from .geometry import *  # noqa: F401,F403,E402
 from .ba import bundle_adjust  # noqa: F401,E402
 from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402
                      estimate_relative_pose, estimate_relative_pose_upright)
+from .recon import (factorize_projective, reconstruct_three_view, reconstruct_three_view_images,  # noqa: F401,E402
+                    reconstruct_two_view, self_calibrate)
