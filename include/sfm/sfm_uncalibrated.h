@@ -79,7 +79,9 @@ typedef struct sfm_uncal_options {
     double focal_max;          /* default 5 */
     double max_rms;            /* px, default 0 = the RANSAC threshold */
     double min_front;          /* default 0.95 */
-    double min_profile;        /* default 25 (a 5-sigma rise for one parameter) */
+    double min_profile;        /* default 100: the far rise, in noise variances, below
+                                  which a second focal length explains the data (the
+                                  Huber loss makes far costs grow slower than a parabola) */
     double max_focal_sigma;    /* default 0.05 / 3 (three sigma within 5 %): largest
                                   relative standard deviation of f answered */
     double min_parallax_deg;   /* default 0.5: median triangulation angle below it

@@ -15,6 +15,7 @@
 #include "recon/metric_upgrade.h"
 #include "recon/projective.h"
 #include "sfm/sfm_ba.h"
+#include "sfm/sfm_camera.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
@@ -23,7 +24,8 @@
 #define FINAL_ITERS 50
 #define GOLDEN_STEPS 8
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
-#define NOISE_FLOOR 0.05 /* px: noise standard deviation assumed at least */
+#define NOISE_FLOOR 0.05
+#define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
 
 void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c)
 {
@@ -130,14 +132,16 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
 {
     const int nv = c->nv, np = c->np, no = np * nv;
     c->evaluations++;
-    double Rs[27], ts[9], K[18];
+    double Rs[27], ts[9];
+    sfm_camera cams[3];
+    memset(cams, 0, sizeof cams);
     for (int v = 0; v < nv; v++) {
         memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
         memcpy(&ts[3 * v], poses[v].t, 3 * sizeof(double));
-        const double k[6] = {*f, *f, 0, 0, 0, 0};
-        memcpy(&K[6 * v], k, sizeof k);
+        cams[v].model = SFM_CAMERA_PINHOLE;
+        cams[v].fx = cams[v].fy = *f;
     }
-    sfm_ba_problem p = {nv, np, no, Rs, ts, K, c->X, c->obs_cam, c->obs_pt, c->obs_xy, NULL, NULL, NULL};
+    sfm_ba_problem p = {nv, np, no, Rs, ts, cams, c->X, c->obs_cam, c->obs_pt, c->obs_xy, NULL, NULL, NULL};
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.loss = SFM_BA_LOSS_HUBER;
@@ -151,14 +155,14 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
         o.refine_intrinsics = SFM_BA_REFINE_FOCAL;
     }
     sfm_ba_result res;
-    int st = sfm_ba_solve(&p, &o, c->ba_ws, c->ba_size, &res, NULL);
+    int st = sfm_ba_solve(&p, &o, &res, NULL, 0, c->ba_ws, c->ba_size);
     if (st < 0)
         return st;
     for (int v = 0; v < nv; v++) {
         memcpy(poses[v].R, &Rs[9 * v], 9 * sizeof(double));
         memcpy(poses[v].t, &ts[3 * v], 3 * sizeof(double));
     }
-    *f = K[0];
+    *f = cams[0].fx;
     *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
     return SFM_OK;
 }
@@ -300,6 +304,23 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
     rep->stage = SFM_UNCAL_STAGE_SWEEP;
+    /* the search runs on an evenly strided subset of the inliers: costs of
+     * candidates are compared, not reported, and the final adjustment and
+     * the curvature run on every inlier */
+    if (c->m > SEARCH_POINTS) {
+        int keep = 0;
+        for (int j = 0; j < c->m; j++) {
+            if ((long)j * SEARCH_POINTS / c->m == (long)keep) {
+                for (int v = 0; v < nv; v++) {
+                    c->x[v][2 * keep] = c->x[v][2 * j];
+                    c->x[v][2 * keep + 1] = c->x[v][2 * j + 1];
+                }
+                c->idx[keep] = c->idx[j];
+                keep++;
+            }
+        }
+        c->m = keep;
+    }
 
     /* coarse sweep */
     int kb = -1;
@@ -375,12 +396,10 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     rep->path = path;
 
     /* observability of f: the fixed-focal cost far from the answer */
-    double c_far = INFINITY, d_far = 0;
+    double c_far = INFINITY;
     for (int k = 0; k < K; k++)
-        if (fabs(sfmi_log(fk[k] / best_f)) > sfmi_log(FAR_FACTOR) && ck[k] < c_far) {
+        if (fabs(sfmi_log(fk[k] / best_f)) > sfmi_log(FAR_FACTOR) && ck[k] < c_far)
             c_far = ck[k];
-            d_far = fabs(sfmi_log(fk[k] / best_f));
-        }
     int nobs = c->np * nv * 2;
     int dof = c->np * 3 + 6 * (nv - 1) - 1 + 1;
     double sigma2 = nobs > dof ? 2 * c_sweep_fixed / (nobs - dof) : 0;
@@ -389,38 +408,6 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     rep->profile_rise = 2 * (c_far - fmin(c_sweep_fixed, best_cost)) / sigma2;
     if (!(rep->profile_rise >= o->min_profile))
         return SFM_E_SINGULAR;
-    /* local curvature of the profile likelihood: the fixed-focal optimum at
-     * f e^{+-d}, started from the answer (its cameras and points), against
-     * the free optimum; the chi-square rise on the flatter side gives the standard deviation of
-     * log f, d / sqrt(rise) */
-    {
-        const double d = 0.05;
-        double ff = best_f, c0, cpm[2];
-        memcpy(cand, best, sizeof cand);
-        if (refine(c, cand, &ff, 1, FINAL_ITERS, &c0) != SFM_OK)
-            return SFM_E_SINGULAR;
-        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
-        for (int sgn = 0; sgn < 2; sgn++) {
-            sfm_pose pp[3];
-            memcpy(pp, cand, sizeof pp);
-            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
-            double fd = ff * sfmi_exp(sgn ? -d : d);
-            if (adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]) != SFM_OK)
-                cpm[sgn] = c0;
-        }
-        /* the flatter side: a profile steep on one side only does not pin f */
-        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2;
-        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
-        /* a valley flatter far away than the curvature says (the profile
-         * below its parabola) widens it: the far candidate's rise as a
-         * second estimate, the larger one kept */
-        double s_far = d_far / sqrt(rep->profile_rise);
-        if (s_far > rep->focal_sigma)
-            rep->focal_sigma = s_far;
-        if (!(rep->focal_sigma <= o->max_focal_sigma))
-            return SFM_E_SINGULAR;
-    }
-
     /* inliers under the metric cameras, one more adjustment, checks */
     rep->stage = SFM_UNCAL_STAGE_VALIDATE;
     if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
@@ -430,6 +417,38 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     int st = refine(c, cand, &ff, 1, FINAL_ITERS, &cost);
     if (st < 0)
         return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
+    /* noise variance of the final fit */
+    int nobsf = c->np * nv * 2, doff = c->np * 3 + 6 * (nv - 1);
+    double sigma2f = nobsf > doff ? 2 * cost / (nobsf - doff) : 0;
+    if (sigma2f < NOISE_FLOOR * NOISE_FLOOR)
+        sigma2f = NOISE_FLOOR * NOISE_FLOOR;
+    /* local curvature of the profile likelihood: the fixed-focal optimum at
+     * f e^{+-d}, started from the answer (its cameras and points), against
+     * the free optimum, on the final inliers; the chi-square rise
+     * on the flatter side gives the standard deviation of log f,
+     * d / sqrt(rise) */
+    {
+        const double d = 0.05;
+        double c0 = cost, cpm[2];
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        for (int sgn = 0; sgn < 2; sgn++) {
+            sfm_pose pp[3];
+            memcpy(pp, cand, sizeof pp);
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            double fd = ff * sfmi_exp(sgn ? -d : d);
+            if (adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]) != SFM_OK)
+                cpm[sgn] = c0;
+        }
+        memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+        /* the flatter side: a profile steep on one side only does not pin f */
+        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
+        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
+        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
+            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+            return SFM_E_SINGULAR;
+        }
+    }
+
     double rms, front;
     quality(c, cand, ff, &rms, &front);
     rep->focal = ff;

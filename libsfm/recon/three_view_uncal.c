@@ -44,7 +44,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
     opt->focal_max = 5.0;
     opt->max_rms = 0;
     opt->min_front = 0.95;
-    opt->min_profile = 25;
+    opt->min_profile = 100;
     opt->min_parallax_deg = 0.5;
     opt->max_focal_sigma = 0.05 / 3;
     return SFM_OK;
