@@ -35,6 +35,9 @@
  *     answer. A median triangulation angle below options.min_parallax_deg
  *     (rotation without translation: the focal length is then determined
  *     but the translations are fitted to noise) is SFM_E_SINGULAR.
+ * When the metric stage fails (SFM_E_SINGULAR or SFM_E_NO_CONVERGENCE) the
+ * run is repeated from RANSAC with the seeds seed + 1 and seed + 2 (a tensor
+ * fitted to part of the scene); the report is the last run's.
  * Two views (sfm_recon_two_view_uncalibrated): fundamental RANSAC with
  * DEGENSAC, the focal length of F by Bougnoux's formula (S. Bougnoux, "From
  * projective to Euclidean space under any practical situation, a criticism
@@ -90,6 +93,8 @@ typedef struct sfm_uncal_options {
 
 typedef struct sfm_uncal_report {
     int stage;                 /* SFM_UNCAL_STAGE_* reached */
+    int attempts;              /* runs from RANSAC (a failed metric stage is retried
+                                  with the next seeds, at most 3 runs) */
     int n_input;
     int ransac_inliers;
     sfm_ransac_stats ransac;

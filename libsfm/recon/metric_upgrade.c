@@ -295,11 +295,82 @@ static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_p
     return m;
 }
 
+/* The final stage from one candidate: inliers re-collected under its
+ * metric cameras, a free-focal adjustment on them, the standard deviation
+ * of f from the profile's curvature and the physical checks. */
+static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
+                    const sfm_pose best[3], double best_f, sfm_pose poses[3], double *f_out,
+                    sfm_uncal_report *rep)
+{
+    const int nv = c->nv;
+    /* inliers under the metric cameras, one more adjustment, checks */
+    rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+    if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
+        return SFM_E_NO_CONVERGENCE;
+    double ff = best_f, cost;
+    sfm_pose cand[3];
+    memcpy(cand, best, sizeof cand);
+    int st = refine(c, cand, &ff, 1, FINAL_ITERS, &cost);
+    if (st < 0)
+        return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
+    /* noise variance of the final fit */
+    int nobsf = c->np * nv * 2, doff = c->np * 3 + 6 * (nv - 1);
+    double sigma2f = nobsf > doff ? 2 * cost / (nobsf - doff) : 0;
+    if (sigma2f < NOISE_FLOOR * NOISE_FLOOR)
+        sigma2f = NOISE_FLOOR * NOISE_FLOOR;
+    /* local curvature of the profile likelihood: the fixed-focal optimum at
+     * f e^{+-d}, started from the answer (its cameras and points), against
+     * the free optimum, on the final inliers; the chi-square rise
+     * on the flatter side gives the standard deviation of log f,
+     * d / sqrt(rise) */
+    {
+        const double d = 0.05;
+        double c0 = cost, cpm[2];
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        for (int sgn = 0; sgn < 2; sgn++) {
+            sfm_pose pp[3];
+            memcpy(pp, cand, sizeof pp);
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            double fd = ff * sfmi_exp(sgn ? -d : d);
+            int ast = adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]);
+            if (ast != SFM_OK)
+                cpm[sgn] = c0;
+        }
+        memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+        /* the flatter side: a profile steep on one side only does not pin f */
+        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
+        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
+        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
+            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+            return SFM_E_SINGULAR;
+        }
+    }
+
+    double rms, front;
+    quality(c, cand, ff, &rms, &front);
+    rep->focal = ff;
+    rep->inliers = c->m;
+    rep->rms = rms;
+    rep->front_fraction = front;
+    /* rotation alone: |t2| = 1 is then fitted to noise and the points go to
+     * infinity, their rays parallel */
+    rep->parallax_deg = median_parallax(c, cand, c->bear);
+    if (!(rep->parallax_deg >= o->min_parallax_deg))
+        return SFM_E_SINGULAR;
+    double max_rms = o->max_rms > 0 ? o->max_rms : c->thr;
+    if (!(ff > 0) || !(front >= o->min_front) || !(rms <= max_rms))
+        return SFM_E_NO_CONVERGENCE;
+    memcpy(poses, cand, (size_t)nv * sizeof(sfm_pose));
+    *f_out = ff;
+    rep->stage = SFM_UNCAL_STAGE_DONE;
+    return SFM_OK;
+}
+
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
                   const sfm_uncal_options *o, sfm_pose poses[3], double *f_out, sfm_uncal_report *rep)
 {
     const int nv = c->nv;
-    sfm_pose cand[3], best[3];
+    sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
@@ -307,6 +378,7 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     /* the search runs on an evenly strided subset of the inliers: costs of
      * candidates are compared, not reported, and the final adjustment and
      * the curvature run on every inlier */
+    const int m_all = c->m;
     if (c->m > SEARCH_POINTS) {
         int keep = 0;
         for (int j = 0; j < c->m; j++) {
@@ -360,111 +432,62 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     }
     rep->focal_sweep = f_sweep;
 
-    /* free-focal bundle adjustment from the sweep and from the linear start */
+    /* free-focal bundle adjustment from the linear start and from the
+     * sweep's best; the sweep's fixed-focal answer as a third candidate */
     rep->stage = SFM_UNCAL_STAGE_BA;
-    double best_cost = INFINITY, best_f = 0, cost, fs[2] = {0, 0}, cs[2] = {INFINITY, INFINITY};
-    sfm_pose sol[2][3];
-    for (int s = 0; s < 2; s++) {
+    double cost, fs[3] = {0, 0, 0}, cs[3] = {INFINITY, INFINITY, INFINITY};
+    sfm_pose sol[3][3];
+    for (int s = 0; s < 3; s++) {
         double f0 = s == 0 ? f_linear : f_sweep;
         if (!(f0 > 0) || !start_from_focal(c, f0, sol[s]))
             continue;
         double ff = f0;
-        if (refine(c, sol[s], &ff, 1, FINAL_ITERS, &cost) != SFM_OK || !(ff > 0))
+        if (refine(c, sol[s], &ff, s < 2, FINAL_ITERS, &cost) != SFM_OK || !(ff > 0))
             continue;
         fs[s] = ff;
         cs[s] = cost;
     }
-    int path = SFM_UNCAL_PATH_NONE, win = -1;
-    if (cs[0] < (double)INFINITY && cs[1] < (double)INFINITY) {
-        win = cs[0] <= cs[1] ? 0 : 1;
-        /* both starts reaching one answer: the linear one needed no search */
-        path = (win == 0 || fabs(fs[1] / fs[0] - 1) < 0.01) ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;
-    } else if (cs[0] < (double)INFINITY) {
-        win = 0;
-        path = SFM_UNCAL_PATH_LINEAR;
-    } else if (cs[1] < (double)INFINITY) {
-        win = 1;
-        path = SFM_UNCAL_PATH_SWEEP;
+    /* candidates in order of cost (the fixed-focal one last), each checked
+     * in full; the first that passes is the answer */
+    const int np_search = c->np; /* validate() replaces the search subset */
+    int order[3] = {0, 1, 2};
+    if (cs[1] < cs[0]) {
+        order[0] = 1;
+        order[1] = 0;
     }
-    if (win >= 0) {
-        best_cost = cs[win];
-        best_f = fs[win];
-        memcpy(best, sol[win], sizeof best);
-    }
-    if (path == SFM_UNCAL_PATH_NONE)
-        return SFM_E_SINGULAR;
-    rep->path = path;
-
-    /* observability of f: the fixed-focal cost far from the answer */
-    double c_far = INFINITY;
-    for (int k = 0; k < K; k++)
-        if (fabs(sfmi_log(fk[k] / best_f)) > sfmi_log(FAR_FACTOR) && ck[k] < c_far)
-            c_far = ck[k];
-    int nobs = c->np * nv * 2;
-    int dof = c->np * 3 + 6 * (nv - 1) - 1 + 1;
-    double sigma2 = nobs > dof ? 2 * c_sweep_fixed / (nobs - dof) : 0;
-    if (sigma2 < NOISE_FLOOR * NOISE_FLOOR)
-        sigma2 = NOISE_FLOOR * NOISE_FLOOR;
-    rep->profile_rise = 2 * (c_far - fmin(c_sweep_fixed, best_cost)) / sigma2;
-    if (!(rep->profile_rise >= o->min_profile))
-        return SFM_E_SINGULAR;
-    /* inliers under the metric cameras, one more adjustment, checks */
-    rep->stage = SFM_UNCAL_STAGE_VALIDATE;
-    if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
-        return SFM_E_NO_CONVERGENCE;
-    double ff = best_f;
-    memcpy(cand, best, sizeof cand);
-    int st = refine(c, cand, &ff, 1, FINAL_ITERS, &cost);
-    if (st < 0)
-        return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
-    /* noise variance of the final fit */
-    int nobsf = c->np * nv * 2, doff = c->np * 3 + 6 * (nv - 1);
-    double sigma2f = nobsf > doff ? 2 * cost / (nobsf - doff) : 0;
-    if (sigma2f < NOISE_FLOOR * NOISE_FLOOR)
-        sigma2f = NOISE_FLOOR * NOISE_FLOOR;
-    /* local curvature of the profile likelihood: the fixed-focal optimum at
-     * f e^{+-d}, started from the answer (its cameras and points), against
-     * the free optimum, on the final inliers; the chi-square rise
-     * on the flatter side gives the standard deviation of log f,
-     * d / sqrt(rise) */
-    {
-        const double d = 0.05;
-        double c0 = cost, cpm[2];
-        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
-        for (int sgn = 0; sgn < 2; sgn++) {
-            sfm_pose pp[3];
-            memcpy(pp, cand, sizeof pp);
-            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
-            double fd = ff * sfmi_exp(sgn ? -d : d);
-            if (adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]) != SFM_OK)
-                cpm[sgn] = c0;
+    int st = SFM_E_SINGULAR;
+    for (int k = 0; k < 3; k++) {
+        int s = order[k];
+        if (!(cs[s] < (double)INFINITY))
+            continue;
+        double best_f = fs[s];
+        /* observability of f: the fixed-focal cost far from the answer */
+        rep->stage = SFM_UNCAL_STAGE_BA;
+        double c_far = INFINITY;
+        for (int q = 0; q < K; q++)
+            if (fabs(sfmi_log(fk[q] / best_f)) > sfmi_log(FAR_FACTOR) && ck[q] < c_far)
+                c_far = ck[q];
+        int nobs = np_search * nv * 2, dof = np_search * 3 + 6 * (nv - 1);
+        double sigma2 = nobs > dof ? 2 * c_sweep_fixed / (nobs - dof) : 0;
+        if (sigma2 < NOISE_FLOOR * NOISE_FLOOR)
+            sigma2 = NOISE_FLOOR * NOISE_FLOOR;
+        /* a chi-square rise grows with the number of points: measured on
+         * the subset, it is scaled to every inlier */
+        rep->profile_rise = 2 * (c_far - fmin(c_sweep_fixed, cs[s])) / sigma2 * (double)m_all /
+                            (double)(np_search > 0 ? np_search : 1);
+        if (!(rep->profile_rise >= o->min_profile)) {
+            st = SFM_E_SINGULAR;
+            continue;
         }
-        memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
-        /* the flatter side: a profile steep on one side only does not pin f */
-        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
-        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
-        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
-            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
-            return SFM_E_SINGULAR;
+        st = validate(c, xall, n, o, sol[s], best_f, poses, f_out, rep);
+        if (st == SFM_OK) {
+            int lin = s == 0 || (s == 1 && fs[0] > 0 && fabs(fs[1] / fs[0] - 1) < 0.01);
+            rep->path = lin ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;
+            return SFM_OK;
         }
+        rep->path = s == 0 ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;
+        if (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE)
+            return st;
     }
-
-    double rms, front;
-    quality(c, cand, ff, &rms, &front);
-    rep->focal = ff;
-    rep->inliers = c->m;
-    rep->rms = rms;
-    rep->front_fraction = front;
-    /* rotation alone: |t2| = 1 is then fitted to noise and the points go to
-     * infinity, their rays parallel */
-    rep->parallax_deg = median_parallax(c, cand, c->bear);
-    if (!(rep->parallax_deg >= o->min_parallax_deg))
-        return SFM_E_SINGULAR;
-    double max_rms = o->max_rms > 0 ? o->max_rms : c->thr;
-    if (!(ff > 0) || !(front >= o->min_front) || !(rms <= max_rms))
-        return SFM_E_NO_CONVERGENCE;
-    memcpy(poses, cand, (size_t)nv * sizeof(sfm_pose));
-    *f_out = ff;
-    rep->stage = SFM_UNCAL_STAGE_DONE;
-    return SFM_OK;
+    return st;
 }

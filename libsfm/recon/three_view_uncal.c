@@ -62,6 +62,8 @@ int sfmi_uncal_check_options(const sfm_uncal_options *o)
     return SFM_OK;
 }
 
+#define UNCAL_ATTEMPTS 3
+
 size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
 {
     if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
@@ -71,6 +73,79 @@ size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
     sfm_arena_measure(&a);
     layout(&a, n, &w);
     return sfm_arena_required(&a);
+}
+
+/* One run from RANSAC to the checked metric answer. */
+static int attempt_once(tu_ws *w, int n, const sfm_uncal_options *o, int width, int height, sfm_pose est[3],
+                        double *f, sfm_uncal_report *rep)
+{
+    double T[27], P[36];
+    rep->stage = SFM_UNCAL_STAGE_RANSAC;
+    int cnt = sfm_ransac_trifocal(w->xc[0], w->xc[1], w->xc[2], n, &o->ransac, T, P, w->mask, &rep->ransac,
+                                  w->ransac_ws, w->ransac_size);
+    int st = cnt;
+    if (cnt < 0)
+        return st;
+    rep->ransac_inliers = cnt;
+
+    /* the inliers, their projective points and error */
+    sfmi_mu *mu = &w->mu;
+    mu->thr = o->ransac.threshold;
+    mu->evaluations = 0;
+    int m = 0;
+    double se = 0;
+    for (int i = 0; i < n; i++) {
+        if (!w->mask[i])
+            continue;
+        double e2, Xh[4];
+        if (sfm_trifocal_point_error(&P[0], &P[12], &P[24], &w->xc[0][2 * i], &w->xc[1][2 * i],
+                                     &w->xc[2][2 * i], &e2, Xh) != SFM_OK)
+            continue;
+        se += e2;
+        memcpy(&w->Xh[4 * m], Xh, sizeof Xh);
+        for (int v = 0; v < 3; v++) {
+            mu->x[v][2 * m] = w->xc[v][2 * i];
+            mu->x[v][2 * m + 1] = w->xc[v][2 * i + 1];
+        }
+        mu->idx[m] = i;
+        m++;
+    }
+    mu->m = m;
+    rep->projective_rms = m > 0 ? sqrt(se / (3.0 * m)) : 0;
+    st = SFM_E_SINGULAR;
+    if (m < SFM_TRIFOCAL_MIN_POINTS + 1)
+        return st;
+    st = sfm_trifocal_fundamentals(T, mu->F[0], mu->F[1], NULL);
+    if (st < 0)
+        return st;
+
+    /* linear self-calibration (centred coordinates: prior principal point 0,
+     * passed as an image of size 1 centred there) */
+    rep->stage = SFM_UNCAL_STAGE_SELFCAL;
+    {
+        double Kl[27], Hl[16];
+        const double wh[6] = {1, 1, 1, 1, 1, 1};
+        sfm_selfcal_result sr;
+        memset(&sr, 0, sizeof sr);
+        /* the image size sets the focal guess: keep it, move the centre */
+        double Pg[36];
+        const double s = 0.5 * (width + height);
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 12; k++)
+                Pg[12 * v + k] = k < 8 ? P[12 * v + k] / s : P[12 * v + k];
+        rep->linear_status = sfm_selfcal_linear(3, Pg, wh, m, w->Xh, Kl, Hl, &sr);
+        rep->linear_flags = sr.flags;
+        if (rep->linear_status == SFM_OK) {
+            double fl = (Kl[0] + Kl[9] + Kl[18]) / 3.0 * s;
+            rep->focal_linear = fl > 0 && isfinite(fl) ? fl : 0;
+        }
+    }
+
+    const double *xall[3] = {w->xc[0], w->xc[1], w->xc[2]};
+    st = sfmi_mu_solve(mu, xall, n, rep->focal_linear, (double)(width > height ? width : height), o, est,
+                       f, rep);
+    rep->evaluations = mu->evaluations;
+    return st;
 }
 
 int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, const double *px3, int n,
@@ -109,73 +184,24 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
             w.xc[v][2 * i] = px[v][2 * i] - cx;
             w.xc[v][2 * i + 1] = px[v][2 * i + 1] - cy;
         }
-    double T[27], P[36];
-    int cnt = sfm_ransac_trifocal(w.xc[0], w.xc[1], w.xc[2], n, &o.ransac, T, P, w.mask, &rep.ransac,
-                                  w.ransac_ws, w.ransac_size);
-    int st = cnt;
-    if (cnt < 0)
-        goto fail;
-    rep.ransac_inliers = cnt;
-
-    /* the inliers, their projective points and error */
-    sfmi_mu *mu = &w.mu;
-    mu->thr = o.ransac.threshold;
-    mu->evaluations = 0;
-    int m = 0;
-    double se = 0;
-    for (int i = 0; i < n; i++) {
-        if (!w.mask[i])
-            continue;
-        double e2, Xh[4];
-        if (sfm_trifocal_point_error(&P[0], &P[12], &P[24], &w.xc[0][2 * i], &w.xc[1][2 * i],
-                                     &w.xc[2][2 * i], &e2, Xh) != SFM_OK)
-            continue;
-        se += e2;
-        memcpy(&w.Xh[4 * m], Xh, sizeof Xh);
-        for (int v = 0; v < 3; v++) {
-            mu->x[v][2 * m] = w.xc[v][2 * i];
-            mu->x[v][2 * m + 1] = w.xc[v][2 * i + 1];
-        }
-        mu->idx[m] = i;
-        m++;
-    }
-    mu->m = m;
-    rep.projective_rms = m > 0 ? sqrt(se / (3.0 * m)) : 0;
-    st = SFM_E_SINGULAR;
-    if (m < SFM_TRIFOCAL_MIN_POINTS + 1)
-        goto fail;
-    st = sfm_trifocal_fundamentals(T, mu->F[0], mu->F[1], NULL);
-    if (st < 0)
-        goto fail;
-
-    /* linear self-calibration (centred coordinates: prior principal point 0,
-     * passed as an image of size 1 centred there) */
-    rep.stage = SFM_UNCAL_STAGE_SELFCAL;
-    {
-        double Kl[27], Hl[16];
-        const double wh[6] = {1, 1, 1, 1, 1, 1};
-        sfm_selfcal_result sr;
-        memset(&sr, 0, sizeof sr);
-        /* the image size sets the focal guess: keep it, move the centre */
-        double Pg[36];
-        const double s = 0.5 * (width + height);
-        for (int v = 0; v < 3; v++)
-            for (int k = 0; k < 12; k++)
-                Pg[12 * v + k] = k < 8 ? P[12 * v + k] / s : P[12 * v + k];
-        rep.linear_status = sfm_selfcal_linear(3, Pg, wh, m, w.Xh, Kl, Hl, &sr);
-        rep.linear_flags = sr.flags;
-        if (rep.linear_status == SFM_OK) {
-            double f = (Kl[0] + Kl[9] + Kl[18]) / 3.0 * s;
-            rep.focal_linear = f > 0 && isfinite(f) ? f : 0;
-        }
-    }
-
+    /* retries: a tensor whose metric upgrade fails every check may be a
+     * RANSAC answer on part of the scene (a plane, a wrong cluster); the
+     * pipeline is run again from RANSAC with the next seeds */
     double f;
-    const double *xall[3] = {w.xc[0], w.xc[1], w.xc[2]};
     sfm_pose est[3];
-    st = sfmi_mu_solve(mu, xall, n, rep.focal_linear, (double)(width > height ? width : height), &o, est,
-                       &f, &rep);
-    rep.evaluations = mu->evaluations;
+    sfmi_mu *mu = &w.mu;
+    int st = SFM_E_SINGULAR;
+    for (int attempt = 0; attempt < UNCAL_ATTEMPTS; attempt++) {
+        sfm_uncal_options oa = o;
+        oa.ransac.seed = o.ransac.seed + (uint64_t)attempt;
+        memset(&rep, 0, sizeof rep);
+        rep.n_input = n;
+        rep.attempts = attempt + 1;
+        st = attempt_once(&w, n, &oa, width, height, est, &f, &rep);
+        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) ||
+            rep.stage == SFM_UNCAL_STAGE_RANSAC)
+            break;
+    }
     if (st < 0)
         goto fail;
 

@@ -101,7 +101,7 @@ def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_para
 
 
 def _report(r):
-    return dict(stage=STAGES.get(r.stage, r.stage), n_input=r.n_input, ransac_inliers=r.ransac_inliers,
+    return dict(stage=STAGES.get(r.stage, r.stage), attempts=r.attempts, n_input=r.n_input, ransac_inliers=r.ransac_inliers,
                 ransac_iterations=r.ransac.iterations, projective_rms=r.projective_rms,
                 linear_status=r.linear_status, linear_flags=r.linear_flags, focal_linear=r.focal_linear,
                 focal_sweep=r.focal_sweep, evaluations=r.evaluations, path=PATHS.get(r.path, r.path),
