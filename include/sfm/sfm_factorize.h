@@ -31,6 +31,11 @@
  *    already reconstructed, at least 6), tracks outside the block are
  *    triangulated (homogeneous DLT, at least 2 views), alternately until
  *    nothing changes.
+ * 5. Projective bundle adjustment over every observation (Hartley &
+ *    Zisserman 18.1): cameras as unit 12-vectors (11 degrees of freedom),
+ *    points as unit homogeneous 4-vectors, both updated on their spheres,
+ *    the points eliminated by the Schur complement, on the library's
+ *    Levenberg-Marquardt driver; reprojection error in pixels.
  *
  * Convergence measured: on the synthetic scenes of tests/unit/test_factorize.c
  * (noise 0-1 px) and on Oxford Model House the relative residual
@@ -59,6 +64,8 @@ typedef struct sfm_factorize_options {
     double tolerance;   /* > 0, default 1e-7: stop when no entry of a unit-norm depth
                            column moves by more, or the relative rank-4 residual
                            falls by less than tolerance times itself */
+    int ba_iterations;  /* >= 0, default 100: steps of the projective bundle
+                           adjustment that ends the method (0: none) */
 } sfm_factorize_options;
 
 typedef struct sfm_factorize_result {
@@ -72,7 +79,11 @@ typedef struct sfm_factorize_result {
     int points_recovered; /* tracks with a point (the others: X_j = 0, seen in < 2 views) */
     int n_observations;   /* observations of recovered tracks */
     double reproj_rms;    /* pixels, over those observations, per coordinate pair
-                             sqrt(mean |x - proj|^2) */
+                             sqrt(mean |x - proj|^2), after the adjustment */
+    double factorization_rms; /* the same before the adjustment */
+    int ba_iterations;    /* projective bundle adjustment steps tried */
+    int ba_stop;          /* its stopping reason (the LM driver's: 1 gradient,
+                             2 function, 3 step, 4 iterations, 5 trust region) */
 } sfm_factorize_result;
 
 /* Defaults listed above. Statuses: SFM_OK, SFM_E_ARGUMENT (NULL). */

@@ -7,6 +7,7 @@
 
 #include "core/arena.h"
 #include "recon/projective.h"
+#include "recon/projective_ba.h"
 #include "sfm/sfm_factorize.h"
 #include "sfm/sfm_linalg.h"
 
@@ -28,6 +29,10 @@ typedef struct fz_ws {
     int *seen;       /* n scratch counts */
     void *eig_ws;
     size_t eig_size;
+    int *obs_cam, *obs_pt, *first; /* observations grouped by track */
+    double *obs_xy;
+    void *ba_ws;
+    size_t ba_size;
 } fz_ws;
 
 static void layout(sfm_arena *a, int m, int n, fz_ws *w)
@@ -51,6 +56,12 @@ static void layout(sfm_arena *a, int m, int n, fz_ws *w)
     int big = 3 * m > 12 ? 3 * m : 12;
     w->eig_size = sfm_sym_eig_workspace_size(big);
     w->eig_ws = sfm_arena_alloc(a, w->eig_size);
+    w->obs_cam = SFM_ARENA_ARRAY(a, int, mn);
+    w->obs_pt = SFM_ARENA_ARRAY(a, int, mn);
+    w->first = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
+    w->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * mn);
+    w->ba_size = sfmi_projective_ba_workspace_size(m, n, (int)mn);
+    w->ba_ws = sfm_arena_alloc(a, w->ba_size);
 }
 
 int sfm_factorize_default_options(sfm_factorize_options *opt)
@@ -59,6 +70,7 @@ int sfm_factorize_default_options(sfm_factorize_options *opt)
         return SFM_E_ARGUMENT;
     opt->max_iterations = 200;
     opt->tolerance = 1e-7;
+    opt->ba_iterations = 100;
     return SFM_OK;
 }
 
@@ -309,6 +321,33 @@ static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
     return SFM_OK;
 }
 
+/* RMS reprojection error (pixels) over the observations of the recovered
+ * tracks under pixel cameras P. */
+static double pixel_rms(const double *x, int m, int n, const double *P, const double *X, const int *pt_ok,
+                        int *nobs_out, int *nrec_out)
+{
+    double se = 0;
+    int nobs = 0, nrec = 0;
+    for (int j = 0; j < n; j++) {
+        if (!pt_ok[j])
+            continue;
+        nrec++;
+        for (int i = 0; i < m; i++) {
+            if (!observed(x, m, n, i, j))
+                continue;
+            double e2;
+            if (sfmi_reproj_err2(&P[12 * i], &X[4 * (size_t)j], &x[((size_t)i * n + j) * 2], &e2))
+                se += e2;
+            else
+                se += 1e12; /* a point on the camera's principal plane */
+            nobs++;
+        }
+    }
+    *nobs_out = nobs;
+    *nrec_out = nrec;
+    return nobs > 0 ? sqrt(se / nobs) : 0.0;
+}
+
 int sfm_factorize_projective(int m, int n, const double *x, const sfm_factorize_options *opt,
                              double *P, double *X, sfm_factorize_result *result, void *ws,
                              size_t ws_size)
@@ -321,7 +360,7 @@ int sfm_factorize_projective(int m, int n, const double *x, const sfm_factorize_
         o = *opt;
     else
         sfm_factorize_default_options(&o);
-    if (o.max_iterations < 1 || !(o.tolerance > 0) || !isfinite(o.tolerance))
+    if (o.max_iterations < 1 || !(o.tolerance > 0) || !isfinite(o.tolerance) || o.ba_iterations < 0)
         return SFM_E_ARGUMENT;
     for (size_t i = 0; i < 2 * (size_t)m * n; i++)
         if (isinf(x[i]))
@@ -396,30 +435,55 @@ int sfm_factorize_projective(int m, int n, const double *x, const sfm_factorize_
         if (!w.view_ok[i])
             return SFM_E_SINGULAR;
 
+    {
+        double Pf[12 * SFM_FACTORIZE_MAX_VIEWS];
+        for (int i = 0; i < m; i++)
+            sfmi_denormalize_camera(&Tn[9 * i], &w.Pn[12 * i], &Pf[12 * i]);
+        int no, nr;
+        res.factorization_rms = pixel_rms(x, m, n, Pf, w.X, w.pt_ok, &no, &nr);
+    }
+    /* projective bundle adjustment over every observation of the
+     * recovered tracks, in pixels */
+    if (o.ba_iterations > 0) {
+        int nobs = 0;
+        double iscale[SFM_FACTORIZE_MAX_VIEWS];
+        for (int i = 0; i < m; i++)
+            iscale[i] = 1.0 / Tn[9 * i];
+        for (int j = 0; j < n; j++) {
+            w.first[j] = nobs;
+            if (!w.pt_ok[j]) {
+                double *Xj = &w.X[4 * (size_t)j];
+                Xj[0] = Xj[1] = Xj[2] = 0;
+                Xj[3] = 1; /* held: no observations */
+                continue;
+            }
+            for (int i = 0; i < m; i++)
+                if (observed(w.xn, m, n, i, j)) {
+                    w.obs_cam[nobs] = i;
+                    w.obs_pt[nobs] = j;
+                    w.obs_xy[2 * nobs] = w.xn[((size_t)i * n + j) * 2];
+                    w.obs_xy[2 * nobs + 1] = w.xn[((size_t)i * n + j) * 2 + 1];
+                    nobs++;
+                }
+        }
+        w.first[n] = nobs;
+        sfmi_lm_summary sum;
+        st = sfmi_projective_ba(m, n, nobs, w.obs_cam, w.obs_pt, w.first, w.obs_xy, iscale, w.Pn, w.X,
+                                o.ba_iterations, &sum, w.ba_ws, w.ba_size);
+        if (st < 0)
+            return st == SFM_E_NONFINITE ? SFM_E_SINGULAR : st;
+        res.ba_iterations = sum.iterations;
+        res.ba_stop = (int)sum.stop;
+    }
+
     /* back to pixels: P_i = T_i^{-1} Pn_i */
     double Pout[12 * SFM_FACTORIZE_MAX_VIEWS];
     for (int i = 0; i < m; i++)
         sfmi_denormalize_camera(&Tn[9 * i], &w.Pn[12 * i], &Pout[12 * i]);
-    double se = 0;
-    int nobs = 0, nrec = 0;
-    for (int j = 0; j < n; j++) {
-        if (!w.pt_ok[j])
-            continue;
-        nrec++;
-        for (int i = 0; i < m; i++) {
-            if (!observed(x, m, n, i, j))
-                continue;
-            double e2;
-            if (sfmi_reproj_err2(&Pout[12 * i], &w.X[4 * (size_t)j], &x[((size_t)i * n + j) * 2], &e2))
-                se += e2;
-            else
-                se += 1e12; /* a point on the camera's principal plane */
-            nobs++;
-        }
-    }
+    int nobs, nrec;
+    res.reproj_rms = pixel_rms(x, m, n, Pout, w.X, w.pt_ok, &nobs, &nrec);
     res.points_recovered = nrec;
     res.n_observations = nobs;
-    res.reproj_rms = nobs > 0 ? sqrt(se / nobs) : 0.0;
     memcpy(P, Pout, sizeof(double) * 12 * (size_t)m);
     for (int j = 0; j < n; j++) {
         if (w.pt_ok[j])

@@ -12,12 +12,20 @@
 #include "sfm/sfm_linalg.h"
 #include "solvers/normalize.h"
 
+void sfmi_normalize_vec(double *x, int n)
+{
+    double s = 0;
+    for (int k = 0; k < n; k++)
+        s += x[k] * x[k];
+    s = sqrt(s);
+    if (s > 0)
+        for (int k = 0; k < n; k++)
+            x[k] /= s;
+}
+
 void sfmi_normalize4(double X[4])
 {
-    double s = sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2] + X[3] * X[3]);
-    if (s > 0)
-        for (int k = 0; k < 4; k++)
-            X[k] /= s;
+    sfmi_normalize_vec(X, 4);
 }
 
 int sfmi_hartley_view(const double *px, int n, double T[9], double *xn)

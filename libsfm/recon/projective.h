@@ -7,7 +7,8 @@
 
 #include <stddef.h>
 
-/* X /= |X| (4 entries); leaves a zero vector as it is. */
+/* x /= |x| (n entries; sfmi_normalize4: 4); a zero vector is left as it is. */
+void sfmi_normalize_vec(double *x, int n);
 void sfmi_normalize4(double X[4]);
 
 /* Hartley normalization of one view's n observations px (n x 2, NaN

@@ -11,12 +11,13 @@ PATHS = {0: "none", 1: "linear", 2: "sweep"}
 STAGES = {1: "ransac", 2: "selfcal", 3: "sweep", 4: "ba", 5: "validate", 6: "done"}
 
 
-def factorize_projective(tracks, max_iterations=None, tolerance=None):
+def factorize_projective(tracks, max_iterations=None, tolerance=None, ba_iterations=None):
     """Sturm-Triggs projective factorization of (m, n, 2) pixel tracks, NaN
     where a view does not see a track.
 
     Returns dict(P (m,3,4), X (n,4) unit-norm homogeneous points (zero for
-    tracks seen in fewer than 2 views), reproj_rms (px), iterations,
+    tracks seen in fewer than 2 views), reproj_rms (px, after the projective
+    bundle adjustment), factorization_rms (before it), ba_iterations, iterations,
     converged, monotone, first_residual, last_residual, block_views,
     block_points, points_recovered, n_observations), up to one projective
     transform of space.
@@ -35,6 +36,8 @@ def factorize_projective(tracks, max_iterations=None, tolerance=None):
         opt.max_iterations = int(max_iterations)
     if tolerance is not None:
         opt.tolerance = float(tolerance)
+    if ba_iterations is not None:
+        opt.ba_iterations = int(ba_iterations)
     P = np.empty((m, 3, 4))
     X = np.empty((n, 4))
     res = ffi.new("sfm_factorize_result *")
@@ -42,7 +45,7 @@ def factorize_projective(tracks, max_iterations=None, tolerance=None):
     check(lib.sfm_factorize_projective(m, n, dptr(x), opt, dptr(P), dptr(X), res, ws, size),
           "factorize_projective")
     out = dict(P=P, X=X)
-    for k in ("reproj_rms", "iterations", "converged", "monotone", "first_residual", "last_residual",
+    for k in ("reproj_rms", "factorization_rms", "ba_iterations", "ba_stop", "iterations", "converged", "monotone", "first_residual", "last_residual",
               "block_views", "block_points", "points_recovered", "n_observations"):
         out[k] = getattr(res, k)
     out["converged"] = bool(out["converged"])

@@ -111,12 +111,12 @@ SFM_TEST(factorize_complete_at_noise_floor)
 
 SFM_TEST(factorize_20_percent_missing_at_noise_floor)
 {
-    run(t, 0.5, 0.2, 0.8);
+    run(t, 0.5, 0.2, 0.6);
 }
 
 SFM_TEST(factorize_50_percent_missing_at_noise_floor)
 {
-    run(t, 0.5, 0.5, 1.2);
+    run(t, 0.5, 0.5, 0.7);
 }
 
 SFM_TEST(factorize_contract)
