@@ -84,6 +84,7 @@ def self_calibrate(P, image_sizes, X=None):
         check(st, "self_calibrate")
     except Exception as e:
         e.flags = res.flags
+        e.null_ratio = res.null_ratio
         raise
     return dict(K=K, H=H, path="linear", flags=res.flags, null_ratio=res.null_ratio,
                 front_fraction=res.front_fraction)
