@@ -36,6 +36,9 @@
  * Outputs: K_i = [f_i 0 cx; 0 f_i cy; 0 0 1] (the priors applied, f_i from
  * the mean of the diagonal of w*_i), H (4x4) such that P_i H ~ K_i [R_i | t_i]
  * (metric cameras) and X_metric ~ H^{-1} X.
+ *
+ * Memory: no workspace; a bounded stack of about 6 KiB (two 4x4 and one
+ * 10x10 symmetric eigensolve, the conditioned cameras).
  */
 #ifndef SFM_SELFCAL_H
 #define SFM_SELFCAL_H

@@ -9,7 +9,7 @@
 
 enum { NU = 150 };
 
-static unsigned char ws[3 << 20];
+static unsigned char ws[512 << 10];
 static double px[3][2 * NU];
 static sfm_pose truth[3];
 static const double FT = 700, WI = 640, HE = 480;
