@@ -150,6 +150,40 @@ static int choose_block(const double *x, int m, int n, int *in_block, int *bpts,
     return p;
 }
 
+/* D (3k x p) from the depths z and the block's observations, its Gram
+ * matrix D D^T, its eigenvalues (w->ev, ascending) and the dominant rank-4
+ * subspace U (3k x 4, largest first); *tr = trace(D D^T). */
+static int dominant_subspace(fz_ws *w, const int *views, int k, int p, int n, double *tr)
+{
+    const int r3 = 3 * k;
+    for (int a = 0; a < k; a++)
+        for (int b = 0; b < p; b++) {
+            const double *q = &w->xn[((size_t)views[a] * n + w->bpts[b]) * 2];
+            double zz = w->z[(size_t)a * p + b];
+            w->D[(size_t)(3 * a) * p + b] = zz * q[0];
+            w->D[(size_t)(3 * a + 1) * p + b] = zz * q[1];
+            w->D[(size_t)(3 * a + 2) * p + b] = zz;
+        }
+    *tr = 0;
+    for (int r = 0; r < r3; r++)
+        for (int c = 0; c <= r; c++) {
+            const double *dr = &w->D[(size_t)r * p], *dc = &w->D[(size_t)c * p];
+            double s = 0;
+            for (int b = 0; b < p; b++)
+                s += dr[b] * dc[b];
+            w->G[r * r3 + c] = w->G[c * r3 + r] = s;
+            if (r == c)
+                *tr += s;
+        }
+    int st = sfm_sym_eig(w->G, r3, w->ev, w->V, w->eig_ws, w->eig_size);
+    if (st < 0)
+        return st;
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < r3; r++)
+            w->U[r * 4 + c] = w->V[r * r3 + (r3 - 1 - c)];
+    return SFM_OK;
+}
+
 /* Sturm-Triggs iteration on the block; fills U (3k x 4, the block's
  * cameras in normalized coordinates) and the block points in w->X. */
 static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
@@ -189,35 +223,11 @@ static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
                     w->z[(size_t)a * p + b] *= s;
             }
         }
-        /* D and its Gram matrix */
-        for (int a = 0; a < k; a++)
-            for (int b = 0; b < p; b++) {
-                const double *q = &w->xn[((size_t)views[a] * n + w->bpts[b]) * 2];
-                double zz = w->z[(size_t)a * p + b];
-                w->D[(size_t)(3 * a) * p + b] = zz * q[0];
-                w->D[(size_t)(3 * a + 1) * p + b] = zz * q[1];
-                w->D[(size_t)(3 * a + 2) * p + b] = zz;
-            }
-        double tr = 0;
-        for (int r = 0; r < r3; r++)
-            for (int c = 0; c <= r; c++) {
-                const double *dr = &w->D[(size_t)r * p], *dc = &w->D[(size_t)c * p];
-                double s = 0;
-                for (int b = 0; b < p; b++)
-                    s += dr[b] * dc[b];
-                w->G[r * r3 + c] = w->G[c * r3 + r] = s;
-                if (r == c)
-                    tr += s;
-            }
-        int st = sfm_sym_eig(w->G, r3, w->ev, w->V, w->eig_ws, w->eig_size);
+        double tr;
+        int st = dominant_subspace(w, views, k, p, n, &tr);
         if (st < 0)
             return st;
-        double top = 0;
-        for (int c = 0; c < 4; c++) {
-            top += w->ev[r3 - 1 - c];
-            for (int r = 0; r < r3; r++)
-                w->U[r * 4 + c] = w->V[r * r3 + (r3 - 1 - c)];
-        }
+        double top = w->ev[r3 - 1] + w->ev[r3 - 2] + w->ev[r3 - 3] + w->ev[r3 - 4];
         if (!(w->ev[r3 - 4] > 1e-12 * tr))
             return SFM_E_SINGULAR;
         double resid = 1.0 - top / tr;
@@ -249,7 +259,7 @@ static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
                         s += B[c * k + a1] * B[c * k + a2];
                     w->A[a1 * k + a2] = w->A[a2 * k + a1] = s;
                 }
-            st = sfm_sym_eig(w->A, k, w->ev, w->Av, w->eig_ws, w->eig_size);
+            st = sfm_sym_eig(w->A, k, w->ev, w->Av, w->eig_ws, w->eig_size); /* w->ev reused */
             if (st < 0)
                 return st;
             double sum = 0, old = 0;
@@ -278,27 +288,10 @@ static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
         prev_step = resid;
     }
     /* final factorization with the settled depths: D = U (U^T D) */
-    for (int a = 0; a < k; a++)
-        for (int b = 0; b < p; b++) {
-            const double *q = &w->xn[((size_t)views[a] * n + w->bpts[b]) * 2];
-            double zz = w->z[(size_t)a * p + b];
-            w->D[(size_t)(3 * a) * p + b] = zz * q[0];
-            w->D[(size_t)(3 * a + 1) * p + b] = zz * q[1];
-            w->D[(size_t)(3 * a + 2) * p + b] = zz;
-        }
-    for (int r = 0; r < r3; r++)
-        for (int c = 0; c <= r; c++) {
-            double s = 0;
-            for (int b = 0; b < p; b++)
-                s += w->D[(size_t)r * p + b] * w->D[(size_t)c * p + b];
-            w->G[r * r3 + c] = w->G[c * r3 + r] = s;
-        }
-    int st = sfm_sym_eig(w->G, r3, w->ev, w->V, w->eig_ws, w->eig_size);
+    double tr;
+    int st = dominant_subspace(w, views, k, p, n, &tr);
     if (st < 0)
         return st;
-    for (int c = 0; c < 4; c++)
-        for (int r = 0; r < r3; r++)
-            w->U[r * 4 + c] = w->V[r * r3 + (r3 - 1 - c)];
     for (int b = 0; b < p; b++) {
         double *Xj = &w->X[4 * (size_t)w->bpts[b]];
         for (int c = 0; c < 4; c++) {

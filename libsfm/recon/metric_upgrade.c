@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/dmath.h"
+#include "core/linalg_util.h"
 #include "recon/metric_upgrade.h"
 #include "recon/projective.h"
 #include "sfm/sfm_ba.h"
@@ -490,4 +491,50 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
             return st;
     }
     return st;
+}
+
+void sfmi_mu_outputs(const sfmi_mu *c, int n, double f, double cx, double cy, double K[9], double *X,
+                     uint8_t *mask)
+{
+    const double Kout[9] = {f, 0, cx, 0, f, cy, 0, 0, 1};
+    memcpy(K, Kout, sizeof Kout);
+    if (X != NULL) {
+        memset(X, 0, sizeof(double) * 3 * (size_t)n);
+        for (int k = 0; k < c->np; k++)
+            memcpy(&X[3 * (size_t)c->idx[c->pidx[k]]], &c->X[3 * k], 3 * sizeof(double));
+    }
+    if (mask != NULL) {
+        memset(mask, 0, (size_t)n);
+        for (int j = 0; j < c->m; j++)
+            mask[c->idx[j]] = 1;
+    }
+}
+
+int sfmi_uncal_check_options(const sfm_uncal_options *o);
+
+int sfmi_uncal_options(const sfm_uncal_options *opt, sfm_uncal_options *o)
+{
+    if (opt != NULL)
+        *o = *opt;
+    else
+        sfm_uncal_default_options(o);
+    return sfmi_uncal_check_options(o) < 0 ? SFM_E_ARGUMENT : SFM_OK;
+}
+
+int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int height, double *const xc[3],
+                      sfm_uncal_report *rep)
+{
+    for (int v = 0; v < nv; v++)
+        if (!sfm_la_all_finite(px[v], 2 * (size_t)n))
+            return SFM_E_NONFINITE;
+    memset(rep, 0, sizeof *rep);
+    rep->n_input = n;
+    rep->stage = SFM_UNCAL_STAGE_RANSAC;
+    const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
+    for (int v = 0; v < nv; v++)
+        for (int i = 0; i < n; i++) {
+            xc[v][2 * i] = px[v][2 * i] - cx;
+            xc[v][2 * i + 1] = px[v][2 * i + 1] - cy;
+        }
+    return SFM_OK;
 }

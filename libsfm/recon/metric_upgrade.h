@@ -43,4 +43,20 @@ void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c);
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
                   const sfm_uncal_options *o, sfm_pose poses[3], double *f, sfm_uncal_report *rep);
 
+/* Options of a pipeline: *o = *opt, or the defaults when opt is NULL;
+ * SFM_E_ARGUMENT when they are invalid. */
+int sfmi_uncal_options(const sfm_uncal_options *opt, sfm_uncal_options *o);
+
+/* Input pixels (nv views, n each) checked finite and centred on the
+ * principal point ((width - 1) / 2, (height - 1) / 2) into xc; the report
+ * started. SFM_E_NONFINITE on NaN/Inf. */
+int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int height, double *const xc[3],
+                      sfm_uncal_report *rep);
+
+/* The answer's K (pixels, principal point (cx, cy)), X (n x 3 at the input
+ * indices of the final inliers, zero elsewhere; may be NULL) and mask (n,
+ * may be NULL) after a successful sfmi_mu_solve. */
+void sfmi_mu_outputs(const sfmi_mu *c, int n, double f, double cx, double cy, double K[9], double *X,
+                     uint8_t *mask);
+
 #endif

@@ -157,33 +157,20 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
         n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS || width < 2 || height < 2)
         return SFM_E_ARGUMENT;
     sfm_uncal_options o;
-    if (opt != NULL)
-        o = *opt;
-    else
-        sfm_uncal_default_options(&o);
-    if (sfmi_uncal_check_options(&o) < 0)
+    if (sfmi_uncal_options(opt, &o) < 0)
         return SFM_E_ARGUMENT;
-    const double *px[3] = {px1, px2, px3};
-    for (int v = 0; v < 3; v++)
-        if (!sfm_la_all_finite(px[v], 2 * (size_t)n))
-            return SFM_E_NONFINITE;
     sfm_arena a;
     tu_ws w;
     sfm_arena_init(&a, ws, ws_size);
     layout(&a, n, &w);
+    sfm_uncal_report rep;
+    const double *px[3] = {px1, px2, px3};
     if (!sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
-
-    sfm_uncal_report rep;
-    memset(&rep, 0, sizeof rep);
-    rep.n_input = n;
-    rep.stage = SFM_UNCAL_STAGE_RANSAC;
+    int st0 = sfmi_uncal_centre(3, px, n, width, height, w.xc, &rep);
+    if (st0 < 0)
+        return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
-    for (int v = 0; v < 3; v++)
-        for (int i = 0; i < n; i++) {
-            w.xc[v][2 * i] = px[v][2 * i] - cx;
-            w.xc[v][2 * i + 1] = px[v][2 * i + 1] - cy;
-        }
     /* retries: a tensor whose metric upgrade fails every check may be a
      * RANSAC answer on part of the scene (a plane, a wrong cluster); the
      * pipeline is run again from RANSAC with the next seeds */
@@ -205,19 +192,8 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     if (st < 0)
         goto fail;
 
-    const double Kout[9] = {f, 0, cx, 0, f, cy, 0, 0, 1};
-    memcpy(K, Kout, sizeof Kout);
+    sfmi_mu_outputs(mu, n, f, cx, cy, K, X, inlier_mask);
     memcpy(poses, est, sizeof est);
-    if (X != NULL) {
-        memset(X, 0, sizeof(double) * 3 * (size_t)n);
-        for (int k = 0; k < mu->np; k++)
-            memcpy(&X[3 * (size_t)mu->idx[mu->pidx[k]]], &mu->X[3 * k], 3 * sizeof(double));
-    }
-    if (inlier_mask != NULL) {
-        memset(inlier_mask, 0, (size_t)n);
-        for (int j = 0; j < mu->m; j++)
-            inlier_mask[mu->idx[j]] = 1;
-    }
     if (report != NULL)
         *report = rep;
     return mu->m;

@@ -13,10 +13,8 @@
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_uncalibrated.h"
 
-int sfmi_uncal_check_options(const sfm_uncal_options *o);
-
 typedef struct twu_ws {
-    double *xc[2];
+    double *xc[3]; /* the third unused */
     uint8_t *mask;
     void *ransac_ws;
     size_t ransac_size;
@@ -27,6 +25,7 @@ static void layout(sfm_arena *a, int n, twu_ws *w)
 {
     for (int v = 0; v < 2; v++)
         w->xc[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
+    w->xc[2] = NULL;
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->ransac_size = sfm_ransac_fundamental_workspace_size(n);
     w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
@@ -114,32 +113,20 @@ int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n,
         n > SFM_RANSAC_MAX_POINTS || width < 2 || height < 2)
         return SFM_E_ARGUMENT;
     sfm_uncal_options o;
-    if (opt != NULL)
-        o = *opt;
-    else
-        sfm_uncal_default_options(&o);
-    if (sfmi_uncal_check_options(&o) < 0)
+    if (sfmi_uncal_options(opt, &o) < 0)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(px1, 2 * (size_t)n) || !sfm_la_all_finite(px2, 2 * (size_t)n))
-        return SFM_E_NONFINITE;
     sfm_arena a;
     twu_ws w;
     sfm_arena_init(&a, ws, ws_size);
     layout(&a, n, &w);
+    sfm_uncal_report rep;
+    const double *px[3] = {px1, px2, NULL};
     if (!sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
-
-    sfm_uncal_report rep;
-    memset(&rep, 0, sizeof rep);
-    rep.n_input = n;
-    rep.stage = SFM_UNCAL_STAGE_RANSAC;
+    int st0 = sfmi_uncal_centre(2, px, n, width, height, w.xc, &rep);
+    if (st0 < 0)
+        return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
-    const double *px[2] = {px1, px2};
-    for (int v = 0; v < 2; v++)
-        for (int i = 0; i < n; i++) {
-            w.xc[v][2 * i] = px[v][2 * i] - cx;
-            w.xc[v][2 * i + 1] = px[v][2 * i + 1] - cy;
-        }
     sfmi_mu *mu = &w.mu;
     int cnt = sfm_ransac_fundamental(w.xc[0], w.xc[1], n, NULL, NULL, &o.ransac, mu->F[0], w.mask,
                                      &rep.ransac, w.ransac_ws, w.ransac_size);
@@ -218,19 +205,8 @@ int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n,
     rep.evaluations = mu->evaluations;
     if (st < 0)
         goto fail;
-    const double Kout[9] = {f, 0, cx, 0, f, cy, 0, 0, 1};
-    memcpy(K, Kout, sizeof Kout);
+    sfmi_mu_outputs(mu, n, f, cx, cy, K, X, inlier_mask);
     memcpy(poses, est, 2 * sizeof(sfm_pose));
-    if (X != NULL) {
-        memset(X, 0, sizeof(double) * 3 * (size_t)n);
-        for (int k = 0; k < mu->np; k++)
-            memcpy(&X[3 * (size_t)mu->idx[mu->pidx[k]]], &mu->X[3 * k], 3 * sizeof(double));
-    }
-    if (inlier_mask != NULL) {
-        memset(inlier_mask, 0, (size_t)n);
-        for (int j = 0; j < mu->m; j++)
-            inlier_mask[mu->idx[j]] = 1;
-    }
     if (report != NULL)
         *report = rep;
     return mu->m;

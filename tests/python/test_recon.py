@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import libsfm
+from test_three_view_herzjesu import triplets as herz_index
 
 ROOT = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data")
 HOUSE = os.path.join(ROOT, "oxford-house")
@@ -157,16 +158,8 @@ def test_reconstruct_three_view_pure_rotation_is_an_error():
 
 
 def herz_triplets():
-    index = os.path.join(HERZ, "triplets", "triplets_index.txt")
-    if not os.path.exists(index):
-        return []
-    out = []
-    for line in open(index):
-        if line.startswith("#") or not line.strip():
-            continue
-        a, b, c, _ = line.split()
-        out.append(os.path.join(HERZ, "triplets", "triplet_%s_%s_%s.txt" % (a, b, c)))
-    return out
+    """Paths of the match triplets listed in the data set's index."""
+    return [os.path.join(HERZ, "triplets", "triplet_%s_%s_%s.txt" % t) for t in herz_index()]
 
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")

@@ -6,6 +6,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
+#include "ransac_scene.h"
 
 enum { NU = 150 };
 
@@ -66,16 +67,6 @@ static void scene(sfm_test_ctx *t, int motion, double sigma, double outliers)
     }
 }
 
-static double rot_err_deg(const double A[9], const double B[9])
-{
-    double tr = 0;
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++)
-            tr += A[3 * r + k] * B[3 * r + k];
-    double c = (tr - 1) / 2;
-    c = c > 1 ? 1 : (c < -1 ? -1 : c);
-    return acos(c) * 57.29577951308232;
-}
 
 /* 1 answered (and checked), 0 refused as not determined */
 static int run3(sfm_test_ctx *t, double sigma, double outliers, double tol, int *path)
@@ -107,7 +98,7 @@ static int run3(sfm_test_ctx *t, double sigma, double outliers, double tol, int 
     SFM_CHECK(fabs(K[0] / FT - 1) < tol);
     SFM_CHECK_NEAR(K[2], (WI - 1) / 2, 1e-12);
     for (int v = 1; v < 3; v++)
-        SFM_CHECK(rot_err_deg(est[v].R, truth[v].R) < 100 * tol);
+        SFM_CHECK(scene_rot_err_deg(est[v].R, truth[v].R) < 100 * tol);
     SFM_CHECK(r.front_fraction >= 0.95);
     return 1;
 }
