@@ -235,3 +235,24 @@ def test_boofcv_triplets_from_images():
         if name == "mono_wall":  # chessboard calibration fx 701.0
             assert abs(f / 701.0 - 1) < 0.03
     print("  answered %d of %d" % (answered, len(BOOF_F)))
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_uncalibrated_is_deterministic_and_reports():
+    x = np.loadtxt(herz_triplets()[7])
+    a = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=5)
+    b = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=5)
+    assert np.array_equal(a["K"], b["K"]) and np.array_equal(a["R"], b["R"]) and np.array_equal(a["X"], b["X"])
+    rep = a["report"]
+    assert rep["stage"] == "done" and rep["path"] in ("linear", "sweep")
+    assert rep["inliers"] == int(a["inliers"].sum()) and rep["rms"] < 1.0
+    assert np.allclose(a["R"][0], np.eye(3)) and abs(np.linalg.norm(a["t"][1]) - 1) < 1e-9
+    # points in front of the three cameras, reprojecting at the reported RMS
+    K = a["K"][0]
+    se = 0.0
+    for v in range(3):
+        Y = a["X"][a["inliers"]] @ a["R"][v].T + a["t"][v]
+        assert np.all(Y[:, 2] > 0)
+        p = Y @ K.T
+        se += np.sum((p[:, :2] / p[:, 2:] - x[a["inliers"], 2 * v:2 * v + 2]) ** 2)
+    assert abs(np.sqrt(se / (3 * a["inliers"].sum())) - rep["rms"]) < 1e-6
