@@ -36,8 +36,10 @@
  *     (rotation without translation: the focal length is then determined
  *     but the translations are fitted to noise) is SFM_E_SINGULAR.
  * When the metric stage fails (SFM_E_SINGULAR or SFM_E_NO_CONVERGENCE) the
- * run is repeated from RANSAC with the seeds seed + 1 and seed + 2 (a tensor
- * fitted to part of the scene); the report is the last run's.
+ * run is repeated from RANSAC with the seeds seed + 1 and seed + 2, the last
+ * with twice the threshold (a tensor fitted to part of the scene; the RMS
+ * accepted stays options.max_rms, or the first threshold); the report is the
+ * last run's.
  * Two views (sfm_recon_two_view_uncalibrated): fundamental RANSAC with
  * DEGENSAC, the focal length of F by Bougnoux's formula (S. Bougnoux, "From
  * projective to Euclidean space under any practical situation, a criticism

@@ -181,6 +181,14 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     for (int attempt = 0; attempt < UNCAL_ATTEMPTS; attempt++) {
         sfm_uncal_options oa = o;
         oa.ransac.seed = o.ransac.seed + (uint64_t)attempt;
+        /* the last run with twice the threshold: on few triplets with many
+         * outliers RANSAC at the noise level can settle on a small subset;
+         * the accepted RMS stays the caller's */
+        if (attempt == UNCAL_ATTEMPTS - 1) {
+            oa.ransac.threshold = 2 * o.ransac.threshold;
+            if (!(oa.max_rms > 0))
+                oa.max_rms = o.ransac.threshold;
+        }
         memset(&rep, 0, sizeof rep);
         rep.n_input = n;
         rep.attempts = attempt + 1;
