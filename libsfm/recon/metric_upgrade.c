@@ -538,3 +538,33 @@ int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int h
         }
     return SFM_OK;
 }
+
+#define UNCAL_ATTEMPTS 3
+
+int sfmi_uncal_attempts(sfmi_uncal_once_fn once, void *ctx, const sfm_uncal_options *o, int n,
+                        sfm_pose est[3], double *f, sfm_uncal_report *rep)
+{
+    /* a tensor or F whose metric upgrade fails every check may be a RANSAC
+     * answer on part of the scene (a plane, a wrong cluster): the pipeline
+     * runs again from RANSAC with the next seeds */
+    int st = SFM_E_SINGULAR;
+    for (int attempt = 0; attempt < UNCAL_ATTEMPTS; attempt++) {
+        sfm_uncal_options oa = *o;
+        oa.ransac.seed = o->ransac.seed + (uint64_t)attempt;
+        /* the last run with twice the threshold: on few matches with many
+         * outliers RANSAC at the noise level can settle on a small subset */
+        if (attempt == UNCAL_ATTEMPTS - 1) {
+            oa.ransac.threshold = 2 * o->ransac.threshold;
+            if (!(oa.max_rms > 0))
+                oa.max_rms = o->ransac.threshold;
+        }
+        memset(rep, 0, sizeof *rep);
+        rep->n_input = n;
+        rep->attempts = attempt + 1;
+        st = once(ctx, &oa, est, f, rep);
+        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) ||
+            rep->stage == SFM_UNCAL_STAGE_RANSAC)
+            break;
+    }
+    return st;
+}

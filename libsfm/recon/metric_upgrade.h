@@ -53,6 +53,17 @@ int sfmi_uncal_options(const sfm_uncal_options *opt, sfm_uncal_options *o);
 int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int height, double *const xc[3],
                       sfm_uncal_report *rep);
 
+/* One run of a pipeline from RANSAC to the checked answer. */
+typedef int (*sfmi_uncal_once_fn)(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double *f,
+                                  sfm_uncal_report *rep);
+
+/* Runs once() up to 3 times while the metric stage fails (SFM_E_SINGULAR
+ * or SFM_E_NO_CONVERGENCE after RANSAC succeeded): with the seeds seed,
+ * seed + 1, seed + 2, the last at twice the threshold (the accepted RMS
+ * stays the caller's). rep is the last run's, rep->attempts the runs. */
+int sfmi_uncal_attempts(sfmi_uncal_once_fn once, void *ctx, const sfm_uncal_options *o, int n,
+                        sfm_pose est[3], double *f, sfm_uncal_report *rep);
+
 /* The answer's K (pixels, principal point (cx, cy)), X (n x 3 at the input
  * indices of the final inliers, zero elsewhere; may be NULL) and mask (n,
  * may be NULL) after a successful sfmi_mu_solve. */

@@ -62,8 +62,6 @@ int sfmi_uncal_check_options(const sfm_uncal_options *o)
     return SFM_OK;
 }
 
-#define UNCAL_ATTEMPTS 3
-
 size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
 {
     if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
@@ -148,6 +146,17 @@ static int attempt_once(tu_ws *w, int n, const sfm_uncal_options *o, int width, 
     return st;
 }
 
+typedef struct tu_ctx {
+    tu_ws *w;
+    int n, width, height;
+} tu_ctx;
+
+static int once3(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double *f, sfm_uncal_report *rep)
+{
+    tu_ctx *c = ctx;
+    return attempt_once(c->w, c->n, o, c->width, c->height, est, f, rep);
+}
+
 int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, const double *px3, int n,
                                       int width, int height, const sfm_uncal_options *opt,
                                       double K[9], sfm_pose poses[3], double *X, uint8_t *inlier_mask,
@@ -171,32 +180,11 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     if (st0 < 0)
         return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
-    /* retries: a tensor whose metric upgrade fails every check may be a
-     * RANSAC answer on part of the scene (a plane, a wrong cluster); the
-     * pipeline is run again from RANSAC with the next seeds */
     double f;
     sfm_pose est[3];
     sfmi_mu *mu = &w.mu;
-    int st = SFM_E_SINGULAR;
-    for (int attempt = 0; attempt < UNCAL_ATTEMPTS; attempt++) {
-        sfm_uncal_options oa = o;
-        oa.ransac.seed = o.ransac.seed + (uint64_t)attempt;
-        /* the last run with twice the threshold: on few triplets with many
-         * outliers RANSAC at the noise level can settle on a small subset;
-         * the accepted RMS stays the caller's */
-        if (attempt == UNCAL_ATTEMPTS - 1) {
-            oa.ransac.threshold = 2 * o.ransac.threshold;
-            if (!(oa.max_rms > 0))
-                oa.max_rms = o.ransac.threshold;
-        }
-        memset(&rep, 0, sizeof rep);
-        rep.n_input = n;
-        rep.attempts = attempt + 1;
-        st = attempt_once(&w, n, &oa, width, height, est, &f, &rep);
-        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) ||
-            rep.stage == SFM_UNCAL_STAGE_RANSAC)
-            break;
-    }
+    tu_ctx ctx = {&w, n, width, height};
+    int st = sfmi_uncal_attempts(once3, &ctx, &o, n, est, &f, &rep);
     if (st < 0)
         goto fail;
 

@@ -104,6 +104,95 @@ static double bougnoux(const double F[9])
     return f2 > 0 && isfinite(f2) ? sqrt(f2) : 0;
 }
 
+typedef struct twu_ctx {
+    twu_ws *w;
+    int n, width, height;
+} twu_ctx;
+
+/* One run from fundamental RANSAC to the checked metric answer. */
+static int once2(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double *f, sfm_uncal_report *rep)
+{
+    twu_ctx *c = ctx;
+    twu_ws *w = c->w;
+    const int n = c->n, width = c->width, height = c->height;
+    rep->stage = SFM_UNCAL_STAGE_RANSAC;
+    sfmi_mu *mu = &w->mu;
+    int cnt = sfm_ransac_fundamental(w->xc[0], w->xc[1], n, NULL, NULL, &o->ransac, mu->F[0], w->mask,
+                                     &rep->ransac, w->ransac_ws, w->ransac_size);
+    int st = cnt;
+    if (cnt < 0)
+        return st;
+    rep->ransac_inliers = cnt;
+    mu->thr = o->ransac.threshold;
+    mu->evaluations = 0;
+
+    /* inliers and their error under the canonical cameras of F:
+     * P1 = [I | 0], P2 = [[e']x F | e'] */
+    double e[3], P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, P2[12];
+    st = SFM_E_SINGULAR;
+    if (!left_null(mu->F[0], e))
+        return st;
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++) {
+            const double *F = mu->F[0];
+            double ex[9] = {0, -e[2], e[1], e[2], 0, -e[0], -e[1], e[0], 0};
+            P2[4 * r + k] = ex[3 * r] * F[k] + ex[3 * r + 1] * F[3 + k] + ex[3 * r + 2] * F[6 + k];
+        }
+        P2[4 * r + 3] = e[r];
+    }
+    int m = 0;
+    double se = 0;
+    for (int i = 0; i < n; i++) {
+        if (!w->mask[i])
+            continue;
+        double Xh[3];
+        int fl;
+        if (sfm_triangulate_optimal2(P1, P2, 1, &w->xc[0][2 * i], &w->xc[1][2 * i], Xh, &fl) < 0)
+            continue;
+        const double *Ps[2] = {P1, P2};
+        for (int v = 0; v < 2; v++) {
+            double y[3];
+            for (int r = 0; r < 3; r++)
+                y[r] = Ps[v][4 * r] * Xh[0] + Ps[v][4 * r + 1] * Xh[1] + Ps[v][4 * r + 2] * Xh[2] + Ps[v][4 * r + 3];
+            if (fabs(y[2]) > 0) {
+                double du = y[0] / y[2] - w->xc[v][2 * i], dv = y[1] / y[2] - w->xc[v][2 * i + 1];
+                se += du * du + dv * dv;
+            }
+        }
+        for (int v = 0; v < 2; v++) {
+            mu->x[v][2 * m] = w->xc[v][2 * i];
+            mu->x[v][2 * m + 1] = w->xc[v][2 * i + 1];
+        }
+        mu->idx[m] = i;
+        m++;
+    }
+    mu->m = m;
+    rep->projective_rms = m > 0 ? sqrt(se / (2.0 * m)) : 0;
+    if (m < 9)
+        return st;
+
+    /* Bougnoux for each camera (F and F^T), shared: their mean */
+    rep->stage = SFM_UNCAL_STAGE_SELFCAL;
+    {
+        double Ft[9];
+        for (int r = 0; r < 3; r++)
+            for (int k = 0; k < 3; k++)
+                Ft[3 * r + k] = mu->F[0][3 * k + r];
+        double f2 = bougnoux(mu->F[0]), f1 = bougnoux(Ft);
+        if (f1 > 0 && f2 > 0)
+            rep->focal_linear = 0.5 * (f1 + f2);
+        else
+            rep->focal_linear = f1 > 0 ? f1 : f2;
+        rep->linear_status = rep->focal_linear > 0 ? SFM_OK : SFM_E_SINGULAR;
+    }
+
+    const double *xall[3] = {w->xc[0], w->xc[1], NULL};
+    st = sfmi_mu_solve(mu, xall, n, rep->focal_linear, (double)(width > height ? width : height), o, est, f,
+                       rep);
+    rep->evaluations = mu->evaluations;
+    return st;
+}
+
 int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n, int width, int height,
                                     const sfm_uncal_options *opt, double K[9], sfm_pose poses[2],
                                     double *X, uint8_t *inlier_mask, sfm_uncal_report *report, void *ws,
@@ -128,81 +217,10 @@ int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n,
         return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
     sfmi_mu *mu = &w.mu;
-    int cnt = sfm_ransac_fundamental(w.xc[0], w.xc[1], n, NULL, NULL, &o.ransac, mu->F[0], w.mask,
-                                     &rep.ransac, w.ransac_ws, w.ransac_size);
-    int st = cnt;
-    if (cnt < 0)
-        goto fail;
-    rep.ransac_inliers = cnt;
-    mu->thr = o.ransac.threshold;
-    mu->evaluations = 0;
-
-    /* inliers and their error under the canonical cameras of F:
-     * P1 = [I | 0], P2 = [[e']x F | e'] */
-    double e[3], P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, P2[12];
-    st = SFM_E_SINGULAR;
-    if (!left_null(mu->F[0], e))
-        goto fail;
-    for (int r = 0; r < 3; r++) {
-        for (int k = 0; k < 3; k++) {
-            const double *F = mu->F[0];
-            double ex[9] = {0, -e[2], e[1], e[2], 0, -e[0], -e[1], e[0], 0};
-            P2[4 * r + k] = ex[3 * r] * F[k] + ex[3 * r + 1] * F[3 + k] + ex[3 * r + 2] * F[6 + k];
-        }
-        P2[4 * r + 3] = e[r];
-    }
-    int m = 0;
-    double se = 0;
-    for (int i = 0; i < n; i++) {
-        if (!w.mask[i])
-            continue;
-        double Xh[3];
-        int fl;
-        if (sfm_triangulate_optimal2(P1, P2, 1, &w.xc[0][2 * i], &w.xc[1][2 * i], Xh, &fl) < 0)
-            continue;
-        const double *Ps[2] = {P1, P2};
-        for (int v = 0; v < 2; v++) {
-            double y[3];
-            for (int r = 0; r < 3; r++)
-                y[r] = Ps[v][4 * r] * Xh[0] + Ps[v][4 * r + 1] * Xh[1] + Ps[v][4 * r + 2] * Xh[2] + Ps[v][4 * r + 3];
-            if (fabs(y[2]) > 0) {
-                double du = y[0] / y[2] - w.xc[v][2 * i], dv = y[1] / y[2] - w.xc[v][2 * i + 1];
-                se += du * du + dv * dv;
-            }
-        }
-        for (int v = 0; v < 2; v++) {
-            mu->x[v][2 * m] = w.xc[v][2 * i];
-            mu->x[v][2 * m + 1] = w.xc[v][2 * i + 1];
-        }
-        mu->idx[m] = i;
-        m++;
-    }
-    mu->m = m;
-    rep.projective_rms = m > 0 ? sqrt(se / (2.0 * m)) : 0;
-    if (m < 9)
-        goto fail;
-
-    /* Bougnoux for each camera (F and F^T), shared: their mean */
-    rep.stage = SFM_UNCAL_STAGE_SELFCAL;
-    {
-        double Ft[9];
-        for (int r = 0; r < 3; r++)
-            for (int k = 0; k < 3; k++)
-                Ft[3 * r + k] = mu->F[0][3 * k + r];
-        double f2 = bougnoux(mu->F[0]), f1 = bougnoux(Ft);
-        if (f1 > 0 && f2 > 0)
-            rep.focal_linear = 0.5 * (f1 + f2);
-        else
-            rep.focal_linear = f1 > 0 ? f1 : f2;
-        rep.linear_status = rep.focal_linear > 0 ? SFM_OK : SFM_E_SINGULAR;
-    }
-
     double f;
-    const double *xall[3] = {w.xc[0], w.xc[1], NULL};
     sfm_pose est[3];
-    st = sfmi_mu_solve(mu, xall, n, rep.focal_linear, (double)(width > height ? width : height), &o, est,
-                       &f, &rep);
-    rep.evaluations = mu->evaluations;
+    twu_ctx ctx = {&w, n, width, height};
+    int st = sfmi_uncal_attempts(once2, &ctx, &o, n, est, &f, &rep);
     if (st < 0)
         goto fail;
     sfmi_mu_outputs(mu, n, f, cx, cy, K, X, inlier_mask);
