@@ -72,7 +72,7 @@ int main(int argc, char **argv)
         sfm_uncal_options o;
         sfm_uncal_default_options(&o);
         o.ransac.seed = 1;
-        double K[9];
+        double K[27];
         sfm_pose poses[3];
         sfm_uncal_report rep;
         double t0 = now_ms();

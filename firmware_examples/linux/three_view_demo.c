@@ -443,7 +443,7 @@ int main(int argc, char **argv)
         uo.ransac = ro;
         sfm_uncal_report rep;
         memset(&rep, 0, sizeof rep);
-        double K[9];
+        double K[27];
         status = nt >= SFM_TRIFOCAL_MIN_POINTS
                      ? sfm_recon_three_view_uncalibrated(px1, px2, px3, nt, w, h, &uo, K, poses, NULL, inl, &rep,
                                                          ws, ws_size)
@@ -462,9 +462,9 @@ int main(int argc, char **argv)
                    K[0], K[2], K[5], status, rep.rms, 100 * rep.front_fraction, rep.parallax_deg);
             for (int v = 0; v < 3; v++) {
                 cams[v].model = SFM_CAMERA_PINHOLE;
-                cams[v].fx = cams[v].fy = K[0];
-                cams[v].cx = K[2];
-                cams[v].cy = K[5];
+                cams[v].fx = cams[v].fy = K[9 * v];
+                cams[v].cx = K[9 * v + 2];
+                cams[v].cy = K[9 * v + 5];
             }
             if (gt.have_cam[0])
                 printf("  against ground truth: fx %.2f, error %+.2f %%\n", gt.cam[0].fx,

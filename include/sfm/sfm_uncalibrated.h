@@ -89,6 +89,9 @@ typedef struct sfm_uncal_options {
                                   Huber loss makes far costs grow slower than a parabola) */
     double max_focal_sigma;    /* default 0.05 / 3 (three sigma within 5 %): largest
                                   relative standard deviation of f answered */
+    int per_view_focal;        /* default 0; 1: after the shared answer, one more
+                                  adjustment with a focal length per view, kept
+                                  when it passes the same checks */
     double min_parallax_deg;   /* default 0.5: median triangulation angle below it
                                   (rotation only) is SFM_E_SINGULAR */
 } sfm_uncal_options;
@@ -114,6 +117,7 @@ typedef struct sfm_uncal_report {
     double rms;                /* px, final inliers, sqrt(mean squared error per view) */
     double front_fraction;     /* final inlier points in front of every camera */
     double parallax_deg;       /* median over the points of the largest ray angle */
+    double focal_view[3];      /* px, the final focal length of each view */
 } sfm_uncal_report;
 
 /* Defaults listed above (ransac: sfm_ransac_default_options, threshold 1).
@@ -123,7 +127,8 @@ SFM_API int sfm_uncal_default_options(sfm_uncal_options *opt);
 /* Workspace bytes for n triplets; 0 when n is out of range. */
 SFM_API size_t sfm_recon_three_view_uncalibrated_workspace_size(int n);
 
-/* On success returns the final inlier count and writes K (3x3), poses[3],
+/* On success returns the final inlier count and writes K (3 x 9: one 3x3
+ * per view, equal unless options.per_view_focal), poses[3],
  * X (n x 3, may be NULL), inlier_mask (n, may be NULL); report (may be
  * NULL) is written on success and on the failures after the argument
  * checks. opt may be NULL.
@@ -134,14 +139,14 @@ SFM_API size_t sfm_recon_three_view_uncalibrated_workspace_size(int n);
  * Nothing but the report is written on failure. */
 SFM_API int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, const double *px3,
                                               int n, int width, int height,
-                                              const sfm_uncal_options *opt, double K[9],
+                                              const sfm_uncal_options *opt, double *K,
                                               sfm_pose poses[3], double *X, uint8_t *inlier_mask,
                                               sfm_uncal_report *report, void *ws, size_t ws_size);
 
-/* The same from pairs (n >= 8), poses[2]. */
+/* The same from pairs (n >= 8), K (2 x 9), poses[2]. */
 SFM_API size_t sfm_recon_two_view_uncalibrated_workspace_size(int n);
 SFM_API int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n, int width,
-                                            int height, const sfm_uncal_options *opt, double K[9],
+                                            int height, const sfm_uncal_options *opt, double *K,
                                             sfm_pose poses[2], double *X, uint8_t *inlier_mask,
                                             sfm_uncal_report *report, void *ws, size_t ws_size);
 

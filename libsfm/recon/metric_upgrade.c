@@ -129,6 +129,8 @@ static int build(sfmi_mu *c, const sfm_pose poses[3], double f)
 /* Metric bundle adjustment of poses, c->X and f (free or held) over the
  * observations of build(); *cost with the penalty of the inliers that did
  * not triangulate. */
+/* focal: 0 held, 1 one free focal length for all views, 2 one per view;
+ * f holds nv focal lengths for mode 2, f[0] otherwise. */
 static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
 {
     const int nv = c->nv, np = c->np, no = np * nv;
@@ -140,7 +142,7 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
         memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
         memcpy(&ts[3 * v], poses[v].t, 3 * sizeof(double));
         cams[v].model = SFM_CAMERA_PINHOLE;
-        cams[v].fx = cams[v].fy = *f;
+        cams[v].fx = cams[v].fy = free_focal == 2 ? f[v] : f[0];
     }
     sfm_ba_problem p = {nv, np, no, Rs, ts, cams, c->X, c->obs_cam, c->obs_pt, c->obs_xy, NULL, NULL, NULL};
     sfm_ba_options o;
@@ -152,7 +154,7 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     o.scale_distance = 1.0;
     o.max_iterations = max_it;
     if (free_focal) {
-        o.intrinsics = SFM_BA_INTRINSICS_SHARED;
+        o.intrinsics = free_focal == 2 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
         o.refine_intrinsics = SFM_BA_REFINE_FOCAL;
     }
     sfm_ba_result res;
@@ -163,7 +165,8 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
         memcpy(poses[v].R, &Rs[9 * v], 9 * sizeof(double));
         memcpy(poses[v].t, &ts[3 * v], 3 * sizeof(double));
     }
-    *f = cams[0].fx;
+    for (int v = 0; v < (free_focal == 2 ? nv : 1); v++)
+        f[v] = cams[v].fx;
     *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
     return SFM_OK;
 }
@@ -185,7 +188,7 @@ static double score(sfmi_mu *c, double f, sfm_pose poses[3])
 
 /* RMS reprojection error per view and share of points in front of every
  * camera, over the BA points of the current inliers. */
-static void quality(const sfmi_mu *c, const sfm_pose poses[3], double f, double *rms, double *front)
+static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv, double *rms, double *front)
 {
     double se = 0;
     int nf = 0;
@@ -201,7 +204,7 @@ static void quality(const sfmi_mu *c, const sfm_pose poses[3], double f, double 
                 ok = 0;
                 continue;
             }
-            double du = f * y[0] / y[2] - c->x[v][2 * j], dv = f * y[1] / y[2] - c->x[v][2 * j + 1];
+            double du = fv[v] * y[0] / y[2] - c->x[v][2 * j], dv = fv[v] * y[1] / y[2] - c->x[v][2 * j + 1];
             se += du * du + dv * dv;
         }
         nf += ok;
@@ -347,8 +350,8 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
         }
     }
 
-    double rms, front;
-    quality(c, cand, ff, &rms, &front);
+    double rms, front, fv[3] = {ff, ff, ff};
+    quality(c, cand, fv, &rms, &front);
     rep->focal = ff;
     rep->inliers = c->m;
     rep->rms = rms;
@@ -361,8 +364,34 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
     double max_rms = o->max_rms > 0 ? o->max_rms : c->thr;
     if (!(ff > 0) || !(front >= o->min_front) || !(rms <= max_rms))
         return SFM_E_NO_CONVERGENCE;
+    /* one focal length per view when asked: a last adjustment from the
+     * shared answer, kept when it passes the same checks */
+    if (o->per_view_focal) {
+        sfm_pose pp[3];
+        double fp[3] = {ff, ff, ff}, cp, rp, frp;
+        memcpy(pp, cand, sizeof pp);
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        int ok = adjust(c, pp, fp, 2, FINAL_ITERS, &cp) == SFM_OK;
+        for (int v = 0; v < nv && ok; v++)
+            ok = fp[v] > 0;
+        if (ok) {
+            quality(c, pp, fp, &rp, &frp);
+            ok = frp >= o->min_front && rp <= max_rms;
+        }
+        if (ok) {
+            memcpy(cand, pp, sizeof pp);
+            memcpy(fv, fp, sizeof fp);
+            rep->rms = rp;
+            rep->front_fraction = frp;
+        } else {
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+        }
+    }
     memcpy(poses, cand, (size_t)nv * sizeof(sfm_pose));
-    *f_out = ff;
+    for (int v = 0; v < nv; v++) {
+        f_out[v] = fv[v];
+        rep->focal_view[v] = fv[v];
+    }
     rep->stage = SFM_UNCAL_STAGE_DONE;
     return SFM_OK;
 }
@@ -493,11 +522,13 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     return st;
 }
 
-void sfmi_mu_outputs(const sfmi_mu *c, int n, double f, double cx, double cy, double K[9], double *X,
+void sfmi_mu_outputs(const sfmi_mu *c, int n, const double *f, double cx, double cy, double *K, double *X,
                      uint8_t *mask)
 {
-    const double Kout[9] = {f, 0, cx, 0, f, cy, 0, 0, 1};
-    memcpy(K, Kout, sizeof Kout);
+    for (int v = 0; v < c->nv; v++) {
+        const double Kout[9] = {f[v], 0, cx, 0, f[v], cy, 0, 0, 1};
+        memcpy(&K[9 * v], Kout, sizeof Kout);
+    }
     if (X != NULL) {
         memset(X, 0, sizeof(double) * 3 * (size_t)n);
         for (int k = 0; k < c->np; k++)

@@ -38,7 +38,7 @@ void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c);
 /* Runs sweep, starts and the final checks; fills report fields focal_sweep,
  * evaluations, path, profile_rise, focal, inliers, rms, front_fraction and
  * stage. xall: the nv full centred arrays (nmax x 2) for re-collection.
- * On success writes poses[nv], *f, and leaves the final inliers in c (x,
+ * On success writes poses[nv], f[nv] (equal unless per_view_focal), and leaves the final inliers in c (x,
  * idx, m) and their points in c->X / c->pidx / c->np. */
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
                   const sfm_uncal_options *o, sfm_pose poses[3], double *f, sfm_uncal_report *rep);
@@ -64,10 +64,11 @@ typedef int (*sfmi_uncal_once_fn)(void *ctx, const sfm_uncal_options *o, sfm_pos
 int sfmi_uncal_attempts(sfmi_uncal_once_fn once, void *ctx, const sfm_uncal_options *o, int n,
                         sfm_pose est[3], double *f, sfm_uncal_report *rep);
 
-/* The answer's K (pixels, principal point (cx, cy)), X (n x 3 at the input
+/* The answer's K per view (nv x 9, focal lengths f[nv], pixels, principal
+ * point (cx, cy)), X (n x 3 at the input
  * indices of the final inliers, zero elsewhere; may be NULL) and mask (n,
  * may be NULL) after a successful sfmi_mu_solve. */
-void sfmi_mu_outputs(const sfmi_mu *c, int n, double f, double cx, double cy, double K[9], double *X,
+void sfmi_mu_outputs(const sfmi_mu *c, int n, const double *f, double cx, double cy, double *K, double *X,
                      uint8_t *mask);
 
 #endif

@@ -47,6 +47,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
     opt->min_profile = 100;
     opt->min_parallax_deg = 0.5;
     opt->max_focal_sigma = 0.05 / 3;
+    opt->per_view_focal = 0;
     return SFM_OK;
 }
 
@@ -57,7 +58,7 @@ int sfmi_uncal_check_options(const sfm_uncal_options *o)
         !(o->focal_max > o->focal_min) || !isfinite(o->focal_max) || !(o->max_rms >= 0) ||
         !isfinite(o->max_rms) || !(o->min_front >= 0 && o->min_front <= 1) || !(o->min_profile >= 0) ||
         !isfinite(o->min_profile) ||
-        !(o->max_focal_sigma > 0) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
+        !(o->max_focal_sigma > 0) || (o->per_view_focal != 0 && o->per_view_focal != 1) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
         return SFM_E_ARGUMENT;
     return SFM_OK;
 }
@@ -159,7 +160,7 @@ static int once3(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double 
 
 int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, const double *px3, int n,
                                       int width, int height, const sfm_uncal_options *opt,
-                                      double K[9], sfm_pose poses[3], double *X, uint8_t *inlier_mask,
+                                      double *K, sfm_pose poses[3], double *X, uint8_t *inlier_mask,
                                       sfm_uncal_report *report, void *ws, size_t ws_size)
 {
     if (px1 == NULL || px2 == NULL || px3 == NULL || K == NULL || poses == NULL || ws == NULL ||
@@ -180,11 +181,11 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     if (st0 < 0)
         return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
-    double f;
+    double f[3];
     sfm_pose est[3];
     sfmi_mu *mu = &w.mu;
     tu_ctx ctx = {&w, n, width, height};
-    int st = sfmi_uncal_attempts(once3, &ctx, &o, n, est, &f, &rep);
+    int st = sfmi_uncal_attempts(once3, &ctx, &o, n, est, f, &rep);
     if (st < 0)
         goto fail;
 

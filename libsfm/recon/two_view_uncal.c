@@ -194,7 +194,7 @@ static int once2(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double 
 }
 
 int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n, int width, int height,
-                                    const sfm_uncal_options *opt, double K[9], sfm_pose poses[2],
+                                    const sfm_uncal_options *opt, double *K, sfm_pose poses[2],
                                     double *X, uint8_t *inlier_mask, sfm_uncal_report *report, void *ws,
                                     size_t ws_size)
 {
@@ -217,10 +217,10 @@ int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n,
         return st0;
     const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
     sfmi_mu *mu = &w.mu;
-    double f;
+    double f[3];
     sfm_pose est[3];
     twu_ctx ctx = {&w, n, width, height};
-    int st = sfmi_uncal_attempts(once2, &ctx, &o, n, est, &f, &rep);
+    int st = sfmi_uncal_attempts(once2, &ctx, &o, n, est, f, &rep);
     if (st < 0)
         goto fail;
     sfmi_mu_outputs(mu, n, f, cx, cy, K, X, inlier_mask);

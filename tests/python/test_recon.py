@@ -256,3 +256,13 @@ def test_three_view_uncalibrated_is_deterministic_and_reports():
         p = Y @ K.T
         se += np.sum((p[:, :2] / p[:, 2:] - x[a["inliers"], 2 * v:2 * v + 2]) ** 2)
     assert abs(np.sqrt(se / (3 * a["inliers"].sum())) - rep["rms"]) < 1e-6
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_uncalibrated_per_view_focal_herzjesu():
+    x = np.loadtxt(herz_triplets()[7])
+    r = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=1, per_view_focal=True)
+    f = r["K"][:, 0, 0]
+    print("\nHerz-Jesu-P8 per-view focal lengths:", np.round(f, 1), "(true %.1f)" % F_HERZ)
+    assert np.allclose(f, r["report"]["focal_view"])
+    assert np.all(np.abs(f / F_HERZ - 1) < 0.05)

@@ -77,7 +77,7 @@ static int run3(sfm_test_ctx *t, double sigma, double outliers, double tol, int 
     sfm_uncal_options o;
     sfm_uncal_default_options(&o);
     o.ransac.threshold = sigma > 0 ? 3 * sigma : 0.5;
-    double K[9], X[3 * NU];
+    double K[27], X[3 * NU];
     sfm_pose est[3];
     uint8_t mask[NU];
     sfm_uncal_report r;
@@ -119,12 +119,35 @@ SFM_TEST(uncal_three_view_noise_and_outliers)
     SFM_CHECK(2 * answered >= runs);
 }
 
+SFM_TEST(uncal_three_view_per_view_focal)
+{
+    scene(t, 0, 0.3, 0.1);
+    size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
+    sfm_uncal_options o;
+    sfm_uncal_default_options(&o);
+    o.per_view_focal = 1;
+    double K[27];
+    sfm_pose est[3];
+    sfm_uncal_report r;
+    int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, &o, K, est, NULL, NULL, &r,
+                                               ws, need);
+    SFM_CHECK(st > 0);
+    for (int v = 0; v < 3 && st > 0; v++) {
+        SFM_CHECK(fabs(K[9 * v] / FT - 1) < 0.05);
+        SFM_CHECK(K[9 * v] == r.focal_view[v]);
+    }
+    SFM_TEST_LOG("per-view focal lengths %.1f %.1f %.1f (true %.0f), rms %.3f", K[0], K[9], K[18], FT, r.rms);
+    o.per_view_focal = 2;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, &o, K, est, NULL,
+                                                       NULL, &r, ws, need), SFM_E_ARGUMENT);
+}
+
 SFM_TEST(uncal_three_view_critical_motions_are_failures)
 {
     size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
     for (int motion = 1; motion <= 3; motion++) {
         scene(t, motion, 0.3, 0.0);
-        double K[9] = {0}, X[3 * NU];
+        double K[27] = {0}, X[3 * NU];
         sfm_pose est[3];
         sfm_uncal_report r;
         int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, NULL, K, est, X,
@@ -140,7 +163,7 @@ SFM_TEST(uncal_three_view_contract)
 {
     scene(t, 0, 0.3, 0.0);
     size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
-    double K[9] = {0};
+    double K[27] = {0};
     sfm_pose est[3];
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated_workspace_size(6), 0);
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(NULL, px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
@@ -172,7 +195,7 @@ SFM_TEST(uncal_two_view_recovers_focal_or_fails)
         /* views 2 and 3: their optical axes are in no common plane (a pair
          * turning about one axis perpendicular to its baseline is critical
          * for Bougnoux's formula); view 3 holds the outliers */
-        double K[9] = {0};
+        double K[27] = {0};
         sfm_pose est[2];
         sfm_uncal_report r;
         sfm_uncal_options o;
@@ -204,7 +227,7 @@ SFM_TEST(uncal_two_view_coplanar_axes_are_failures)
     int answered = 0, wrong = 0;
     for (int k = 0; k < SFM_TEST_ITERS(5); k++) {
         scene(t, 0, 0.3, 0.0);
-        double K[9] = {0};
+        double K[27] = {0};
         sfm_pose est[2];
         sfm_uncal_report r;
         int st = sfm_recon_two_view_uncalibrated(px[0], px[2], NU, (int)WI, (int)HE, NULL, K, est, NULL, NULL, &r,
@@ -219,7 +242,7 @@ SFM_TEST(uncal_two_view_coplanar_axes_are_failures)
 SFM_TEST(uncal_two_view_contract)
 {
     size_t need = sfm_recon_two_view_uncalibrated_workspace_size(NU);
-    double K[9] = {0};
+    double K[27] = {0};
     sfm_pose est[2];
     SFM_CHECK_EQ_INT(sfm_recon_two_view_uncalibrated_workspace_size(7), 0);
     SFM_CHECK_EQ_INT(sfm_recon_two_view_uncalibrated(px[0], NULL, NU, 640, 480, NULL, K, est, NULL, NULL, NULL,
