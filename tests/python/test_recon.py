@@ -266,3 +266,21 @@ def test_three_view_uncalibrated_per_view_focal_herzjesu():
     print("\nHerz-Jesu-P8 per-view focal lengths:", np.round(f, 1), "(true %.1f)" % F_HERZ)
     assert np.allclose(f, r["report"]["focal_view"])
     assert np.all(np.abs(f / F_HERZ - 1) < 0.05)
+
+
+SYN = os.path.join(os.path.dirname(__file__), "..", "..", "build", "demo", "synthetic")
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(SYN, "ground_truth.txt")),
+                    reason="SKIP: build/demo/synthetic not rendered (make demo)")
+def test_reconstruct_three_view_images_on_the_rendered_room():
+    """The demo room (tools/gen_demo_scene.py, fx = fy = 500 at 640x480)."""
+    cv2 = pytest.importorskip("cv2")
+    files = sorted(f for f in os.listdir(SYN) if f.endswith(".pgm"))[:3]
+    imgs = [cv2.imread(os.path.join(SYN, f), cv2.IMREAD_GRAYSCALE) for f in files]
+    r = libsfm.reconstruct_three_view_images(*imgs, seed=1)
+    f = r["K"][0, 0, 0]
+    print("\nrendered room from images: f %.1f px (true 500), %d of %d triplets, RMS %.3f px"
+          % (f, r["report"]["inliers"], r["x"].shape[1], r["report"]["rms"]))
+    assert abs(f / 500.0 - 1) < 0.05
+    assert r["x"].shape[0] == 3 and r["inliers"].shape[0] == r["x"].shape[1]
