@@ -46,7 +46,13 @@ static void usage(FILE *f)
             "  --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3]\n"
             "                  intrinsics of all three views (pixels; Brown-Conrady\n"
             "                  distortion as OpenCV's when given); default: the\n"
-            "                  cameras of the --gt file\n"
+            "                  cameras of the --gt file; with neither, the camera is\n"
+            "                  self-calibrated (sfm_recon_three_view_uncalibrated: one\n"
+            "                  focal length, principal point at the image centre, no\n"
+            "                  distortion) and the run fails with a named status when\n"
+            "                  the three frames do not determine it\n"
+            "  --self-calibrate  self-calibrate even when the --gt file has cameras\n"
+            "                  (they are then only compared with the estimate)\n"
             "  --calib FILE    intrinsics of all three views from a calibration file:\n"
             "                  OpenCV FileStorage YAML/XML, ROS camera_info, Kalibr\n"
             "                  camchain, EuRoC sensor.yaml or KITTI calib.txt; a file\n"
@@ -211,7 +217,7 @@ int main(int argc, char **argv)
 {
     const char *dir = NULL, *gt_path = NULL, *ply_path = NULL;
     const char *calib_path = NULL, *calib_camera = NULL;
-    int max_features = 2000, have_cam = 0, calib_w = 0, calib_h = 0;
+    int max_features = 2000, have_cam = 0, calib_w = 0, calib_h = 0, force_uncal = 0;
     double threshold = 1.0, min_parallax = 0.1;
     unsigned long long seed = 1;
     sfm_camera cam_arg;
@@ -234,6 +240,8 @@ int main(int argc, char **argv)
             calib_path = argv[++i];
         } else if (strcmp(a, "--calib-camera") == 0 && v) {
             calib_camera = argv[++i];
+        } else if (strcmp(a, "--self-calibrate") == 0) {
+            force_uncal = 1;
         } else if (strcmp(a, "--gt") == 0 && v) {
             gt_path = argv[++i];
         } else if (strcmp(a, "--ply") == 0 && v) {
@@ -304,16 +312,15 @@ int main(int argc, char **argv)
     if (gt_path && read_gt(gt_path, &gt) != 0)
         return 2;
     sfm_camera cams[3];
+    int uncalibrated = force_uncal && !have_cam;
+    memset(cams, 0, sizeof cams);
     for (int v = 0; v < 3; v++) {
-        if (have_cam) {
+        if (have_cam)
             cams[v] = cam_arg;
-        } else if (gt.have_cam[v]) {
+        else if (gt.have_cam[v] && !force_uncal)
             cams[v] = gt.cam[v];
-        } else {
-            fprintf(stderr, "three_view_demo: no intrinsics for view %d: give --camera or a --gt file "
-                            "with 'camera' lines\n", v + 1);
-            return 2;
-        }
+        else
+            uncalibrated = 1;
     }
 
     /* Memory: keypoints and descriptors of the three views, the match lists,
@@ -354,12 +361,15 @@ int main(int argc, char **argv)
     }
 
     printf("three_view_demo: %s\n", dir);
-    for (int v = 0; v < 3; v++)
-        printf("  camera %d: fx %.3f fy %.3f cx %.3f cy %.3f%s\n", v + 1, cams[v].fx, cams[v].fy,
-               cams[v].cx, cams[v].cy,
-               cams[v].model == SFM_CAMERA_BROWN     ? " (Brown distortion)"
-               : cams[v].model == SFM_CAMERA_FISHEYE ? " (Kannala-Brandt fisheye)"
-                                                     : "");
+    if (uncalibrated)
+        printf("  camera: unknown, self-calibrated from the frames\n");
+    else
+        for (int v = 0; v < 3; v++)
+            printf("  camera %d: fx %.3f fy %.3f cx %.3f cy %.3f%s\n", v + 1, cams[v].fx, cams[v].fy,
+                   cams[v].cx, cams[v].cy,
+                   cams[v].model == SFM_CAMERA_BROWN     ? " (Brown distortion)"
+                   : cams[v].model == SFM_CAMERA_FISHEYE ? " (Kannala-Brandt fisheye)"
+                                                         : "");
 
     /* 1. Frames and features. Each frame is a borrowed view: features are
      * computed while it is held, then it goes back to the source. */
@@ -394,12 +404,13 @@ int main(int argc, char **argv)
                 goto done;
             }
             /* The largest workspace any step needs, for this frame size. */
-            size_t need[5] = {sfm_features_workspace_size(&fp, w, h),
+            size_t need[6] = {sfm_features_workspace_size(&fp, w, h),
                               sfm_features_match_workspace_size(cap, cap),
                               sfm_features_associate_workspace_size(cap, cap, cap),
                               sfm_recon_three_view_pose_workspace_size(cap),
-                              sfm_ransac_homography_workspace_size(cap)};
-            for (int k = 0; k < 5; k++)
+                              sfm_ransac_homography_workspace_size(cap),
+                              sfm_recon_three_view_uncalibrated_workspace_size(cap)};
+            for (int k = 0; k < 6; k++)
                 ws_size = need[k] > ws_size ? need[k] : ws_size;
             ws = malloc(ws_size);
             if (need[0] == 0 || ws == NULL) {
@@ -465,8 +476,50 @@ int main(int argc, char **argv)
     sfm_pose poses[3];
     sfm_ransac_stats st;
     memset(&st, 0, sizeof st);
-    status = sfm_recon_three_view_pose(px1, px2, px3, nt, &cams[0], &cams[1], &cams[2], &ro, poses,
-                                       inl, &st, ws, ws_size);
+    if (uncalibrated) {
+        /* No intrinsics: trifocal RANSAC, self-calibration, metric BA;
+         * every stage reported. The cameras found feed the steps below. */
+        sfm_uncal_options uo;
+        sfm_uncal_default_options(&uo);
+        uo.ransac = ro;
+        sfm_uncal_report rep;
+        memset(&rep, 0, sizeof rep);
+        double K[27];
+        status = nt >= SFM_TRIFOCAL_MIN_POINTS
+                     ? sfm_recon_three_view_uncalibrated(px1, px2, px3, nt, w, h, &uo, K, poses, NULL, inl, &rep,
+                                                         ws, ws_size)
+                     : SFM_E_SINGULAR;
+        static const char *const path[] = {"none", "linear (absolute dual quadric)", "focal sweep"};
+        printf("self-calibration: %d run(s) from RANSAC, %d trifocal inliers (projective RMS %.3f px)\n",
+               rep.attempts, rep.ransac_inliers, rep.projective_rms);
+        printf("  linear estimate: %s (f %.1f px), sweep best f %.1f px, %d metric adjustments\n",
+               rep.linear_status == SFM_OK ? "usable" : "unusable", rep.focal_linear, rep.focal_sweep,
+               rep.evaluations);
+        printf("  path: %s, far-profile rise %.3g, focal sigma %.2f %%\n",
+               rep.path >= 0 && rep.path <= 2 ? path[rep.path] : "?", rep.profile_rise, 100 * rep.focal_sigma);
+        if (status >= 0) {
+            printf("  focal length %.2f px, principal point (%.1f, %.1f), %d inliers, RMS %.3f px, "
+                   "%.1f %% in front, median parallax %.2f deg\n",
+                   K[0], K[2], K[5], status, rep.rms, 100 * rep.front_fraction, rep.parallax_deg);
+            for (int v = 0; v < 3; v++) {
+                cams[v].model = SFM_CAMERA_PINHOLE;
+                cams[v].fx = cams[v].fy = K[9 * v];
+                cams[v].cx = K[9 * v + 2];
+                cams[v].cy = K[9 * v + 5];
+            }
+            if (gt.have_cam[0])
+                printf("  against ground truth: fx %.2f, error %+.2f %%\n", gt.cam[0].fx,
+                       100 * (K[0] / gt.cam[0].fx - 1));
+        } else {
+            fprintf(stderr, "three_view_demo: self-calibration from %d triplets failed at stage %d: %s (%d)\n",
+                    nt, rep.stage, sfm_status_str(status), status);
+            goto done;
+        }
+        st = rep.ransac;
+    } else {
+        status = sfm_recon_three_view_pose(px1, px2, px3, nt, &cams[0], &cams[1], &cams[2], &ro, poses,
+                                           inl, &st, ws, ws_size);
+    }
     double t3 = now_ms();
     if (status < 0) {
         fprintf(stderr, "three_view_demo: three-view pose from %d triplets failed: %s (%d)\n", nt,

@@ -18,5 +18,8 @@
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_stereo.h"
+#include "sfm/sfm_factorize.h"
+#include "sfm/sfm_selfcal.h"
+#include "sfm/sfm_uncalibrated.h"
 
 #endif

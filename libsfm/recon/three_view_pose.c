@@ -9,6 +9,7 @@
 
 #include "core/arena.h"
 #include "core/linalg_util.h"
+#include "recon/projective.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
@@ -187,28 +188,10 @@ static int try_start(tv_ws *w, const sfm_camera *const cams[3], int m, const sfm
     est[2] = *p3;
     if (sfm_triangulate_midpoint(2, est, m, w->bear, w->X, w->flags) <= 0)
         return 0;
-    const double *b3 = &w->bear[(size_t)2 * m * 3];
-    double num = 0, den = 0;
-    const double *R3 = p3->R, *t3 = p3->t;
-    for (int j = 0; j < m; j++) {
-        if (w->flags[j] != 0)
-            continue;
-        const double *X = &w->X[3 * j], *b = &b3[3 * j];
-        double y[3], ca[3], cc[3];
-        for (int r = 0; r < 3; r++)
-            y[r] = R3[r * 3] * X[0] + R3[r * 3 + 1] * X[1] + R3[r * 3 + 2] * X[2];
-        ca[0] = b[1] * t3[2] - b[2] * t3[1];
-        ca[1] = b[2] * t3[0] - b[0] * t3[2];
-        ca[2] = b[0] * t3[1] - b[1] * t3[0];
-        cc[0] = b[1] * y[2] - b[2] * y[1];
-        cc[1] = b[2] * y[0] - b[0] * y[2];
-        cc[2] = b[0] * y[1] - b[1] * y[0];
-        num -= ca[0] * cc[0] + ca[1] * cc[1] + ca[2] * cc[2];
-        den += ca[0] * ca[0] + ca[1] * ca[1] + ca[2] * ca[2];
-    }
-    double s = num / den;
-    if (!(den > 0) || !isfinite(s))
+    double s = sfmi_third_view_scale(p3, m, w->X, w->flags, &w->bear[(size_t)2 * m * 3]);
+    if (!isfinite(s))
         return 0;
+    const double *t3 = p3->t;
     for (int r = 0; r < 3; r++)
         est[2].t[r] = s * t3[r];
     return polish(w, cams, m, est, cost) == SFM_OK;

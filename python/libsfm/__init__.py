@@ -58,6 +58,8 @@ from .ba import bundle_adjust
 from .robust import (RANSAC_DEFAULTS, estimate_absolute_pose, estimate_fundamental,
                      estimate_homography, estimate_relative_pose, estimate_relative_pose_upright)
 from . import calib  # noqa: F401
+from .recon import (factorize_projective, reconstruct_three_view, reconstruct_three_view_images,
+                    reconstruct_two_view, self_calibrate)
 from . import stereo as _stereo
 from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
                      homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)
@@ -89,5 +91,7 @@ __all__ = [
     "MATCH_DEFAULTS", "bundle_adjust",
     "poly_roots", "rot_from_axis_angle", "rot_to_axis_angle", "rot_from_quat", "rot_to_quat",
     "rot_nearest", "skew", "rot_angle_between", "POLY_MAX_DEGREE",
+    "factorize_projective", "self_calibrate", "reconstruct_three_view", "reconstruct_two_view",
+    "reconstruct_three_view_images",
     "linalg", "frames", "calib",
 ] + list(_stereo.__all__)

@@ -73,9 +73,14 @@ check "deterministic: a second run prints the same figures" 'cmp -s "$TMP/first.
 "$BIN" > /dev/null 2>&1
 rc=$?
 check "no directory: usage, exit 2" '[ $rc -eq 2 ]'
-"$BIN" "$DIR" > /dev/null 2>&1
+# No intrinsics: the camera is self-calibrated; the room's fx is 500 (its
+# ground truth), the answer must land within 5 % or the run must fail.
+"$BIN" "$DIR" > "$TMP/uncal.txt" 2>&1
 rc=$?
-check "no intrinsics: exit 2" '[ $rc -eq 2 ]'
+f_uncal=$(sed -n 's/^  focal length \([0-9.]*\) px.*/\1/p' "$TMP/uncal.txt")
+check "no intrinsics: self-calibrated, exit 0" '[ $rc -eq 0 ] && [ -n "$f_uncal" ]'
+check "no intrinsics: focal length within 5 % of 500 px (got $f_uncal)" \
+    'awk -v f="$f_uncal" "BEGIN { exit !(f > 475 && f < 525) }"'
 "$BIN" "$DIR" --camera 500,500,319.5 > /dev/null 2>&1
 rc=$?
 check "bad --camera: exit 2" '[ $rc -eq 2 ]'

@@ -1,0 +1,156 @@
+/*
+ * Uncalibrated reconstruction: metric cameras (K, R, t) and points from
+ * pixel matches of an unknown pinhole camera (zero skew, unit aspect ratio,
+ * principal point at the image centre ((width - 1) / 2, (height - 1) / 2),
+ * one focal length shared by the views, no distortion).
+ *
+ * Three views (sfm_recon_three_view_uncalibrated):
+ *  1. trifocal RANSAC on the centred pixels (sfm_ransac_trifocal: projective
+ *     cameras refined on the inliers by the gold-standard method);
+ *  2. linear self-calibration by the absolute dual quadric
+ *     (sfm_selfcal_linear) on those cameras, with the triangulated inliers
+ *     for its cheirality test; its focal length, when usable, is one start;
+ *  3. a focal sweep: for each of options.sweep_steps focal lengths spaced
+ *     logarithmically over [focal_min, focal_max] * max(width, height), the
+ *     metric cameras of that K (essential matrices K^T F21 K, K^T F31 K of
+ *     the tensor, decomposed with the cheirality choice, the third view
+ *     scaled by least squares) refined by a metric bundle adjustment with the
+ *     focal length held, scored by its final cost; then a golden-section
+ *     search on log f around the best candidate;
+ *  4. metric bundle adjustment with the focal length free from the linear
+ *     start and from the sweep's best (Huber loss at 2 thresholds, view 1
+ *     fixed, |t2| = 1); the lower cost wins and names the path;
+ *  5. the observability of f: the sweep's cost at focal lengths more than a
+ *     factor 1.5 away must exceed the best by options.min_profile times the
+ *     noise variance; otherwise (pure translation, parallel optical axes,
+ *     motion along the optical axis) f is not determined: SFM_E_SINGULAR;
+ *     the same when the profile's curvature at the answer (fixed-focal
+ *     costs at f e^{+-0.05}, the flatter side) puts the standard deviation of f above
+ *     options.max_focal_sigma (relative);
+ *  6. the inliers re-collected under the metric cameras (three-view error
+ *     below the threshold), one more bundle adjustment on them, and the
+ *     physical checks: f > 0, at least options.min_front of the inlier
+ *     points in front of every camera, RMS reprojection error at most
+ *     options.max_rms. A failed check is SFM_E_NO_CONVERGENCE, never an
+ *     answer. A median triangulation angle below options.min_parallax_deg
+ *     (rotation without translation: the focal length is then determined
+ *     but the translations are fitted to noise) is SFM_E_SINGULAR.
+ * When the metric stage fails (SFM_E_SINGULAR or SFM_E_NO_CONVERGENCE) the
+ * run is repeated from RANSAC with the seeds seed + 1 and seed + 2, the last
+ * with twice the threshold (a tensor fitted to part of the scene; the RMS
+ * accepted stays options.max_rms, or the first threshold); the report is the
+ * last run's.
+ * Two views (sfm_recon_two_view_uncalibrated): fundamental RANSAC with
+ * DEGENSAC, the focal length of F by Bougnoux's formula (S. Bougnoux, "From
+ * projective to Euclidean space under any practical situation, a criticism
+ * of self-calibration", ICCV 1998) as the linear start, then steps 3-6 with
+ * one essential matrix. Two views carry far less information on f than
+ * three (one constraint from the Kruppa equations with the priors): expect
+ * more failures, reported as such.
+ *
+ * Poses map view-1 coordinates to each camera, x_cam = R X + t; pose 0 is
+ * the identity, |t2| = 1. Points X (n x 3) in view-1 coordinates, written
+ * for the final inliers (zero for the others). Pixels: n x 2 row-major.
+ */
+#ifndef SFM_UNCALIBRATED_H
+#define SFM_UNCALIBRATED_H
+
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_ransac.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* report.path */
+#define SFM_UNCAL_PATH_NONE 0
+#define SFM_UNCAL_PATH_LINEAR 1 /* the linear (dual quadric or Bougnoux) start won */
+#define SFM_UNCAL_PATH_SWEEP 2  /* the focal sweep won (or the linear start was unusable) */
+
+/* report.stage: the last stage reached (where a failure happened) */
+#define SFM_UNCAL_STAGE_RANSAC 1
+#define SFM_UNCAL_STAGE_SELFCAL 2
+#define SFM_UNCAL_STAGE_SWEEP 3
+#define SFM_UNCAL_STAGE_BA 4
+#define SFM_UNCAL_STAGE_VALIDATE 5
+#define SFM_UNCAL_STAGE_DONE 6
+
+#define SFM_UNCAL_MAX_SWEEP 64
+
+typedef struct sfm_uncal_options {
+    sfm_ransac_options ransac; /* threshold: pixels per view */
+    int sweep_steps;           /* 2..SFM_UNCAL_MAX_SWEEP, default 17 */
+    double focal_min;          /* multiples of max(width, height), default 0.2 */
+    double focal_max;          /* default 5 */
+    double max_rms;            /* px, default 0 = the RANSAC threshold */
+    double min_front;          /* default 0.95 */
+    double min_profile;        /* default 100: the far rise, in noise variances, below
+                                  which a second focal length explains the data (the
+                                  Huber loss makes far costs grow slower than a parabola) */
+    double max_focal_sigma;    /* default 0.05 / 3 (three sigma within 5 %): largest
+                                  relative standard deviation of f answered */
+    int per_view_focal;        /* default 0; 1: after the shared answer, one more
+                                  adjustment with a focal length per view, kept
+                                  when it passes the same checks */
+    double min_parallax_deg;   /* default 0.5: median triangulation angle below it
+                                  (rotation only) is SFM_E_SINGULAR */
+} sfm_uncal_options;
+
+typedef struct sfm_uncal_report {
+    int stage;                 /* SFM_UNCAL_STAGE_* reached */
+    int attempts;              /* runs from RANSAC (a failed metric stage is retried
+                                  with the next seeds, at most 3 runs) */
+    int n_input;
+    int ransac_inliers;
+    sfm_ransac_stats ransac;
+    double projective_rms;     /* px, RANSAC inliers under the projective cameras */
+    int linear_status;         /* status of the linear start (SFM_OK when usable) */
+    int linear_flags;          /* SFM_SELFCAL_FLAG_* of the dual quadric (three views) */
+    double focal_linear;       /* px, 0 when unusable */
+    double focal_sweep;        /* px, best of the coarse sweep and its refinement */
+    int evaluations;           /* metric bundle adjustments run */
+    int path;                  /* SFM_UNCAL_PATH_* */
+    double profile_rise;       /* cost rise at f off by > 1.5x, in noise variances */
+    double focal_sigma;        /* relative standard deviation of f from the profile */
+    double focal;              /* px, final */
+    int inliers;               /* final inliers */
+    double rms;                /* px, final inliers, sqrt(mean squared error per view) */
+    double front_fraction;     /* final inlier points in front of every camera */
+    double parallax_deg;       /* median over the points of the largest ray angle */
+    double focal_view[3];      /* px, the final focal length of each view */
+} sfm_uncal_report;
+
+/* Defaults listed above (ransac: sfm_ransac_default_options, threshold 1).
+ * Statuses: SFM_OK, SFM_E_ARGUMENT (NULL). */
+SFM_API int sfm_uncal_default_options(sfm_uncal_options *opt);
+
+/* Workspace bytes for n triplets; 0 when n is out of range. */
+SFM_API size_t sfm_recon_three_view_uncalibrated_workspace_size(int n);
+
+/* On success returns the final inlier count and writes K (3 x 9: one 3x3
+ * per view, equal unless options.per_view_focal), poses[3],
+ * X (n x 3, may be NULL), inlier_mask (n, may be NULL); report (may be
+ * NULL) is written on success and on the failures after the argument
+ * checks. opt may be NULL.
+ * Statuses: SFM_E_ARGUMENT (NULL, n < 7, width or height < 2, bad option),
+ * SFM_E_NONFINITE, SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no tensor, or
+ * the metric answer failed a physical check), SFM_E_SINGULAR (the focal
+ * length or the poses are not determined by the data).
+ * Nothing but the report is written on failure. */
+SFM_API int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, const double *px3,
+                                              int n, int width, int height,
+                                              const sfm_uncal_options *opt, double *K,
+                                              sfm_pose poses[3], double *X, uint8_t *inlier_mask,
+                                              sfm_uncal_report *report, void *ws, size_t ws_size);
+
+/* The same from pairs (n >= 8), K (2 x 9), poses[2]. */
+SFM_API size_t sfm_recon_two_view_uncalibrated_workspace_size(int n);
+SFM_API int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n, int width,
+                                            int height, const sfm_uncal_options *opt, double *K,
+                                            sfm_pose poses[2], double *X, uint8_t *inlier_mask,
+                                            sfm_uncal_report *report, void *ws, size_t ws_size);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,601 @@
+/*
+ * The metric stage of the uncalibrated pipelines (see sfm_uncalibrated.h
+ * for the method and metric_upgrade.h for the interface).
+ *
+ * Candidate focal lengths are compared by the final cost of a metric bundle
+ * adjustment with the focal length held, so the comparison is between
+ * maximum-likelihood fits of the same observations (Huber loss; a point
+ * that cannot be triangulated under a candidate counts as an outlier at
+ * three thresholds).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/dmath.h"
+#include "core/linalg_util.h"
+#include "recon/metric_upgrade.h"
+#include "recon/projective.h"
+#include "sfm/sfm_ba.h"
+#include "sfm/sfm_camera.h"
+#include "sfm/sfm_pose.h"
+#include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_trifocal.h"
+
+#define SWEEP_ITERS 10  /* bundle adjustment steps per fixed-focal candidate */
+#define FINAL_ITERS 50
+#define GOLDEN_STEPS 8
+#define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
+#define NOISE_FLOOR 0.05
+#define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
+
+void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c)
+{
+    c->nv = nv;
+    c->nmax = nmax;
+    for (int v = 0; v < 3; v++)
+        c->x[v] = v < nv ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
+    c->idx = SFM_ARENA_ARRAY(a, int, nmax);
+    c->bear = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nv * nmax);
+    c->X = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nmax);
+    c->Xkeep = SFM_ARENA_ARRAY(a, double, 3 * (size_t)nmax);
+    c->flags = SFM_ARENA_ARRAY(a, int, nmax);
+    c->pidx = SFM_ARENA_ARRAY(a, int, nmax);
+    c->obs_cam = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
+    c->obs_pt = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
+    c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
+    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL};
+    c->ba_size = sfm_ba_workspace_size(&d);
+    c->ba_ws = sfm_arena_alloc(a, c->ba_size);
+}
+
+static void identity_pose(sfm_pose *p)
+{
+    memset(p, 0, sizeof *p);
+    p->R[0] = p->R[4] = p->R[8] = 1;
+}
+
+static void bearings(sfmi_mu *c, double f)
+{
+    for (int v = 0; v < c->nv; v++)
+        for (int j = 0; j < c->m; j++) {
+            double *b = &c->bear[((size_t)v * c->m + j) * 3];
+            b[0] = c->x[v][2 * j] / f;
+            b[1] = c->x[v][2 * j + 1] / f;
+            b[2] = 1;
+        }
+}
+
+/* Metric cameras of focal length f from the fundamental matrices:
+ * E = K^T F K, the cheirality choice of its four decompositions, the third
+ * translation scaled. 1 on success. */
+static int start_from_focal(sfmi_mu *c, double f, sfm_pose poses[3])
+{
+    bearings(c, f);
+    const double kd[3] = {f, f, 1};
+    double E[2][9];
+    for (int e = 0; e < c->nv - 1; e++)
+        for (int r = 0; r < 3; r++)
+            for (int k = 0; k < 3; k++)
+                E[e][3 * r + k] = kd[r] * c->F[e][3 * r + k] * kd[k];
+    sfm_pose cand[4];
+    identity_pose(&poses[0]);
+    const double *b1 = c->bear;
+    if (sfm_essential_to_poses(E[0], b1, &c->bear[(size_t)c->m * 3], c->m, cand, NULL) != 4)
+        return 0;
+    poses[1] = cand[0];
+    if (c->nv == 3) {
+        if (sfm_essential_to_poses(E[1], b1, &c->bear[(size_t)2 * c->m * 3], c->m, cand, NULL) != 4)
+            return 0;
+        if (sfm_triangulate_midpoint(2, poses, c->m, c->bear, c->X, c->flags) <= 0)
+            return 0;
+        double s = sfmi_third_view_scale(&cand[0], c->m, c->X, c->flags, &c->bear[(size_t)2 * c->m * 3]);
+        if (!isfinite(s))
+            return 0;
+        poses[2] = cand[0];
+        for (int r = 0; r < 3; r++)
+            poses[2].t[r] *= s;
+    }
+    return 1;
+}
+
+/* Triangulate (midpoint) the current inliers under poses and f and build
+ * the observations of the points that triangulate: c->X / c->pidx / c->np
+ * and the obs arrays. */
+static int build(sfmi_mu *c, const sfm_pose poses[3], double f)
+{
+    const int nv = c->nv;
+    bearings(c, f);
+    if (sfm_triangulate_midpoint(nv, poses, c->m, c->bear, c->X, c->flags) < 0)
+        return SFM_E_SINGULAR;
+    int np = 0, no = 0;
+    for (int j = 0; j < c->m; j++) {
+        if (c->flags[j] != 0)
+            continue;
+        memmove(&c->X[3 * np], &c->X[3 * j], 3 * sizeof(double));
+        c->pidx[np] = j;
+        for (int v = 0; v < nv; v++) {
+            c->obs_cam[no] = v;
+            c->obs_pt[no] = np;
+            c->obs_xy[2 * no] = c->x[v][2 * j];
+            c->obs_xy[2 * no + 1] = c->x[v][2 * j + 1];
+            no++;
+        }
+        np++;
+    }
+    c->np = np;
+    return np < SFM_TRIFOCAL_MIN_POINTS + 1 ? SFM_E_SINGULAR : SFM_OK;
+}
+
+/* Metric bundle adjustment of poses, c->X and f (free or held) over the
+ * observations of build(); *cost with the penalty of the inliers that did
+ * not triangulate. */
+/* focal: 0 held, 1 one free focal length for all views, 2 one per view;
+ * f holds nv focal lengths for mode 2, f[0] otherwise. */
+static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
+{
+    const int nv = c->nv, np = c->np, no = np * nv;
+    c->evaluations++;
+    double Rs[27], ts[9];
+    sfm_camera cams[3];
+    memset(cams, 0, sizeof cams);
+    for (int v = 0; v < nv; v++) {
+        memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
+        memcpy(&ts[3 * v], poses[v].t, 3 * sizeof(double));
+        cams[v].model = SFM_CAMERA_PINHOLE;
+        cams[v].fx = cams[v].fy = free_focal == 2 ? f[v] : f[0];
+    }
+    sfm_ba_problem p = {nv, np, no, Rs, ts, cams, c->X, c->obs_cam, c->obs_pt, c->obs_xy, NULL, NULL, NULL};
+    sfm_ba_options o;
+    sfm_ba_default_options(&o);
+    o.loss = SFM_BA_LOSS_HUBER;
+    o.loss_scale = 2.0 * c->thr;
+    o.scale_gauge = SFM_BA_SCALE_DISTANCE;
+    o.scale_camera = 1;
+    o.scale_distance = 1.0;
+    o.max_iterations = max_it;
+    if (free_focal) {
+        o.intrinsics = free_focal == 2 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
+        o.refine_intrinsics = SFM_BA_REFINE_FOCAL;
+    }
+    sfm_ba_result res;
+    int st = sfm_ba_solve(&p, &o, &res, NULL, 0, c->ba_ws, c->ba_size);
+    if (st < 0)
+        return st;
+    for (int v = 0; v < nv; v++) {
+        memcpy(poses[v].R, &Rs[9 * v], 9 * sizeof(double));
+        memcpy(poses[v].t, &ts[3 * v], 3 * sizeof(double));
+    }
+    for (int v = 0; v < (free_focal == 2 ? nv : 1); v++)
+        f[v] = cams[v].fx;
+    *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
+    return SFM_OK;
+}
+
+static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
+{
+    int st = build(c, poses, *f);
+    return st < 0 ? st : adjust(c, poses, f, free_focal, max_it, cost);
+}
+
+/* Fixed-focal score of f (INFINITY when no metric cameras follow). */
+static double score(sfmi_mu *c, double f, sfm_pose poses[3])
+{
+    double cost, ff = f;
+    if (!start_from_focal(c, f, poses) || refine(c, poses, &ff, 0, SWEEP_ITERS, &cost) != SFM_OK)
+        return INFINITY;
+    return cost;
+}
+
+/* RMS reprojection error per view and share of points in front of every
+ * camera, over the BA points of the current inliers. */
+static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv, double *rms, double *front)
+{
+    double se = 0;
+    int nf = 0;
+    for (int k = 0; k < c->np; k++) {
+        const double *X = &c->X[3 * k];
+        int j = c->pidx[k], ok = 1;
+        for (int v = 0; v < c->nv; v++) {
+            const double *R = poses[v].R, *t = poses[v].t;
+            double y[3];
+            for (int r = 0; r < 3; r++)
+                y[r] = R[3 * r] * X[0] + R[3 * r + 1] * X[1] + R[3 * r + 2] * X[2] + t[r];
+            if (!(y[2] > 0)) {
+                ok = 0;
+                continue;
+            }
+            double du = fv[v] * y[0] / y[2] - c->x[v][2 * j], dv = fv[v] * y[1] / y[2] - c->x[v][2 * j + 1];
+            se += du * du + dv * dv;
+        }
+        nf += ok;
+    }
+    *rms = c->np > 0 ? sqrt(se / (c->np * c->nv)) : (double)INFINITY;
+    *front = c->m > 0 ? (double)nf / c->m : 0.0;
+}
+
+/* Median over the BA points of the largest angle (degrees) between the
+ * rays from two camera centres. */
+static double median_parallax(const sfmi_mu *c, const sfm_pose poses[3], double *scratch)
+{
+    double C[3][3];
+    for (int v = 0; v < c->nv; v++)
+        for (int k = 0; k < 3; k++)
+            C[v][k] = -(poses[v].R[k] * poses[v].t[0] + poses[v].R[3 + k] * poses[v].t[1] +
+                        poses[v].R[6 + k] * poses[v].t[2]);
+    for (int p = 0; p < c->np; p++) {
+        const double *X = &c->X[3 * p];
+        double best = 0;
+        for (int a = 0; a < c->nv; a++)
+            for (int b = a + 1; b < c->nv; b++) {
+                double u[3], w[3];
+                for (int k = 0; k < 3; k++) {
+                    u[k] = X[k] - C[a][k];
+                    w[k] = X[k] - C[b][k];
+                }
+                double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+                double ang = sfmi_atan2(sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]),
+                                        u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+                if (ang > best)
+                    best = ang;
+            }
+        scratch[p] = best * (180.0 / 3.14159265358979323846);
+    }
+    /* median by selection (insertion sort on a small array is enough) */
+    for (int i = 1; i < c->np; i++) {
+        double v = scratch[i];
+        int j = i - 1;
+        while (j >= 0 && scratch[j] > v) {
+            scratch[j + 1] = scratch[j];
+            j--;
+        }
+        scratch[j + 1] = v;
+    }
+    return c->np > 0 ? scratch[c->np / 2] : 0.0;
+}
+
+/* Inliers of all n input points under metric cameras K [R | t]: the mean
+ * squared error per view after triangulation below thr^2. */
+static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_pose poses[3], double f)
+{
+    double P[3][12];
+    for (int v = 0; v < c->nv; v++)
+        for (int r = 0; r < 3; r++) {
+            double kr = r < 2 ? f : 1.0;
+            for (int k = 0; k < 3; k++)
+                P[v][4 * r + k] = kr * poses[v].R[3 * r + k];
+            P[v][4 * r + 3] = kr * poses[v].t[r];
+        }
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        double e2 = INFINITY;
+        if (c->nv == 3) {
+            if (sfm_trifocal_point_error(P[0], P[1], P[2], &xall[0][2 * i], &xall[1][2 * i],
+                                         &xall[2][2 * i], &e2, NULL) != SFM_OK)
+                e2 = INFINITY;
+        } else {
+            double Xh[3];
+            int fl;
+            if (sfm_triangulate_optimal2(P[0], P[1], 1, &xall[0][2 * i], &xall[1][2 * i], Xh, &fl) == 1) {
+                e2 = 0;
+                for (int v = 0; v < 2; v++) {
+                    double y[3];
+                    for (int r = 0; r < 3; r++)
+                        y[r] = P[v][4 * r] * Xh[0] + P[v][4 * r + 1] * Xh[1] + P[v][4 * r + 2] * Xh[2] + P[v][4 * r + 3];
+                    double du = y[0] / y[2] - xall[v][2 * i], dv = y[1] / y[2] - xall[v][2 * i + 1];
+                    e2 += du * du + dv * dv;
+                }
+            }
+        }
+        if (!(e2 / c->nv < c->thr * c->thr))
+            continue;
+        for (int v = 0; v < c->nv; v++) {
+            c->x[v][2 * m] = xall[v][2 * i];
+            c->x[v][2 * m + 1] = xall[v][2 * i + 1];
+        }
+        c->idx[m] = i;
+        m++;
+    }
+    c->m = m;
+    return m;
+}
+
+/* The final stage from one candidate: inliers re-collected under its
+ * metric cameras, a free-focal adjustment on them, the standard deviation
+ * of f from the profile's curvature and the physical checks. */
+static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
+                    const sfm_pose best[3], double best_f, sfm_pose poses[3], double *f_out,
+                    sfm_uncal_report *rep)
+{
+    const int nv = c->nv;
+    /* inliers under the metric cameras, one more adjustment, checks */
+    rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+    if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
+        return SFM_E_NO_CONVERGENCE;
+    double ff = best_f, cost;
+    sfm_pose cand[3];
+    memcpy(cand, best, sizeof cand);
+    int st = refine(c, cand, &ff, 1, FINAL_ITERS, &cost);
+    if (st < 0)
+        return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
+    /* noise variance of the final fit */
+    int nobsf = c->np * nv * 2, doff = c->np * 3 + 6 * (nv - 1);
+    double sigma2f = nobsf > doff ? 2 * cost / (nobsf - doff) : 0;
+    if (sigma2f < NOISE_FLOOR * NOISE_FLOOR)
+        sigma2f = NOISE_FLOOR * NOISE_FLOOR;
+    /* local curvature of the profile likelihood: the fixed-focal optimum at
+     * f e^{+-d}, started from the answer (its cameras and points), against
+     * the free optimum, on the final inliers; the chi-square rise
+     * on the flatter side gives the standard deviation of log f,
+     * d / sqrt(rise) */
+    {
+        const double d = 0.05;
+        double c0 = cost, cpm[2];
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        for (int sgn = 0; sgn < 2; sgn++) {
+            sfm_pose pp[3];
+            memcpy(pp, cand, sizeof pp);
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            double fd = ff * sfmi_exp(sgn ? -d : d);
+            int ast = adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]);
+            if (ast != SFM_OK)
+                cpm[sgn] = c0;
+        }
+        memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+        /* the flatter side: a profile steep on one side only does not pin f */
+        double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
+        rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
+        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
+            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+            return SFM_E_SINGULAR;
+        }
+    }
+
+    double rms, front, fv[3] = {ff, ff, ff};
+    quality(c, cand, fv, &rms, &front);
+    rep->focal = ff;
+    rep->inliers = c->m;
+    rep->rms = rms;
+    rep->front_fraction = front;
+    /* rotation alone: |t2| = 1 is then fitted to noise and the points go to
+     * infinity, their rays parallel */
+    rep->parallax_deg = median_parallax(c, cand, c->bear);
+    if (!(rep->parallax_deg >= o->min_parallax_deg))
+        return SFM_E_SINGULAR;
+    double max_rms = o->max_rms > 0 ? o->max_rms : c->thr;
+    if (!(ff > 0) || !(front >= o->min_front) || !(rms <= max_rms))
+        return SFM_E_NO_CONVERGENCE;
+    /* one focal length per view when asked: a last adjustment from the
+     * shared answer, kept when it passes the same checks */
+    if (o->per_view_focal) {
+        sfm_pose pp[3];
+        double fp[3] = {ff, ff, ff}, cp, rp, frp;
+        memcpy(pp, cand, sizeof pp);
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        int ok = adjust(c, pp, fp, 2, FINAL_ITERS, &cp) == SFM_OK;
+        for (int v = 0; v < nv && ok; v++)
+            ok = fp[v] > 0;
+        if (ok) {
+            quality(c, pp, fp, &rp, &frp);
+            ok = frp >= o->min_front && rp <= max_rms;
+        }
+        if (ok) {
+            memcpy(cand, pp, sizeof pp);
+            memcpy(fv, fp, sizeof fp);
+            rep->rms = rp;
+            rep->front_fraction = frp;
+        } else {
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+        }
+    }
+    memcpy(poses, cand, (size_t)nv * sizeof(sfm_pose));
+    for (int v = 0; v < nv; v++) {
+        f_out[v] = fv[v];
+        rep->focal_view[v] = fv[v];
+    }
+    rep->stage = SFM_UNCAL_STAGE_DONE;
+    return SFM_OK;
+}
+
+int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
+                  const sfm_uncal_options *o, sfm_pose poses[3], double *f_out, sfm_uncal_report *rep)
+{
+    const int nv = c->nv;
+    sfm_pose cand[3];
+    double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
+    const int K = o->sweep_steps;
+    const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
+    rep->stage = SFM_UNCAL_STAGE_SWEEP;
+    /* the search runs on an evenly strided subset of the inliers: costs of
+     * candidates are compared, not reported, and the final adjustment and
+     * the curvature run on every inlier */
+    const int m_all = c->m;
+    if (c->m > SEARCH_POINTS) {
+        int keep = 0;
+        for (int j = 0; j < c->m; j++) {
+            if ((long)j * SEARCH_POINTS / c->m == (long)keep) {
+                for (int v = 0; v < nv; v++) {
+                    c->x[v][2 * keep] = c->x[v][2 * j];
+                    c->x[v][2 * keep + 1] = c->x[v][2 * j + 1];
+                }
+                c->idx[keep] = c->idx[j];
+                keep++;
+            }
+        }
+        c->m = keep;
+    }
+
+    /* coarse sweep */
+    int kb = -1;
+    for (int k = 0; k < K; k++) {
+        fk[k] = sfmi_exp(u0 + (u1 - u0) * k / (K - 1));
+        ck[k] = score(c, fk[k], cand);
+        if (ck[k] < (double)INFINITY && (kb < 0 || ck[k] < ck[kb]))
+            kb = k;
+    }
+    if (kb < 0)
+        return SFM_E_SINGULAR;
+    /* golden-section search on log f between the neighbours of the best */
+    double a = sfmi_log(fk[kb > 0 ? kb - 1 : kb]), b = sfmi_log(fk[kb < K - 1 ? kb + 1 : kb]);
+    const double g = 0.5 * (sqrt(5.0) - 1);
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double s1 = score(c, sfmi_exp(x1), cand), s2 = score(c, sfmi_exp(x2), cand);
+    for (int it = 0; it < GOLDEN_STEPS; it++) {
+        if (s1 < s2) {
+            b = x2;
+            x2 = x1;
+            s2 = s1;
+            x1 = b - g * (b - a);
+            s1 = score(c, sfmi_exp(x1), cand);
+        } else {
+            a = x1;
+            x1 = x2;
+            s1 = s2;
+            x2 = a + g * (b - a);
+            s2 = score(c, sfmi_exp(x2), cand);
+        }
+    }
+    double f_sweep = s1 < s2 ? sfmi_exp(x1) : sfmi_exp(x2);
+    double c_sweep_fixed = fmin(s1, s2);
+    if (ck[kb] < c_sweep_fixed) {
+        f_sweep = fk[kb];
+        c_sweep_fixed = ck[kb];
+    }
+    rep->focal_sweep = f_sweep;
+
+    /* free-focal bundle adjustment from the linear start and from the
+     * sweep's best; the sweep's fixed-focal answer as a third candidate */
+    rep->stage = SFM_UNCAL_STAGE_BA;
+    double cost, fs[3] = {0, 0, 0}, cs[3] = {INFINITY, INFINITY, INFINITY};
+    sfm_pose sol[3][3];
+    for (int s = 0; s < 3; s++) {
+        double f0 = s == 0 ? f_linear : f_sweep;
+        if (!(f0 > 0) || !start_from_focal(c, f0, sol[s]))
+            continue;
+        double ff = f0;
+        if (refine(c, sol[s], &ff, s < 2, FINAL_ITERS, &cost) != SFM_OK || !(ff > 0))
+            continue;
+        fs[s] = ff;
+        cs[s] = cost;
+    }
+    /* candidates in order of cost (the fixed-focal one last), each checked
+     * in full; the first that passes is the answer */
+    const int np_search = c->np; /* validate() replaces the search subset */
+    int order[3] = {0, 1, 2};
+    if (cs[1] < cs[0]) {
+        order[0] = 1;
+        order[1] = 0;
+    }
+    int st = SFM_E_SINGULAR;
+    for (int k = 0; k < 3; k++) {
+        int s = order[k];
+        if (!(cs[s] < (double)INFINITY))
+            continue;
+        double best_f = fs[s];
+        /* observability of f: the fixed-focal cost far from the answer */
+        rep->stage = SFM_UNCAL_STAGE_BA;
+        double c_far = INFINITY;
+        for (int q = 0; q < K; q++)
+            if (fabs(sfmi_log(fk[q] / best_f)) > sfmi_log(FAR_FACTOR) && ck[q] < c_far)
+                c_far = ck[q];
+        int nobs = np_search * nv * 2, dof = np_search * 3 + 6 * (nv - 1);
+        double sigma2 = nobs > dof ? 2 * c_sweep_fixed / (nobs - dof) : 0;
+        if (sigma2 < NOISE_FLOOR * NOISE_FLOOR)
+            sigma2 = NOISE_FLOOR * NOISE_FLOOR;
+        /* a chi-square rise grows with the number of points: measured on
+         * the subset, it is scaled to every inlier */
+        rep->profile_rise = 2 * (c_far - fmin(c_sweep_fixed, cs[s])) / sigma2 * (double)m_all /
+                            (double)(np_search > 0 ? np_search : 1);
+        if (!(rep->profile_rise >= o->min_profile)) {
+            st = SFM_E_SINGULAR;
+            continue;
+        }
+        st = validate(c, xall, n, o, sol[s], best_f, poses, f_out, rep);
+        if (st == SFM_OK) {
+            int lin = s == 0 || (s == 1 && fs[0] > 0 && fabs(fs[1] / fs[0] - 1) < 0.01);
+            rep->path = lin ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;
+            return SFM_OK;
+        }
+        rep->path = s == 0 ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;
+        if (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE)
+            return st;
+    }
+    return st;
+}
+
+void sfmi_mu_outputs(const sfmi_mu *c, int n, const double *f, double cx, double cy, double *K, double *X,
+                     uint8_t *mask)
+{
+    for (int v = 0; v < c->nv; v++) {
+        const double Kout[9] = {f[v], 0, cx, 0, f[v], cy, 0, 0, 1};
+        memcpy(&K[9 * v], Kout, sizeof Kout);
+    }
+    if (X != NULL) {
+        memset(X, 0, sizeof(double) * 3 * (size_t)n);
+        for (int k = 0; k < c->np; k++)
+            memcpy(&X[3 * (size_t)c->idx[c->pidx[k]]], &c->X[3 * k], 3 * sizeof(double));
+    }
+    if (mask != NULL) {
+        memset(mask, 0, (size_t)n);
+        for (int j = 0; j < c->m; j++)
+            mask[c->idx[j]] = 1;
+    }
+}
+
+int sfmi_uncal_check_options(const sfm_uncal_options *o);
+
+int sfmi_uncal_options(const sfm_uncal_options *opt, sfm_uncal_options *o)
+{
+    if (opt != NULL)
+        *o = *opt;
+    else
+        sfm_uncal_default_options(o);
+    return sfmi_uncal_check_options(o) < 0 ? SFM_E_ARGUMENT : SFM_OK;
+}
+
+int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int height, double *const xc[3],
+                      sfm_uncal_report *rep)
+{
+    for (int v = 0; v < nv; v++)
+        if (!sfm_la_all_finite(px[v], 2 * (size_t)n))
+            return SFM_E_NONFINITE;
+    memset(rep, 0, sizeof *rep);
+    rep->n_input = n;
+    rep->stage = SFM_UNCAL_STAGE_RANSAC;
+    const double cx = 0.5 * (width - 1), cy = 0.5 * (height - 1);
+    for (int v = 0; v < nv; v++)
+        for (int i = 0; i < n; i++) {
+            xc[v][2 * i] = px[v][2 * i] - cx;
+            xc[v][2 * i + 1] = px[v][2 * i + 1] - cy;
+        }
+    return SFM_OK;
+}
+
+#define UNCAL_ATTEMPTS 3
+
+int sfmi_uncal_attempts(sfmi_uncal_once_fn once, void *ctx, const sfm_uncal_options *o, int n,
+                        sfm_pose est[3], double *f, sfm_uncal_report *rep)
+{
+    /* a tensor or F whose metric upgrade fails every check may be a RANSAC
+     * answer on part of the scene (a plane, a wrong cluster): the pipeline
+     * runs again from RANSAC with the next seeds */
+    int st = SFM_E_SINGULAR;
+    for (int attempt = 0; attempt < UNCAL_ATTEMPTS; attempt++) {
+        sfm_uncal_options oa = *o;
+        oa.ransac.seed = o->ransac.seed + (uint64_t)attempt;
+        /* the last run with twice the threshold: on few matches with many
+         * outliers RANSAC at the noise level can settle on a small subset */
+        if (attempt == UNCAL_ATTEMPTS - 1) {
+            oa.ransac.threshold = 2 * o->ransac.threshold;
+            if (!(oa.max_rms > 0))
+                oa.max_rms = o->ransac.threshold;
+        }
+        memset(rep, 0, sizeof *rep);
+        rep->n_input = n;
+        rep->attempts = attempt + 1;
+        st = once(ctx, &oa, est, f, rep);
+        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) ||
+            rep->stage == SFM_UNCAL_STAGE_RANSAC)
+            break;
+    }
+    return st;
+}

@@ -1,0 +1,398 @@
+/*
+ * Linear self-calibration by the absolute dual quadric (see sfm_selfcal.h).
+ * Q* is parameterized by its 10 upper-triangular entries in the order
+ * (00, 01, 02, 03, 11, 12, 13, 22, 23, 33).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core/linalg_util.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_selfcal.h"
+
+/* weights of Pollefeys et al.: zero skew and principal point 1/0.1, unit
+ * aspect 1/0.2, focal near the guess 1/9 */
+#define W_STRONG (1.0 / 0.1)
+#define W_ASPECT (1.0 / 0.2)
+#define W_WEAK (1.0 / 9.0)
+/* second null direction of the strong equations: a critical motion */
+#define AMBIGUOUS_RATIO 0.2
+#define FRONT_MIN 0.9
+
+static const int QI[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
+static const int QJ[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
+
+/* coefficients of w_ab = (P Q P^T)_ab in the 10 entries of Q */
+static void omega_row(const double P[12], int a, int b, double r[10])
+{
+    for (int k = 0; k < 10; k++) {
+        int i = QI[k], j = QJ[k];
+        r[k] = P[4 * a + i] * P[4 * b + j];
+        if (i != j)
+            r[k] += P[4 * a + j] * P[4 * b + i];
+    }
+}
+
+static void add_row(double A[100], const double r[10], double w)
+{
+    for (int a = 0; a < 10; a++)
+        for (int b = 0; b <= a; b++)
+            A[a * 10 + b] += w * w * r[a] * r[b];
+}
+
+/* W = P Q P^T (3x3) */
+static void omega(const double P[12], const double Q[16], double W[9])
+{
+    double PQ[12];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += P[4 * r + k] * Q[4 * k + c];
+            PQ[4 * r + c] = s;
+        }
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += PQ[4 * r + k] * P[4 * c + k];
+            W[3 * r + c] = s;
+        }
+}
+
+/* Upper-triangular K with K K^T = W (W positive definite, scaled so
+ * K_22 = 1). 0 when W is not positive definite. */
+static int upper_cholesky(const double Win[9], double K[9])
+{
+    if (!(Win[8] > 0))
+        return 0;
+    double W[9];
+    for (int k = 0; k < 9; k++)
+        W[k] = Win[k] / Win[8];
+    double cx = W[2], cy = W[5];
+    double fy2 = W[4] - cy * cy;
+    if (!(fy2 > 0))
+        return 0;
+    double fy = sqrt(fy2);
+    double s = (W[1] - cx * cy) / fy;
+    double fx2 = W[0] - cx * cx - s * s;
+    if (!(fx2 > 0))
+        return 0;
+    const double k[9] = {sqrt(fx2), s, cx, 0, fy, cy, 0, 0, 1};
+    memcpy(K, k, sizeof k);
+    return 1;
+}
+
+static double det3(const double M[9])
+{
+    return M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
+           M[2] * (M[3] * M[7] - M[4] * M[6]);
+}
+
+static void mul44(const double A[16], const double B[16], double C[16])
+{
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += A[4 * r + k] * B[4 * k + c];
+            C[4 * r + c] = s;
+        }
+}
+
+static void mul34_44(const double P[12], const double H[16], double out[12])
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 4; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += P[4 * r + k] * H[4 * k + c];
+            out[4 * r + c] = s;
+        }
+}
+
+/* A = B^{-1} for 4x4 by LU (copy). 0 when singular. */
+static int inv44(const double B[16], double A[16])
+{
+    double LU[16];
+    int piv[4];
+    memcpy(LU, B, sizeof LU);
+    if (sfm_lu_factor(LU, 4, piv) < 0)
+        return 0;
+    for (int k = 0; k < 16; k++)
+        A[k] = (k % 5 == 0) ? 1.0 : 0.0;
+    if (sfm_lu_solve(LU, piv, 4, A, 4) < 0)
+        return 0;
+    return sfm_la_all_finite(A, 16);
+}
+
+/* One weighted linear solve (two passes), rank 3, semi-definiteness and
+ * the focal lengths; flags in res. */
+static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double Q[16], double K1[9],
+                     sfm_selfcal_result *res, void *ews, size_t ews_size)
+{
+    /* two passes: unit weights, then rows divided by each view's w_22 */
+    double nu[SFM_SELFCAL_MAX_VIEWS], q[10], ev[4], V[16];
+    int st;
+    for (int i = 0; i < m; i++)
+        nu[i] = 1;
+    for (int pass = 0; pass < 2; pass++) {
+        double Aall[100] = {0}, Astrong[100] = {0};
+        for (int i = 0; i < m; i++) {
+            double r00[10], r11[10], r22[10], r01[10], r02[10], r12[10], d[10];
+            omega_row(Pc[i], 0, 0, r00);
+            omega_row(Pc[i], 1, 1, r11);
+            omega_row(Pc[i], 2, 2, r22);
+            omega_row(Pc[i], 0, 1, r01);
+            omega_row(Pc[i], 0, 2, r02);
+            omega_row(Pc[i], 1, 2, r12);
+            double iw = 1.0 / nu[i];
+            for (int k = 0; k < 10; k++)
+                d[k] = r00[k] - r11[k];
+            add_row(Astrong, d, W_ASPECT * iw);
+            add_row(Astrong, r01, W_STRONG * iw);
+            add_row(Astrong, r02, W_STRONG * iw);
+            add_row(Astrong, r12, W_STRONG * iw);
+            for (int k = 0; k < 10; k++)
+                d[k] = r00[k] - r22[k];
+            add_row(Aall, d, W_WEAK * iw);
+            for (int k = 0; k < 10; k++)
+                d[k] = r11[k] - r22[k];
+            add_row(Aall, d, W_WEAK * iw);
+        }
+        for (int k = 0; k < 100; k++)
+            Aall[k] = weak ? Aall[k] + Astrong[k] : Astrong[k];
+        double w10[10], V10[100];
+        st = sfm_sym_eig(Astrong, 10, w10, V10, ews, ews_size);
+        if (st < 0)
+            return st;
+        res->null_ratio = w10[1] > 0 ? sqrt(fmax(w10[0], 0) / w10[1]) : 1.0;
+        if (!(w10[1] > 1e-12 * w10[9]))
+            res->null_ratio = 1.0;
+        st = sfm_sym_eig(Aall, 10, w10, V10, ews, ews_size);
+        if (st < 0)
+            return st;
+        for (int k = 0; k < 10; k++)
+            q[k] = V10[k * 10];
+        for (int k = 0; k < 10; k++)
+            Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = q[k];
+        /* sign: Q* is positive semi-definite, so its trace is positive */
+        if (Q[0] + Q[5] + Q[10] + Q[15] < 0)
+            for (int k = 0; k < 16; k++)
+                Q[k] = -Q[k];
+        for (int i = 0; i < m; i++) {
+            double W[9];
+            omega(Pc[i], Q, W);
+            nu[i] = fabs(W[8]) > 1e-12 ? fabs(W[8]) : 1.0;
+        }
+    }
+    if (res->null_ratio > AMBIGUOUS_RATIO)
+        res->flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
+
+    /* rank 3 and semi-definiteness */
+    st = sfm_sym_eig(Q, 4, ev, V, ews, ews_size);
+    if (st < 0)
+        return st;
+    int small = 0;
+    for (int k = 1; k < 4; k++)
+        if (fabs(ev[k]) < fabs(ev[small]))
+            small = k;
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 4; k++)
+        if (k != small)
+            pos += ev[k] > 0, neg += ev[k] < 0;
+    double sgn = pos >= neg ? 1.0 : -1.0;
+    if (pos != 3 && neg != 3)
+        res->flags |= SFM_SELFCAL_FLAG_NOT_PSD;
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                if (k != small)
+                    s += V[4 * a + k] * sgn * ev[k] * V[4 * b + k];
+            Q[4 * a + b] = s;
+        }
+    /* every w*_i positive definite: the focal lengths */
+    for (int i = 0; i < m; i++) {
+        double W[9], Ki[9];
+        omega(Pc[i], Q, W);
+        if (!upper_cholesky(W, Ki)) {
+            res->flags |= SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
+            res->focal[i] = 0;
+            continue;
+        }
+        if (i == 0)
+            memcpy(K1, Ki, 9 * sizeof(double));
+        res->focal[i] = 0.5 * (Ki[0] + Ki[4]) * sc[i];
+    }
+    return SFM_OK;
+}
+
+int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const double *X, double *K,
+                       double H[16], sfm_selfcal_result *result)
+{
+    if (P == NULL || wh == NULL || K == NULL || H == NULL || m < 3 || m > SFM_SELFCAL_MAX_VIEWS ||
+        n < 0 || (n > 0 && X == NULL))
+        return SFM_E_ARGUMENT;
+    for (int i = 0; i < m; i++)
+        if (!(wh[2 * i] > 0) || !(wh[2 * i + 1] > 0))
+            return SFM_E_ARGUMENT;
+    if (!sfm_la_all_finite(P, 12 * (size_t)m) || !sfm_la_all_finite(wh, 2 * (size_t)m) ||
+        (n > 0 && !sfm_la_all_finite(X, 4 * (size_t)n)))
+        return SFM_E_NONFINITE;
+    unsigned char ews[2048]; /* sfm_sym_eig for n <= 10: 1663 bytes measured */
+    if (sfm_sym_eig_workspace_size(10) > sizeof ews)
+        return SFM_E_WORKSPACE; /* cannot happen: the 10x10 eigensolver is small */
+
+    sfm_selfcal_result res;
+    memset(&res, 0, sizeof res);
+
+    /* conditioned cameras Pn_i = N_i P_i */
+    double Pc[SFM_SELFCAL_MAX_VIEWS][12], sc[SFM_SELFCAL_MAX_VIEWS];
+    for (int i = 0; i < m; i++) {
+        double s = 0.5 * (wh[2 * i] + wh[2 * i + 1]);
+        double cx = 0.5 * (wh[2 * i] - 1), cy = 0.5 * (wh[2 * i + 1] - 1);
+        sc[i] = s;
+        const double *Pi = &P[12 * i];
+        for (int c = 0; c < 4; c++) {
+            Pc[i][c] = (Pi[c] - cx * Pi[8 + c]) / s;
+            Pc[i][4 + c] = (Pi[4 + c] - cy * Pi[8 + c]) / s;
+            Pc[i][8 + c] = Pi[8 + c];
+        }
+    }
+    /* frame: H0 = [Pn_1; C^T]^{-1} puts the first camera at [I | 0] */
+    double G[16] = {0}, ev[4], V[16];
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            for (int r = 0; r < 3; r++)
+                G[4 * a + b] += Pc[0][4 * r + a] * Pc[0][4 * r + b];
+    int st = sfm_sym_eig(G, 4, ev, V, ews, sizeof ews);
+    if (st < 0)
+        return st;
+    if (!(ev[1] > 1e-12 * ev[3]))
+        return SFM_E_SINGULAR;
+    double A4[16], H0[16];
+    memcpy(A4, Pc[0], 12 * sizeof(double));
+    for (int k = 0; k < 4; k++)
+        A4[12 + k] = V[4 * k];
+    if (!inv44(A4, H0))
+        return SFM_E_SINGULAR;
+    for (int i = 0; i < m; i++) {
+        double t[12];
+        mul34_44(Pc[i], H0, t);
+        memcpy(Pc[i], t, sizeof t);
+    }
+    /* balance the fourth coordinate against the first three */
+    double num = 0, den = 0;
+    for (int i = 1; i < m; i++)
+        for (int r = 0; r < 3; r++) {
+            for (int c = 0; c < 3; c++)
+                num += Pc[i][4 * r + c] * Pc[i][4 * r + c];
+            den += Pc[i][4 * r + 3] * Pc[i][4 * r + 3];
+        }
+    double lam = den > 1e-30 * num ? sqrt(num / (3 * den)) : 1.0;
+    for (int i = 0; i < m; i++)
+        for (int r = 0; r < 3; r++)
+            Pc[i][4 * r + 3] *= lam;
+    for (int r = 0; r < 4; r++)
+        H0[4 * r + 3] *= lam;
+    for (int i = 0; i < m; i++) {
+        double s = 0;
+        for (int k = 0; k < 12; k++)
+            s += Pc[i][k] * Pc[i][k];
+        s = 1 / sqrt(s);
+        for (int k = 0; k < 12; k++)
+            Pc[i][k] *= s;
+    }
+
+    /* the strong equations alone first (exact on exact data); when their
+     * solution is unusable, again with the weak focal prior added */
+    double Q[16], K1[9];
+    for (int weak = 0; weak < 2; weak++) {
+        res.flags = 0;
+        st = solve_adq(m, Pc, sc, weak, Q, K1, &res, ews, sizeof ews);
+        if (st < 0)
+            return st;
+        if (!(res.flags & (SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD)))
+            break;
+    }
+    if (res.flags & (SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD | SFM_SELFCAL_FLAG_AMBIGUOUS)) {
+        if (result != NULL)
+            *result = res;
+        return SFM_E_SINGULAR;
+    }
+    /* plane at infinity p from Q* = [w1, -w1 p; -p^T w1, p^T w1 p] with
+     * w1 = K1 K1^T (P_1 = [I | 0]), w1 taken at Q's own scale */
+    double w1[9], LU[9], pinf[3];
+    int piv[3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            w1[3 * r + c] = LU[3 * r + c] = Q[4 * r + c];
+    for (int r = 0; r < 3; r++)
+        pinf[r] = -Q[4 * r + 3];
+    if (sfm_lu_factor(LU, 3, piv) < 0 || sfm_lu_solve(LU, piv, 3, pinf, 1) < 0)
+        return SFM_E_SINGULAR;
+    (void)w1;
+    double H1[16] = {0};
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            H1[4 * r + c] = K1[3 * r + c];
+    for (int c = 0; c < 3; c++)
+        H1[12 + c] = -(pinf[0] * K1[c] + pinf[1] * K1[3 + c] + pinf[2] * K1[6 + c]);
+    H1[15] = 1;
+    double Ht[16];
+    mul44(H0, H1, Ht);
+
+    /* mirror by cheirality */
+    long front = 0, total = 0;
+    if (n > 0) {
+        double Hi[16];
+        if (!inv44(Ht, Hi))
+            return SFM_E_SINGULAR;
+        double dets[SFM_SELFCAL_MAX_VIEWS];
+        for (int i = 0; i < m; i++) {
+            double Pm[12], M[9];
+            mul34_44(&P[12 * i], Ht, Pm);
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    M[3 * r + c] = Pm[4 * r + c];
+            dets[i] = det3(M);
+        }
+        for (int j = 0; j < n; j++) {
+            const double *Xj = &X[4 * (size_t)j];
+            if (Xj[0] == 0 && Xj[1] == 0 && Xj[2] == 0 && Xj[3] == 0)
+                continue;
+            double T = Hi[12] * Xj[0] + Hi[13] * Xj[1] + Hi[14] * Xj[2] + Hi[15] * Xj[3];
+            for (int i = 0; i < m; i++) {
+                const double *Pi = &P[12 * i];
+                double w = Pi[8] * Xj[0] + Pi[9] * Xj[1] + Pi[10] * Xj[2] + Pi[11] * Xj[3];
+                front += dets[i] * w * T > 0;
+                total++;
+            }
+        }
+        if (total > 0 && 2 * front < total) {
+            for (int r = 0; r < 4; r++)
+                Ht[4 * r + 3] = -Ht[4 * r + 3];
+            front = total - front;
+            res.flags |= SFM_SELFCAL_FLAG_MIRRORED;
+        }
+        res.front_fraction = total > 0 ? (double)front / (double)total : 0.0;
+        if (total > 0 && res.front_fraction < FRONT_MIN) {
+            res.flags |= SFM_SELFCAL_FLAG_CHEIRALITY;
+            if (result != NULL)
+                *result = res;
+            return SFM_E_SINGULAR;
+        }
+    }
+    if (!sfm_la_all_finite(Ht, 16))
+        return SFM_E_SINGULAR;
+    for (int i = 0; i < m; i++) {
+        double cx = 0.5 * (wh[2 * i] - 1), cy = 0.5 * (wh[2 * i + 1] - 1);
+        const double k[9] = {res.focal[i], 0, cx, 0, res.focal[i], cy, 0, 0, 1};
+        memcpy(&K[9 * i], k, sizeof k);
+    }
+    memcpy(H, Ht, sizeof Ht);
+    if (result != NULL)
+        *result = res;
+    return SFM_OK;
+}

@@ -1,0 +1,11 @@
+# Uncalibrated three-view benchmark (bench/uncal_bench.c): make bench-uncal
+BENCH_STEPS += bench-uncal
+
+$(BUILD)/bench/uncal_bench: bench/uncal_bench.c $(BUILD)/libsfm.a $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	cc $(STD) $(OPT) $(WARN) $(CPPFLAGS_LIB) -o $@ $< $(BUILD)/libsfm.a -lm
+
+bench-uncal: $(BUILD)/bench/uncal_bench
+	$(BUILD)/bench/uncal_bench
+
+.PHONY: bench-uncal

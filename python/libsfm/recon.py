@@ -1,0 +1,203 @@
+"""Uncalibrated reconstruction: projective factorization, self-calibration by
+the absolute dual quadric, and the three- and two-view pipelines from pixels
+of an unknown camera (zero skew, unit aspect, principal point at the image
+centre, one focal length). Poses are world-to-camera, x_cam = R X + t, view 1
+the world frame, |t[1]| = 1."""
+import numpy as np
+
+from ._ffi import as_array, check, dptr, ffi, lib, workspace
+
+PATHS = {0: "none", 1: "linear", 2: "sweep"}
+STAGES = {1: "ransac", 2: "selfcal", 3: "sweep", 4: "ba", 5: "validate", 6: "done"}
+
+
+def factorize_projective(tracks, max_iterations=None, tolerance=None, ba_iterations=None):
+    """Sturm-Triggs projective factorization of (m, n, 2) pixel tracks, NaN
+    where a view does not see a track.
+
+    Returns dict(P (m,3,4), X (n,4) unit-norm homogeneous points (zero for
+    tracks seen in fewer than 2 views), reproj_rms (px, after the projective
+    bundle adjustment), factorization_rms (before it), ba_iterations, iterations,
+    converged, monotone, first_residual, last_residual, block_views,
+    block_points, points_recovered, n_observations), up to one projective
+    transform of space.
+    """
+    x = np.ascontiguousarray(np.asarray(tracks, dtype=np.float64))
+    if x.ndim != 3 or x.shape[2] != 2:
+        raise ValueError("tracks must have shape (m, n, 2), got %s" % (x.shape,))
+    m, n = x.shape[0], x.shape[1]
+    need = lib.sfm_factorize_workspace_size(m, n)
+    if need == 0:
+        raise ValueError("need 2..%d views and at least %d tracks, got (%d, %d)"
+                         % (lib.SFM_FACTORIZE_MAX_VIEWS, lib.SFM_FACTORIZE_MIN_BLOCK_POINTS, m, n))
+    opt = ffi.new("sfm_factorize_options *")
+    lib.sfm_factorize_default_options(opt)
+    if max_iterations is not None:
+        opt.max_iterations = int(max_iterations)
+    if tolerance is not None:
+        opt.tolerance = float(tolerance)
+    if ba_iterations is not None:
+        opt.ba_iterations = int(ba_iterations)
+    P = np.empty((m, 3, 4))
+    X = np.empty((n, 4))
+    res = ffi.new("sfm_factorize_result *")
+    buf, ws, size = workspace(need)
+    check(lib.sfm_factorize_projective(m, n, dptr(x), opt, dptr(P), dptr(X), res, ws, size),
+          "factorize_projective")
+    out = dict(P=P, X=X)
+    for k in ("reproj_rms", "factorization_rms", "ba_iterations", "ba_stop", "iterations", "converged", "monotone", "first_residual", "last_residual",
+              "block_views", "block_points", "points_recovered", "n_observations"):
+        out[k] = getattr(res, k)
+    out["converged"] = bool(out["converged"])
+    out["monotone"] = bool(out["monotone"])
+    return out
+
+
+def self_calibrate(P, image_sizes, X=None):
+    """Linear self-calibration (absolute dual quadric) of m >= 3 projective
+    cameras P (m,3,4) in pixels; image_sizes (m,2) or one (width, height).
+    X (n,4) homogeneous points, optional, resolves the mirror by cheirality.
+
+    Returns dict(K (m,3,3), H (4,4) with P_i H ~ K_i [R_i | t_i], path
+    ("linear"), flags, null_ratio, front_fraction). Raises SfmError when the
+    linear solution is unusable (the error's .flags says why: 1 not
+    semi-definite, 2 a w*_i not definite, 4 cheirality, 8 critical motion).
+    """
+    P = np.ascontiguousarray(np.asarray(P, dtype=np.float64))
+    if P.ndim != 3 or P.shape[1:] != (3, 4):
+        raise ValueError("P must have shape (m, 3, 4), got %s" % (P.shape,))
+    m = P.shape[0]
+    wh = np.asarray(image_sizes, dtype=np.float64)
+    if wh.shape == (2,):
+        wh = np.tile(wh, (m, 1))
+    wh = as_array(wh, (m, 2), "image_sizes")
+    if X is None:
+        n, Xa, Xp = 0, None, ffi.NULL
+    else:
+        Xa = as_array(X, (None, 4), "X")
+        n, Xp = Xa.shape[0], dptr(Xa)
+    K = np.empty((m, 3, 3))
+    H = np.empty((4, 4))
+    res = ffi.new("sfm_selfcal_result *")
+    st = lib.sfm_selfcal_linear(m, dptr(P), dptr(wh), n, Xp, dptr(K), dptr(H), res)
+    try:
+        check(st, "self_calibrate")
+    except Exception as e:
+        e.flags = res.flags
+        e.null_ratio = res.null_ratio
+        raise
+    return dict(K=K, H=H, path="linear", flags=res.flags, null_ratio=res.null_ratio,
+                front_fraction=res.front_fraction)
+
+
+def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal):
+    o = ffi.new("sfm_uncal_options *")
+    lib.sfm_uncal_default_options(o)
+    o.ransac.threshold = float(threshold_px)
+    o.ransac.seed = int(seed) & 0xFFFFFFFFFFFFFFFF
+    if max_iterations is not None:
+        o.ransac.max_iterations = int(max_iterations)
+    if max_focal_sigma is not None:
+        o.max_focal_sigma = float(max_focal_sigma)
+    if min_parallax_deg is not None:
+        o.min_parallax_deg = float(min_parallax_deg)
+    o.per_view_focal = 1 if per_view_focal else 0
+    return o
+
+
+def _report(r):
+    return dict(stage=STAGES.get(r.stage, r.stage), attempts=r.attempts, n_input=r.n_input, ransac_inliers=r.ransac_inliers,
+                ransac_iterations=r.ransac.iterations, projective_rms=r.projective_rms,
+                linear_status=r.linear_status, linear_flags=r.linear_flags, focal_linear=r.focal_linear,
+                focal_sweep=r.focal_sweep, evaluations=r.evaluations, path=PATHS.get(r.path, r.path),
+                focal_view=[r.focal_view[v] for v in range(3)], profile_rise=r.profile_rise, focal_sigma=r.focal_sigma, focal=r.focal, inliers=r.inliers,
+                rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg)
+
+
+def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
+         per_view_focal):
+    x1 = as_array(xs[0], (None, 2), "x1")
+    n = x1.shape[0]
+    xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
+    o = _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal)
+    size_fn = (lib.sfm_recon_three_view_uncalibrated_workspace_size if nv == 3
+               else lib.sfm_recon_two_view_uncalibrated_workspace_size)
+    need = size_fn(n)
+    if need == 0:
+        raise ValueError("need at least %d correspondences, got %d" % (7 if nv == 3 else 8, n))
+    K = np.zeros((nv, 3, 3))
+    poses = ffi.new("sfm_pose[3]")
+    X = np.zeros((n, 3))
+    mask = np.zeros(n, dtype=np.uint8)
+    rep = ffi.new("sfm_uncal_report *")
+    buf, ws, size = workspace(need)
+    mp = ffi.cast("uint8_t *", ffi.from_buffer(mask))
+    if nv == 3:
+        st = lib.sfm_recon_three_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), dptr(xs[2]), n, int(width),
+                                                   int(height), o, dptr(K), poses, dptr(X), mp, rep, ws, size)
+    else:
+        st = lib.sfm_recon_two_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), n, int(width), int(height), o,
+                                                 dptr(K), poses, dptr(X), mp, rep, ws, size)
+    try:
+        check(st, "reconstruct_%s_view" % ("three" if nv == 3 else "two"))
+    except Exception as e:
+        e.report = _report(rep)
+        raise
+    R = np.array([list(poses[v].R) for v in range(nv)]).reshape(nv, 3, 3)
+    t = np.array([list(poses[v].t) for v in range(nv)])
+    return dict(K=K, R=R, t=t, X=X, inliers=mask.astype(bool), report=_report(rep))
+
+
+def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, max_iterations=None,
+                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False):
+    """Metric cameras and points from (n,2) pixel triplets of one unknown
+    camera of image size width x height.
+
+    per_view_focal: after the shared answer, one focal length per view
+    (kept when it passes the same checks).
+    Returns dict(K (3,3,3), R (3,3,3), t (3,3), X (n,3) (zero off the
+    inliers), inliers (n,) bool, report dict (stage, path "linear" or
+    "sweep", focal_linear, focal_sweep, focal, focal_sigma, rms, ...)).
+    Raises SfmError when the data do not determine the answer or it fails a
+    physical check; the exception carries .report.
+    """
+    return _run(3, (x1, x2, x3), width, height, threshold_px, seed, max_iterations, max_focal_sigma,
+                min_parallax_deg, per_view_focal)
+
+
+def reconstruct_two_view(x1, x2, width, height, seed=0, threshold_px=1.0, max_iterations=None,
+                         max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False):
+    """The same from (n,2) pixel pairs: K (2,3,3), R (2,3,3), t (2,3), ..."""
+    return _run(2, (x1, x2), width, height, threshold_px, seed, max_iterations, max_focal_sigma,
+                min_parallax_deg, per_view_focal)
+
+
+def _gray(img, name):
+    a = np.asarray(img)
+    if a.ndim == 3 and a.shape[2] in (3, 4):
+        a = (a[..., :3].astype(np.float64) @ np.array([0.299, 0.587, 0.114])).round().clip(0, 255)
+        a = a.astype(np.uint8)
+    if a.ndim != 2 or a.dtype != np.uint8:
+        raise ValueError("%s must be a 2-D uint8 gray image (or RGB), got %s %s" % (name, a.shape, a.dtype))
+    return np.ascontiguousarray(a)
+
+
+def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=2000, threshold_px=1.0, **kw):
+    """reconstruct_three_view on three images of one size: features
+    (detect_and_describe), matching of the pairs 1-2, 2-3, 3-1 and the cyclic
+    three-view association in front of it. The result also has x (3, t, 2),
+    the associated pixel triplets."""
+    from .features import associate_three_views, detect_and_describe, match
+    imgs = [_gray(im, "img%d" % (k + 1)) for k, im in enumerate((img1, img2, img3))]
+    if not (imgs[0].shape == imgs[1].shape == imgs[2].shape):
+        raise ValueError("the three images must have one size")
+    feats = [detect_and_describe(im, max_features=max_features) for im in imgs]
+    m12 = match(feats[0][1], feats[1][1])
+    m23 = match(feats[1][1], feats[2][1])
+    m31 = match(feats[2][1], feats[0][1])
+    tri = associate_three_views(m12, m23, m31, len(feats[0][0]), len(feats[1][0]), len(feats[2][0]))
+    x = np.stack([feats[v][0][tri[:, v], :2] for v in range(3)])
+    h, w = imgs[0].shape
+    out = reconstruct_three_view(x[0], x[1], x[2], w, h, seed=seed, threshold_px=threshold_px, **kw)
+    out["x"] = x
+    return out

@@ -1,0 +1,286 @@
+"""Uncalibrated reconstruction through the binding: projective factorization
+(synthetic tracks with missing observations, Oxford Model House against its
+ground-truth cameras), linear self-calibration (synthetic table over noise
+levels, a critical sequence refused), the three- and two-view pipelines on
+Herz-Jesu-P8 match triplets against the known focal length, and the
+BoofCV triplets from images."""
+import os
+
+import numpy as np
+import pytest
+
+import libsfm
+from test_three_view_herzjesu import triplets as herz_index
+
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data")
+HOUSE = os.path.join(ROOT, "oxford-house")
+HERZ = os.path.join(ROOT, "herzjesu-p8")
+BOOF = os.path.join(ROOT, "boofcv-triple", "triple")
+F_HERZ = 2759.48  # K.txt of Herz-Jesu-P8, fx at 3072x2048
+
+
+def rot(aa):
+    th = np.linalg.norm(aa)
+    if th == 0:
+        return np.eye(3)
+    k = aa / th
+    Kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(th) * Kx + (1 - np.cos(th)) * Kx @ Kx
+
+
+def scene(rng, m=5, n=120, f=800.0, w=640, h=480, sigma=0.0):
+    """Cameras turning about two axes around a cloud; returns tracks (m,n,2),
+    clean projections and the metric cameras."""
+    K = np.array([[f, 0, (w - 1) / 2], [0, f, (h - 1) / 2], [0, 0, 1]])
+    Ps = []
+    for i in range(m):
+        aa = np.array([0.12 * np.sin(i), 0.2 * (i - (m - 1) / 2) / m * 2, 0.03 * i]) if i else np.zeros(3)
+        C = np.array([0.6 * (i - (m - 1) / 2), 0.4 * np.cos(i), 0.1 * i]) if i else np.zeros(3)
+        R = rot(aa)
+        Ps.append(K @ np.c_[R, -R @ C])
+    X = np.c_[rng.uniform(-2, 2, n), rng.uniform(-1.5, 1.5, n), rng.uniform(5, 9, n), np.ones(n)]
+    clean = np.stack([(X @ P.T)[:, :2] / (X @ P.T)[:, 2:] for P in Ps])
+    return clean + rng.normal(0, sigma, clean.shape), clean, np.array(Ps)
+
+
+def reproj_rms(P, X, x):
+    se, c = 0.0, 0
+    for i in range(len(P)):
+        y = X @ P[i].T
+        ok = ~np.isnan(x[i, :, 0]) & np.any(X != 0, axis=1)
+        p = y[ok, :2] / y[ok, 2:]
+        se += np.sum((p - x[i, ok]) ** 2)
+        c += ok.sum()
+    return np.sqrt(se / c)
+
+
+def test_factorize_missing_observations_reaches_the_noise():
+    rng = np.random.default_rng(14)
+    x, clean, _ = scene(rng, sigma=0.5)
+    drop = rng.uniform(size=x.shape[:2]) < 0.3
+    drop[:2] = False  # every track keeps two views
+    x[drop] = np.nan
+    r = libsfm.factorize_projective(x)
+    assert r["P"].shape == (5, 3, 4) and r["X"].shape == (120, 4)
+    assert r["points_recovered"] == 120
+    assert r["reproj_rms"] <= r["factorization_rms"] + 1e-12
+    # against the noise-free projections: at the noise floor (0.5 px per axis)
+    assert reproj_rms(r["P"], r["X"], np.where(np.isnan(x), np.nan, clean)) < 0.6
+    with pytest.raises(ValueError):
+        libsfm.factorize_projective(x[:, :, 0])
+
+
+def load_house():
+    m = 10
+    corners = [np.loadtxt(os.path.join(HOUSE, "2D", "house.%03d.corners" % i)) for i in range(m)]
+    rows = [line.split() for line in open(os.path.join(HOUSE, "2D", "house.nview-corners"))]
+    x = np.full((m, len(rows), 2), np.nan)
+    for j, r in enumerate(rows):
+        for i, v in enumerate(r):
+            if v not in ("*", "-1"):
+                x[i, j] = corners[i][int(v)]
+    P = np.array([np.loadtxt(os.path.join(HOUSE, "3D", "house.%03d.P" % i)) for i in range(m)])
+    X = np.loadtxt(os.path.join(HOUSE, "3D", "house.p3d"))
+    return x, P, np.c_[X, np.ones(len(X))]
+
+
+@pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
+def test_factorize_oxford_house_at_or_below_ground_truth_rms():
+    x, P, X = load_house()
+    gt = reproj_rms(P, X, x)
+    r = libsfm.factorize_projective(x)
+    print("\nOxford house: %d tracks, %d observations; block %dx%d, %d iterations (monotone %s); "
+          "factorization %.4f px, after projective BA %.4f px (%d steps); ground-truth cameras %.4f px"
+          % (x.shape[1], r["n_observations"], r["block_views"], r["block_points"], r["iterations"],
+             r["monotone"], r["factorization_rms"], r["reproj_rms"], r["ba_iterations"], gt))
+    assert r["points_recovered"] == x.shape[1]
+    assert abs(reproj_rms(r["P"], r["X"], x) - r["reproj_rms"]) < 1e-9
+    assert r["reproj_rms"] <= gt
+
+
+@pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
+def test_self_calibrate_oxford_house_gives_no_wrong_focal():
+    """The house sequence moves forward with little rotation, near-critical
+    for the linear dual-quadric method (and its focal length changes from
+    view to view): the linear method must refuse or be right."""
+    x, P, _ = load_house()
+    r = libsfm.factorize_projective(x)
+    try:
+        s = libsfm.self_calibrate(r["P"], (768, 576), r["X"])
+    except libsfm.SfmError as e:
+        print("\nOxford house self-calibration refused: flags %d, null ratio %.3f" % (e.flags, e.null_ratio))
+        assert e.flags & 8
+        return
+    fgt = [np.linalg.qr(np.linalg.inv(Pi[:, :3]))[1] for Pi in P]
+    for K, R in zip(s["K"], fgt):
+        Kg = np.linalg.inv(R)
+        Kg = Kg / Kg[2, 2]
+        assert abs(K[0, 0] / abs(Kg[0, 0]) - 1) < 0.05
+
+
+def test_self_calibrate_table_over_noise():
+    rng = np.random.default_rng(7)
+    rows = []
+    for sigma in (0.0, 0.25, 0.5, 1.0):
+        errs, refused = [], 0
+        for _ in range(10):
+            x, _, _ = scene(rng, sigma=sigma)
+            r = libsfm.factorize_projective(x)
+            try:
+                s = libsfm.self_calibrate(r["P"], (640, 480), r["X"])
+            except libsfm.SfmError:
+                refused += 1
+                continue
+            errs.append(np.median(np.abs(s["K"][:, 0, 0] / 800.0 - 1)))
+        rows.append((sigma, np.median(errs) if errs else np.nan, np.max(errs) if errs else np.nan, refused))
+    print("\nlinear self-calibration, 5 views, f = 800 px: sigma px | median |f err| | max | refused of 10")
+    for row in rows:
+        print("  %.2f | %.4f | %.4f | %d" % row)
+    assert rows[0][2] < 0.01 and rows[0][3] == 0
+    med = [r[1] for r in rows]
+    assert med[1] < 0.05 and med[3] < 0.15
+    assert med[3] >= med[0]
+
+
+def test_reconstruct_three_view_pure_rotation_is_an_error():
+    rng = np.random.default_rng(3)
+    K = np.array([[700, 0, 319.5], [0, 700, 239.5], [0, 0, 1]])
+    X = np.c_[rng.uniform(-2, 2, 100), rng.uniform(-1.5, 1.5, 100), rng.uniform(5, 9, 100)]
+    xs = []
+    for aa in ([0, 0, 0], [0.02, 0.15, 0], [0.1, -0.1, 0.03]):
+        y = X @ (K @ rot(np.array(aa, float))).T
+        xs.append(y[:, :2] / y[:, 2:] + rng.normal(0, 0.3, (100, 2)))
+    with pytest.raises(libsfm.SfmError) as e:
+        libsfm.reconstruct_three_view(xs[0], xs[1], xs[2], 640, 480)
+    assert e.value.report["stage"] in ("ba", "validate")
+    with pytest.raises(ValueError):
+        libsfm.reconstruct_three_view(xs[0], xs[1][:50], xs[2], 640, 480)
+
+
+def herz_triplets():
+    """Paths of the match triplets listed in the data set's index."""
+    return [os.path.join(HERZ, "triplets", "triplet_%s_%s_%s.txt" % t) for t in herz_index()]
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_uncalibrated_herzjesu():
+    errs, failed, paths = [], 0, {}
+    for path in herz_triplets():
+        x = np.loadtxt(path)
+        try:
+            r = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=1)
+        except libsfm.SfmError:
+            failed += 1
+            continue
+        errs.append(r["K"][0, 0, 0] / F_HERZ - 1)
+        paths[r["report"]["path"]] = paths.get(r["report"]["path"], 0) + 1
+    errs = np.abs(errs)
+    n = len(herz_triplets())
+    within = int(np.sum(errs < 0.05))
+    print("\nHerz-Jesu-P8 uncalibrated three-view: %d of %d within 5 %% (%.1f %%), %d refused, %d wrong "
+          "answers returned as success, median |f error| %.4f, paths %s (BoofCV 1.2.2: 13 of 56)"
+          % (within, n, 100.0 * within / n, failed, len(errs) - within, np.median(errs), paths))
+    assert len(errs) - within == 0
+    assert within >= 0.9 * n
+    assert np.median(errs) < 0.01
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_two_view_uncalibrated_herzjesu():
+    errs, failed = [], 0
+    for path in herz_triplets():
+        x = np.loadtxt(path)
+        try:
+            r = libsfm.reconstruct_two_view(x[:, 0:2], x[:, 2:4], 3072, 2048, seed=1)
+        except libsfm.SfmError:
+            failed += 1
+            continue
+        errs.append(abs(r["K"][0, 0, 0] / F_HERZ - 1))
+    errs = np.array(errs)
+    n = len(herz_triplets())
+    within = int(np.sum(errs < 0.05))
+    print("\nHerz-Jesu-P8 uncalibrated two-view (views 1, 2 of each triplet): %d of %d within 5 %%, "
+          "%d refused, %d wrong answers, median |f error| %.4f" % (within, n, failed, len(errs) - within,
+                                                                 np.median(errs)))
+    assert within >= 0.6 * n
+    assert len(errs) - within <= max(1, len(errs) // 20)
+
+
+BOOF_F = dict(bobcats=1141.5, books=999.5, chicken=1128.4, minecraft_cave1=543.5, minecraft_distant=212.4,
+              mono_wall=759.8, pebbles=480.9, rock_leaves=690.9, rockview=591.4, skull=1059.1,
+              triflowers=460.9, turkey=603.9)
+
+
+@pytest.mark.skipif(not os.path.isdir(BOOF), reason="SKIP: ../shared/data/boofcv-triple not found")
+def test_boofcv_triplets_from_images():
+    cv2 = pytest.importorskip("cv2")
+    print("\nBoofCV triplets (name: ours | BoofCV 1.2.2 shared focal)")
+    answered = 0
+    for name, fb in sorted(BOOF_F.items()):
+        imgs = [cv2.imread(os.path.join(BOOF, "%s_%02d.jpg" % (name, k)), cv2.IMREAD_GRAYSCALE) for k in (1, 2, 3)]
+        assert all(im is not None for im in imgs)
+        try:
+            r = libsfm.reconstruct_three_view_images(*imgs, seed=1)
+        except libsfm.SfmError as e:
+            rep = e.report
+            print("  %-18s refused at %s (%d triplets, %d trifocal inliers, focal sigma %.3f) | %.1f"
+                  % (name, rep["stage"], rep["n_input"], rep["ransac_inliers"], rep["focal_sigma"], fb))
+            continue
+        answered += 1
+        rep = r["report"]
+        f = r["K"][0, 0, 0]
+        print("  %-18s f %.1f, %d inliers, RMS %.3f px, path %s | %.1f" % (name, f, rep["inliers"], rep["rms"],
+                                                                          rep["path"], fb))
+        assert rep["rms"] <= 1.0 and rep["front_fraction"] >= 0.95
+        if name == "mono_wall":  # chessboard calibration fx 701.0
+            assert abs(f / 701.0 - 1) < 0.03
+    print("  answered %d of %d" % (answered, len(BOOF_F)))
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_uncalibrated_is_deterministic_and_reports():
+    x = np.loadtxt(herz_triplets()[7])
+    a = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=5)
+    b = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=5)
+    assert np.array_equal(a["K"], b["K"]) and np.array_equal(a["R"], b["R"]) and np.array_equal(a["X"], b["X"])
+    rep = a["report"]
+    assert rep["stage"] == "done" and rep["path"] in ("linear", "sweep")
+    assert rep["inliers"] == int(a["inliers"].sum()) and rep["rms"] < 1.0
+    assert np.allclose(a["R"][0], np.eye(3)) and abs(np.linalg.norm(a["t"][1]) - 1) < 1e-9
+    # points in front of the three cameras, reprojecting at the reported RMS
+    K = a["K"][0]
+    se = 0.0
+    for v in range(3):
+        Y = a["X"][a["inliers"]] @ a["R"][v].T + a["t"][v]
+        assert np.all(Y[:, 2] > 0)
+        p = Y @ K.T
+        se += np.sum((p[:, :2] / p[:, 2:] - x[a["inliers"], 2 * v:2 * v + 2]) ** 2)
+    assert abs(np.sqrt(se / (3 * a["inliers"].sum())) - rep["rms"]) < 1e-6
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_uncalibrated_per_view_focal_herzjesu():
+    x = np.loadtxt(herz_triplets()[7])
+    r = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=1, per_view_focal=True)
+    f = r["K"][:, 0, 0]
+    print("\nHerz-Jesu-P8 per-view focal lengths:", np.round(f, 1), "(true %.1f)" % F_HERZ)
+    assert np.allclose(f, r["report"]["focal_view"])
+    assert np.all(np.abs(f / F_HERZ - 1) < 0.05)
+
+
+SYN = os.path.join(os.path.dirname(__file__), "..", "..", "build", "demo", "synthetic")
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(SYN, "ground_truth.txt")),
+                    reason="SKIP: build/demo/synthetic not rendered (make demo)")
+def test_reconstruct_three_view_images_on_the_rendered_room():
+    """The demo room (tools/gen_demo_scene.py, fx = fy = 500 at 640x480)."""
+    cv2 = pytest.importorskip("cv2")
+    files = sorted(f for f in os.listdir(SYN) if f.endswith(".pgm"))[:3]
+    imgs = [cv2.imread(os.path.join(SYN, f), cv2.IMREAD_GRAYSCALE) for f in files]
+    r = libsfm.reconstruct_three_view_images(*imgs, seed=1)
+    f = r["K"][0, 0, 0]
+    print("\nrendered room from images: f %.1f px (true 500), %d of %d triplets, RMS %.3f px"
+          % (f, r["report"]["inliers"], r["x"].shape[1], r["report"]["rms"]))
+    assert abs(f / 500.0 - 1) < 0.05
+    assert r["x"].shape[0] == 3 and r["inliers"].shape[0] == r["x"].shape[1]
