@@ -280,3 +280,34 @@ def test_fisheye_pair_rectifies_through_the_camera_model():
                                    (v - rect["K1"][1, 2]) / rect["K1"][1, 1], 1.0])
     src = cam.project(ray[None, :])[0]
     assert np.abs(m[v, u] / 256.0 - src).max() < 1.0 / 256 + 1e-9
+
+
+def test_three_uncalibrated_views_to_a_dense_cloud(world):
+    """The seed's end to end (python -m libsfm.stereo_demo): the demo room's
+    three views, no intrinsics given; the dense points against the exact
+    depth of view 1, after fixing the reconstruction's free scale from the
+    true baseline of view 2."""
+    from libsfm import stereo_demo
+    poses = scene.cameras()
+    imgs, depth1 = [], None
+    for k, (R, t) in enumerate(poses):
+        img, z = shoot(world, R, -R.T @ t, 20 + k)
+        imgs.append(img)
+        depth1 = z if k == 0 else depth1
+    r = stereo_demo.stereo_from_three_views(*imgs, seed=1)
+    assert abs(r["K"][0, 0] / scene.FX - 1) < 0.05
+    i, j = r["pair"]
+    assert i == 0  # points in view 1's frame
+    rec = r["recon"]
+    s = np.linalg.norm(-poses[1][0].T @ poses[1][1]) / np.linalg.norm(-rec["R"][1].T @ rec["t"][1])
+    P = r["points"] * s
+    u = P[:, 0] / P[:, 2] * scene.FX + scene.CX
+    v = P[:, 1] / P[:, 2] * scene.FY + scene.CY
+    ok = (u >= 0) & (u <= 639) & (v >= 0) & (v <= 479)
+    zt = depth1[np.rint(v[ok]).astype(int), np.rint(u[ok]).astype(int)]
+    rel = np.abs(P[ok, 2] - zt) / zt
+    print("\nthree uncalibrated views: f %.1f px, pair %d-%d, %d dense points, median relative depth error "
+          "%.4f, share > 5%% %.3f" % (r["K"][0, 0], i + 1, j + 1, len(P), np.median(rel), (rel > 0.05).mean()))
+    assert len(P) > 0.4 * 640 * 480
+    assert np.median(rel) < 0.03
+    assert (rel > 0.05).mean() < 0.15
