@@ -229,9 +229,19 @@ def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=2, 
     return out
 
 
-def _rect_from(rect=None, K=None, baseline=None, doffs=0.0, size=None):
+def _rect_from(rect=None, K=None, baseline=None, doffs=0.0, Q=None):
     if rect is not None:
         return _rect_struct(rect)
+    if Q is not None:
+        # OpenCV's Q: [1 0 0 -cx1; 0 1 0 -cy; 0 0 0 f; 0 0 1/B -(cx1-cx2)/B]
+        Q = as_array(Q, (4, 4), "Q")
+        if not Q[3, 2] != 0:
+            raise ValueError("Q[3, 2] (1 / baseline) must be non-zero")
+        baseline = 1.0 / Q[3, 2]
+        K = np.array([[Q[2, 3], 0, -Q[0, 3]], [0, Q[2, 3], -Q[1, 3]], [0, 0, 1.0]])
+        doffs = -Q[3, 3] * baseline
+    if K is None or baseline is None:
+        raise ValueError("give rect, Q, or K and baseline")
     K = as_array(K, (3, 3), "K")
     r = ffi.new("sfm_stereo_rectification *")
     for i, v in enumerate(np.eye(3).ravel()):
@@ -245,24 +255,26 @@ def _rect_from(rect=None, K=None, baseline=None, doffs=0.0, size=None):
     return r
 
 
-def disparity_to_depth(disparity, rect=None, K=None, baseline=None, doffs=0.0):
+def disparity_to_depth(disparity, rect=None, K=None, baseline=None, doffs=0.0, Q=None):
     """Depth (rectified camera 1's z, units of the baseline) of every pixel,
-    NaN invalid. Give a rectify_pair result, or K and baseline (and doffs =
-    cx1 - cx2)."""
+    NaN invalid. Give a rectify_pair result, a Q matrix (4x4, as
+    rectify_pair's or OpenCV's stereoRectify's), or K and baseline (and
+    doffs = cx1 - cx2)."""
     d = np.ascontiguousarray(disparity, dtype=np.float32)
-    r = _rect_from(rect, K, baseline, doffs)
+    r = _rect_from(rect, K, baseline, doffs, Q)
     out = np.empty_like(d)
     check(lib.sfm_stereo_depth(ffi.cast("float *", ffi.from_buffer(d)), d.shape[1], d.shape[0], r,
                                ffi.cast("float *", ffi.from_buffer(out))), "sfm_stereo_depth")
     return out
 
 
-def disparity_to_points(disparity, rect=None, K=None, baseline=None, doffs=0.0, max_depth=0.0):
+def disparity_to_points(disparity, rect=None, K=None, baseline=None, doffs=0.0, Q=None,
+                        max_depth=0.0):
     """3-D points (n x 3) of the valid pixels in camera 1's original frame
-    (rectified camera 1's when given K and baseline) and their pixel index
-    (n,) = y * width + x."""
+    (rectified camera 1's when given Q, or K and baseline) and their pixel
+    index (n,) = y * width + x."""
     d = np.ascontiguousarray(disparity, dtype=np.float32)
-    r = _rect_from(rect, K, baseline, doffs)
+    r = _rect_from(rect, K, baseline, doffs, Q)
     dp = ffi.cast("float *", ffi.from_buffer(d))
     n = check(lib.sfm_stereo_points(dp, d.shape[1], d.shape[0], r, float(max_depth), ffi.NULL,
                                     ffi.NULL, 0), "sfm_stereo_points")

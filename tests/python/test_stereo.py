@@ -311,3 +311,17 @@ def test_three_uncalibrated_views_to_a_dense_cloud(world):
     assert len(P) > 0.4 * 640 * 480
     assert np.median(rel) < 0.03
     assert (rel > 0.05).mean() < 0.15
+
+
+def test_depth_from_q_matches_opencv_reprojection():
+    rng = np.random.default_rng(13)
+    R, t = random_rig(rng)
+    rect = libsfm.rectify_pair(K, K, R, t, (640, 480))
+    d = rng.uniform(20, 60, (48, 64)).astype(np.float32)
+    d[::7, ::5] = np.nan
+    ours = libsfm.disparity_to_depth(d, Q=rect["Q"])
+    cv = cv2.reprojectImageTo3D(np.nan_to_num(d, nan=-1.0), rect["Q"])[..., 2]
+    ok = np.isfinite(d)
+    assert np.isnan(ours[~ok]).all()
+    assert np.allclose(ours[ok], cv[ok], rtol=1e-5)
+    assert np.allclose(ours, libsfm.disparity_to_depth(d, rect=rect), equal_nan=True)
