@@ -436,7 +436,7 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
         prob->residual_size > SFMI_LM_DENSE_MAX_RESIDUAL || !options_valid(opt) ||
         (opt->want_covariance && cov == NULL))
         return SFM_E_ARGUMENT;
-    if (prob->loss < SFMI_LM_LOSS_SQUARED || prob->loss > SFMI_LM_LOSS_TRUNCATED)
+    if ((unsigned)prob->loss > (unsigned)SFMI_LM_LOSS_TRUNCATED)
         return SFM_E_ARGUMENT;
     if (isnan(prob->loss_scale))
         return SFM_E_NONFINITE;

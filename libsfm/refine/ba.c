@@ -71,19 +71,19 @@ static int check_options(const sfm_ba_options *o, int m)
     for (int k = 0; k < 6; k++)
         if (isnan(reals[k]))
             return SFM_E_NONFINITE;
-    if ((int)o->mode < SFM_BA_MODE_FULL || (int)o->mode > SFM_BA_MODE_POINTS_ONLY)
+    if ((unsigned)o->mode > (unsigned)SFM_BA_MODE_POINTS_ONLY)
         return SFM_E_ARGUMENT;
-    if ((int)o->intrinsics < SFM_BA_INTRINSICS_FIXED || (int)o->intrinsics > SFM_BA_INTRINSICS_PER_CAMERA)
+    if ((unsigned)o->intrinsics > (unsigned)SFM_BA_INTRINSICS_PER_CAMERA)
         return SFM_E_ARGUMENT;
     if (o->refine_intrinsics < 0 || o->refine_intrinsics > SFM_BA_REFINE_ALL)
         return SFM_E_ARGUMENT;
-    if ((int)o->loss < SFM_BA_LOSS_SQUARED || (int)o->loss > SFM_BA_LOSS_TRUNCATED)
+    if ((unsigned)o->loss > (unsigned)SFM_BA_LOSS_TRUNCATED)
         return SFM_E_ARGUMENT;
     if (!isfinite(o->loss_scale) || !(o->loss_scale > 0.0))
         return SFM_E_ARGUMENT;
     if (o->gauge != SFM_BA_GAUGE_NONE && o->gauge != SFM_BA_GAUGE_FIRST_CAMERA)
         return SFM_E_ARGUMENT;
-    if ((int)o->scale_gauge < SFM_BA_SCALE_NONE || (int)o->scale_gauge > SFM_BA_SCALE_DISTANCE)
+    if ((unsigned)o->scale_gauge > (unsigned)SFM_BA_SCALE_DISTANCE)
         return SFM_E_ARGUMENT;
     if (o->scale_gauge != SFM_BA_SCALE_NONE) {
         if (o->gauge != SFM_BA_GAUGE_FIRST_CAMERA || o->scale_camera < 1 || o->scale_camera >= m)

@@ -34,7 +34,7 @@ int sfmi_ba_dims_valid(const sfm_ba_dims *d)
 {
     if (d == NULL || d->n_cameras < 1 || d->n_points < 0 || d->n_observations < 1)
         return 0;
-    if (d->intrinsics < SFM_BA_INTRINSICS_FIXED || d->intrinsics > SFM_BA_INTRINSICS_PER_CAMERA)
+    if ((unsigned)d->intrinsics > (unsigned)SFM_BA_INTRINSICS_PER_CAMERA)
         return 0;
     if (d->refine_intrinsics < 0 || d->refine_intrinsics > SFM_BA_REFINE_ALL)
         return 0;

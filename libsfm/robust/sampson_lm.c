@@ -110,5 +110,8 @@ int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, in
     sfmi_sampson_problem sp;
     sfmi_sampson_lm_problem(b1, b2, idx, n, axis, scale, R, t, &sp);
     double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 5, 1)];
-    return sfmi_lm_refine(&sp.prob, iters, 1e-6, ws, sizeof ws);
+    /* iters linearisations of the previous loop, each with its rejected
+     * retries: the driver counts every step tried, so twice as many (on a
+     * dominant plane four steps could leave LO in the planar twin) */
+    return sfmi_lm_refine(&sp.prob, 2 * iters, 1e-6, ws, sizeof ws);
 }

@@ -9,8 +9,8 @@
  * E = [t]x R in (R, t), |t| = 1. The rotation is updated on the left,
  * R <- exp([w]x) R; with axis == NULL w is free (5 degrees of freedom in
  * all), else w = theta * axis (axis a unit vector in camera 2: the upright
- * case, which keeps R d1 = axis; 3 degrees of freedom). At most `iters`
- * accepted or rejected steps. scale > 0: Cauchy loss
+ * case, which keeps R d1 = axis; 3 degrees of freedom). At most 2 iters LM
+ * steps (accepted or rejected; core/lm.h). scale > 0: Cauchy loss
  * scale^2 log(1 + r^2 / scale^2) instead of r^2 (IRLS weights
  * 1 / (1 + r^2 / scale^2)). R, t are updated in place; returns 0 when the
  * cost went down, 1 when it could not, -1 on a numerical failure (R, t

@@ -338,6 +338,11 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
     sfmi_lm_default_options(&opt);
     opt.max_iterations = max_iters;
     opt.function_tolerance = 1e-10;
+    /* From a minimal-sample start the Gauss-Newton step is already good and
+     * the gauge directions are held by gauge_reg: start nearly undamped
+     * (1e-8), or the few LO steps are spent shrinking the damping (at most
+     * 3x per accepted step) before the points converge. */
+    opt.initial_radius = 1e8;
     opt.gradient_tolerance = 0.0;
     opt.step_tolerance = 0.0;
     const sfmi_lm_system sys = {&c, tf_linearize, tf_solve, tf_trial, tf_accept, 2 * 12 + 3 * n};

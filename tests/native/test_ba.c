@@ -210,6 +210,19 @@ static int house_load(house *h)
         if (read_doubles(path, P, 12) != 12)
             return 0;
         decompose_P(P, h->K[v], h->R + 9 * v, h->t + 3 * v);
+        /* With K's diagonal positive the house's points come out behind its
+         * cameras (the image y axis points the other way). The library's
+         * camera models see only points ahead (z > 0): the same camera is
+         * K' [E R | E t] with E = diag(1, -1, -1) and K' = -K E, i.e. fx
+         * negated, which maps every point to the same pixel with z > 0. */
+        double *Rv = h->R + 9 * v, *tv = h->t + 3 * v;
+        if (Rv[6] * pts[0] + Rv[7] * pts[1] + Rv[8] * pts[2] + tv[2] < 0.0) {
+            for (int c = 3; c < 9; c++)
+                Rv[c] = -Rv[c];
+            tv[1] = -tv[1];
+            tv[2] = -tv[2];
+            h->K[v][0] = -h->K[v][0];
+        }
         snprintf(path, sizeof path, HOUSE_DIR "/2D/house.%03d.corners", v);
         ncorn[v] = read_doubles(path, corners[v], 4000) / 2;
         double *in = h->intr + 6 * v;
