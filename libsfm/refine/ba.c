@@ -31,6 +31,7 @@
 #include "refine/ba_project.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "core/dmath.h"
 
 #define MIN_DIAG 1e-6
 #define MAX_DIAG 1e32
@@ -175,7 +176,7 @@ static void loss_eval(int type, double a2, double s, double *rho, double *rho1)
         }
         break;
     case SFM_BA_LOSS_CAUCHY:
-        *rho = a2 * log1p(s / a2);
+        *rho = a2 * sfmi_log1p(s / a2);
         *rho1 = 1.0 / (1.0 + s / a2);
         break;
     case SFM_BA_LOSS_TRUNCATED:

@@ -26,6 +26,7 @@
 #include "sfm/sfm_rotation.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
+#include "core/dmath.h"
 
 #define NP 7
 
@@ -36,7 +37,7 @@ typedef struct fnorm {
 /* F_n = U diag(c, s, 0) V^T. */
 static void compose(const double *U, const double *V, double th, double *Fn)
 {
-    double c = cos(th), s = sin(th);
+    double c = sfmi_cos(th), s = sfmi_sin(th);
     for (int r = 0; r < 3; r++)
         for (int k = 0; k < 3; k++)
             Fn[3 * r + k] = c * U[3 * r] * V[3 * k] + s * U[3 * r + 1] * V[3 * k + 1];
@@ -140,7 +141,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
     if (det3(V) < 0.0)
         for (int r = 0; r < 3; r++)
             V[3 * r + 2] = -V[3 * r + 2];
-    double th = atan2(S[1], S[0]);
+    double th = sfmi_atan2(S[1], S[0]);
     compose(U, V, th, Fn);
     double cur = cost_n(&N, p1, p2, n, s2, Fn);
     double lambda = 1e-4;
@@ -148,7 +149,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
     for (int it = 0; it < iters; it++) {
         /* directions of F_n: U [e_k]x Sg V^T, -U Sg [e_k]x V^T, U dSg V^T */
         double dF[NP][9];
-        double c = cos(th), s = sin(th);
+        double c = sfmi_cos(th), s = sfmi_sin(th);
         for (int k = 0; k < 3; k++) {
             double e[3] = {0.0, 0.0, 0.0}, K[9], A[9], B[9], Vt[9];
             e[k] = 1.0;

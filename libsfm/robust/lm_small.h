@@ -8,6 +8,7 @@
 #include <math.h>
 
 #include "sfm/sfm_linalg.h"
+#include "core/dmath.h"
 
 /* Largest parameter count of these refinements. */
 #define SFM_LM_SMALL_MAXP 8
@@ -22,7 +23,7 @@ static inline double sfm_lm_cauchy_weight(double r2, double s2)
  * s2 <= 0. */
 static inline double sfm_lm_cauchy_loss(double r2, double s2)
 {
-    return s2 > 0.0 ? s2 * log1p(r2 / s2) : r2;
+    return s2 > 0.0 ? s2 * sfmi_log1p(r2 / s2) : r2;
 }
 
 /* x = -(JtJ + lambda diag(JtJ))^-1 g for np parameters; JtJ holds the lower

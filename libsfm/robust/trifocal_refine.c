@@ -38,7 +38,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         for (int v = 0; v < 3; v++) {
             double r[2];
             if (!sfm_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
-                return INFINITY;
+                return HUGE_VAL;
             c += r[0] * r[0] + r[1] * r[1];
         }
     }
@@ -134,7 +134,7 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
     *status = SFM_OK;
     if (n > w->cap || n < SFM_TRIFOCAL_MIN_POINTS) {
         *status = SFM_E_ARGUMENT;
-        return INFINITY;
+        return HUGE_VAL;
     }
     double A2[12], A3[12];
     memcpy(A2, P2, sizeof A2);
@@ -148,13 +148,13 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
         int st = sfm_trifocal_point_error(P1, A2, A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &w->X[4 * q]);
         if (st < 0) {
             *status = st;
-            return INFINITY;
+            return HUGE_VAL;
         }
     }
     double cost = total_cost(xs, idx, n, A2, A3, w->X);
     if (!isfinite(cost)) {
         *status = SFM_E_SINGULAR;
-        return INFINITY;
+        return HUGE_VAL;
     }
     double lambda = 1e-4;
     for (int it = 0; it < max_iters; it++) {
