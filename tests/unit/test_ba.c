@@ -576,18 +576,18 @@ SFM_TEST(ba_contract)
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
     o.want_covariance = 0;
     /* NaN in points, observations, weights */
-    pX[4] = NAN;
+    pX[4] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
     pX[4] = c0X[4];
     double keep = sxy[3];
-    sxy[3] = INFINITY;
+    sxy[3] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
     sxy[3] = keep;
     static double wts[MAXO];
     for (int k = 0; k < s.nobs; k++)
         wts[k] = 1.0;
     p.obs_weight = wts;
-    wts[2] = NAN;
+    wts[2] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
     wts[2] = -1.0;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
@@ -638,7 +638,7 @@ SFM_TEST(ba_contract)
     pK[0] = 0.0;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
     pK[0] = sK0[0];
-    pR[0] = NAN;
+    pR[0] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
     pR[0] = c0R[0] * 1.001; /* not a rotation */
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
