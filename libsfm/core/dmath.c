@@ -327,16 +327,28 @@ static double dm_log_kernel(int k, double f, double c)
     return kd * LN2_HI - ((hfsq - (s * (hfsq + dm_log_r(z)) + (kd * LN2_LO + c))) - f);
 }
 
-double sfmi_log(double x)
+/* The special values of log and log2: NaN, x < 0, +-0 and +inf. Returns 1
+ * with *r set for those, 0 for a positive finite x. */
+static int dm_log_special(double x, double *r)
 {
     if (isnan(x))
-        return x + x;
-    if (x < 0.0)
-        return dm_nan();
-    if (x == 0.0)
-        return -dm_inf();
-    if (isinf(x))
-        return x;
+        *r = x + x;
+    else if (x < 0.0)
+        *r = dm_nan();
+    else if (x == 0.0)
+        *r = -dm_inf();
+    else if (isinf(x))
+        *r = x;
+    else
+        return 0;
+    return 1;
+}
+
+double sfmi_log(double x)
+{
+    double r;
+    if (dm_log_special(x, &r))
+        return r;
     int k;
     double f;
     dm_log_parts(x, &k, &f);
@@ -368,14 +380,9 @@ double sfmi_log1p(double x)
 
 double sfmi_log2(double x)
 {
-    if (isnan(x))
-        return x + x;
-    if (x < 0.0)
-        return dm_nan();
-    if (x == 0.0)
-        return -dm_inf();
-    if (isinf(x))
-        return x;
+    double r0;
+    if (dm_log_special(x, &r0))
+        return r0;
     int k;
     double f;
     dm_log_parts(x, &k, &f);

@@ -55,6 +55,14 @@ static uint64_t hash_stats(uint64_t h, const sfm_ransac_stats *s)
     return h;
 }
 
+/* The inlier mask and the run statistics of an estimator, as two lines. */
+static void emit_ransac(const char *mask_name, const char *stats_name, int r, const uint8_t *mask,
+                        const sfm_ransac_stats *st)
+{
+    emit_bytes(mask_name, r, mask, NPTS);
+    emit(stats_name, r, r < 0 ? FNV_INIT : hash_stats(FNV_INIT, st));
+}
+
 static int ws_ok(const char *name, size_t need)
 {
     if (need == 0 || need > WS_BYTES) {
@@ -157,8 +165,7 @@ static void run_relpose(const scene *s, const sfm_ransac_options *opt)
                                mask, &st, g_ws, WS_BYTES);
     emit_bytes("ransac_relpose.pose", r, &pose, sizeof pose);
     emit_bytes("ransac_relpose.E", r, E, sizeof E);
-    emit_bytes("ransac_relpose.mask", r, mask, sizeof mask);
-    emit("ransac_relpose.stats", r, r < 0 ? FNV_INIT : hash_stats(FNV_INIT, &st));
+    emit_ransac("ransac_relpose.mask", "ransac_relpose.stats", r, mask, &st);
 }
 
 static void run_abspose(const scene *s, const sfm_ransac_options *opt)
@@ -171,8 +178,7 @@ static void run_abspose(const scene *s, const sfm_ransac_options *opt)
     int r = sfm_ransac_abspose(s->px[1], s->X, NPTS, &s->cam[1], opt, &pose, mask, &st, g_ws,
                                WS_BYTES);
     emit_bytes("ransac_abspose.pose", r, &pose, sizeof pose);
-    emit_bytes("ransac_abspose.mask", r, mask, sizeof mask);
-    emit("ransac_abspose.stats", r, r < 0 ? FNV_INIT : hash_stats(FNV_INIT, &st));
+    emit_ransac("ransac_abspose.mask", "ransac_abspose.stats", r, mask, &st);
 }
 
 static void run_fundamental_homography(const scene *s, const sfm_ransac_options *opt)
@@ -217,8 +223,7 @@ static void run_trifocal(const scene *s, const sfm_ransac_options *opt)
                                 WS_BYTES);
     emit_bytes("ransac_trifocal.T", r, T, sizeof T);
     emit_bytes("ransac_trifocal.P", r, P, sizeof P);
-    emit_bytes("ransac_trifocal.mask", r, mask, sizeof mask);
-    emit("ransac_trifocal.stats", r, r < 0 ? FNV_INIT : hash_stats(FNV_INIT, &st));
+    emit_ransac("ransac_trifocal.mask", "ransac_trifocal.stats", r, mask, &st);
 }
 
 static void run_three_view(const scene *s, const sfm_ransac_options *opt)
@@ -231,8 +236,7 @@ static void run_three_view(const scene *s, const sfm_ransac_options *opt)
     int r = sfm_recon_three_view_pose(s->px[0], s->px[1], s->px[2], NPTS, &s->cam[0], &s->cam[1],
                                       &s->cam[2], opt, poses, mask, &st, g_ws, WS_BYTES);
     emit_bytes("recon_three_view.poses", r, poses, sizeof poses);
-    emit_bytes("recon_three_view.mask", r, mask, sizeof mask);
-    emit("recon_three_view.stats", r, r < 0 ? FNV_INIT : hash_stats(FNV_INIT, &st));
+    emit_ransac("recon_three_view.mask", "recon_three_view.stats", r, mask, &st);
 }
 
 /* Minimal solvers on the first samples of the clean points. */
