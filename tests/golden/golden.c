@@ -50,7 +50,8 @@ static uint64_t hash_stats(uint64_t h, const sfm_ransac_stats *s)
     h = fnv1a(h, &s->iterations, sizeof s->iterations);
     h = fnv1a(h, &s->num_inliers, sizeof s->num_inliers);
     h = fnv1a(h, &s->score, sizeof s->score);
-    h = fnv1a(h, &s->stop_reason, sizeof s->stop_reason);
+    int stop = (int)s->stop_reason; /* enums need not be int-sized */
+    h = fnv1a(h, &stop, sizeof stop);
     h = fnv1a(h, &s->flags, sizeof s->flags);
     return h;
 }
@@ -356,7 +357,8 @@ static void run_ba(const scene *s)
     h = fnv1a(FNV_INIT, &res.final_cost, sizeof res.final_cost);
     h = fnv1a(h, &res.iterations, sizeof res.iterations);
     h = fnv1a(h, &res.successful_steps, sizeof res.successful_steps);
-    h = fnv1a(h, &res.stop_reason, sizeof res.stop_reason);
+    int stop = (int)res.stop_reason;
+    h = fnv1a(h, &stop, sizeof stop);
     emit("ba.result", r, r < 0 ? FNV_INIT : h);
 }
 
