@@ -21,7 +21,7 @@
  *     polynomials on |r| <= pi/4 taking the reduced argument as two doubles;
  *   - hypot, cbrt: the square (cube) formed exactly as two doubles and one
  *     Newton correction of the root against it;
- *   - pow: exp(y log x) with log x as two doubles (relative error ~2^-58).
+ *   - pow: exp(y log x) with log x as two doubles (relative error ~2^-62).
  * Constants are the binary64 nearest the exact values (hex literals), split
  * into head and tail where a product with an integer must be exact; the
  * digits of pi, ln 2 and 2/pi come from exact rational series (Machin's
@@ -167,16 +167,17 @@ static const double INV_FACT[18] = {
     0x1.ae7f3e733b81fp-45, 0x1.952c77030ad4ap-49,
 };
 
-/* 1/(2n+1) and 2/(2n+1), n = 0..10. */
+/* 1/(2n+1), n = 0..10, and 2/(2n+1), n = 0..13. */
 static const double INV_ODD[11] = {
     0x1.0000000000000p+0, 0x1.5555555555555p-2, 0x1.999999999999ap-3, 0x1.2492492492492p-3,
     0x1.c71c71c71c71cp-4, 0x1.745d1745d1746p-4, 0x1.3b13b13b13b14p-4, 0x1.1111111111111p-4,
     0x1.e1e1e1e1e1e1ep-5, 0x1.af286bca1af28p-5, 0x1.8618618618618p-5,
 };
-static const double TWO_OVER_ODD[11] = {
+static const double TWO_OVER_ODD[14] = {
     0x1.0000000000000p+1, 0x1.5555555555555p-1, 0x1.999999999999ap-2, 0x1.2492492492492p-2,
     0x1.c71c71c71c71cp-3, 0x1.745d1745d1746p-3, 0x1.3b13b13b13b14p-3, 0x1.1111111111111p-3,
-    0x1.e1e1e1e1e1e1ep-4, 0x1.af286bca1af28p-4, 0x1.8618618618618p-4,
+    0x1.e1e1e1e1e1e1ep-4, 0x1.af286bca1af28p-4, 0x1.8618618618618p-4, 0x1.642c8590b2164p-4,
+    0x1.47ae147ae147bp-4, 0x1.2f684bda12f68p-4,
 };
 
 /* -------------------------------------------------------------- hypot, cbrt */
@@ -399,9 +400,11 @@ double sfmi_log2(double x)
     return r + (re + ae);
 }
 
-/* log x = *h + *l for x > 0 finite, relative error about 2^-58. */
+/* log x = *h + *l for x > 0 finite, relative error about 2^-62 (pow needs
+ * it: an error e in y log x is a relative error e in the result). */
 static void dm_log_dd(double x, double *h, double *l)
 {
+    static const double TWO3_HI = 0x1.5555555555555p-1, TWO3_LO = 0x1.5555555555555p-55;
     int k;
     double f;
     dm_log_parts(x, &k, &f);
@@ -411,12 +414,23 @@ static void dm_log_dd(double x, double *h, double *l)
     double sh = f / dh;
     dm_two_prod(sh, dh, &p, &pe);
     double sl = (((f - p) - pe) - sh * dl) / dh;
-    /* log(1+f) = 2s + s z R'(z) with R'(z) = sum_{n>=1} 2 z^(n-1) / (2n+1);
-     * the tail's dependence on sl is its derivative, 2 z sl. */
-    double z = sh * sh;
-    double tail = sh * dm_log_r(z) + 2.0 * z * sl;
-    double a = 2.0 * sh;
-    double b = 2.0 * sl + tail;
+    /* log(1+f) = 2s + (2/3) s^3 + s^5 R2(s^2), R2 = 2/5 + 2/7 s^2 + ...:
+     * 2s exact from (sh, sl), (2/3) sh^3 as two doubles, the rest (below
+     * 2^-12 of the result) and the sl terms of s^3 in plain double. */
+    double z, ze, c, ce, t, te;
+    dm_two_prod(sh, sh, &z, &ze);
+    dm_two_prod(sh, z, &c, &ce);
+    ce += sh * ze;
+    dm_two_prod(c, TWO3_HI, &t, &te);
+    te += ce * TWO3_HI + c * TWO3_LO;
+    /* to s^27: |s| <= 0.1716, the first omitted term is below 2^-66 */
+    double r2 = TWO_OVER_ODD[13];
+    for (int i = 12; i >= 2; i--)
+        r2 = r2 * z + TWO_OVER_ODD[i];
+    double rest = (c * z) * r2 + 2.0 * z * sl;
+    double a, ae;
+    dm_two_sum(2.0 * sh, t, &a, &ae);
+    double b = ae + ((2.0 * sl + te) + rest);
     double kd = (double)k;
     double H, e;
     dm_two_sum(kd * LN2_HI, a, &H, &e);
