@@ -7,6 +7,21 @@
  *  - every public function returns an int: >= 0 on success (a count where the
  *    function says so, else SFM_OK), or a negative sfm_status;
  *  - outputs come last; a function that fails writes nothing to its outputs.
+ *
+ * Argument order, the same for every function: first the inputs (each array
+ * followed by its count, then options, which may be NULL for the defaults);
+ * then the outputs, each array followed by its capacity where it has one
+ * (a count written back is the return value, never an extra argument); last
+ * the caller's work memory as (void *ws, size_t ws_size), sized by the
+ * function's *_workspace_size(). Optional outputs (inlier masks, statistics,
+ * covariances) may be NULL. Still taking ws before their outputs, and to
+ * follow the order before 1.0: sfm_ba_solve, sfm_features_detect,
+ * sfm_features_match and sfm_features_associate_three_views.
+ *
+ * Names: sfm_<module>_<verb> for the API; minimal solvers name the problem and
+ * the sample size (sfm_relpose_5pt, sfm_fundamental_8pt, sfm_p3p), capacities
+ * are SFM_<SOLVER>_MAX_SOLUTIONS. The library's internal symbols carry sfmi_
+ * and are not API.
  */
 #ifndef SFM_COMMON_H
 #define SFM_COMMON_H

@@ -83,10 +83,15 @@ extern "C" {
  * points within this many thresholds (under a robust loss of scale tau). */
 #define SFM_RANSAC_WIDE_MULT 3
 
-/* Why a run stopped (sfm_ransac_stats.stop_reason). */
-#define SFM_RANSAC_STOP_CONFIDENCE 0     /* adaptive count reached at opt->confidence */
-#define SFM_RANSAC_STOP_MAX_ITERATIONS 1 /* opt->max_iterations reached */
-#define SFM_RANSAC_STOP_TIME 2           /* opt->time_budget exhausted */
+/* Why a run stopped (sfm_ransac_stats.stop_reason). The last value only
+ * keeps the type int-sized on every ABI (arm-none-eabi packs small enums),
+ * so the stats struct has one layout for C, C++ and the Python binding. */
+typedef enum sfm_ransac_stop {
+    SFM_RANSAC_STOP_CONFIDENCE = 0,     /* adaptive count reached at opt->confidence */
+    SFM_RANSAC_STOP_MAX_ITERATIONS = 1, /* opt->max_iterations reached */
+    SFM_RANSAC_STOP_TIME = 2,           /* opt->time_budget exhausted */
+    SFM_RANSAC_STOP_INT_SIZE_ = 0x7fffffff
+} sfm_ransac_stop;
 
 /* Estimator flags (sfm_ransac_stats.flags). */
 #define SFM_RANSAC_FLAG_PLANAR 1          /* relative pose: inliers dominated by one plane */
@@ -176,7 +181,7 @@ typedef struct sfm_ransac_stats {
     int num_inliers;      /* inliers of the returned model (r^2 < tau^2) */
     double score;         /* MSAC cost of the returned model */
     uint64_t seed;        /* the seed used */
-    int stop_reason;      /* an SFM_RANSAC_STOP_* value */
+    sfm_ransac_stop stop_reason;
     int flags;            /* SFM_RANSAC_FLAG_* bits raised by the estimator */
     int inner_runs;       /* inner RANSACs of the LO run */
     int polish_rounds;    /* refits the final polish ran before its band

@@ -19,6 +19,7 @@
 
 #include "core/camera_internal.h"
 #include "sfm/sfm_poly.h"
+#include "core/dmath.h"
 
 /* Distortion of normalised (x, y); Dd (2x2, may be NULL) its Jacobian. */
 static void distort(const double *k, double x, double y, double out[2], double *Dd)
@@ -58,7 +59,7 @@ int sfm_cam__brown_project(const double *k, const double X[3], double xd[2], dou
     return SFM_OK;
 }
 
-/* Squared radius where the radial profile folds; INFINITY if it never does. */
+/* Squared radius where the radial profile folds; HUGE_VAL if it never does. */
 static double fold_r2(const double *k)
 {
     const double c[4] = {7.0 * k[4], 5.0 * k[1], 3.0 * k[0], 1.0};
@@ -67,7 +68,7 @@ static double fold_r2(const double *k)
     for (int i = 0; i < n; i++)
         if (u[i] > 0.0)
             return u[i];
-    return INFINITY;
+    return HUGE_VAL;
 }
 
 int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3])
@@ -83,7 +84,7 @@ int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3])
         double f[2], Dd[4];
         distort(k, x, y, f, Dd);
         double rx = f[0] - xd[0], ry = f[1] - xd[1];
-        double nr = hypot(rx, ry);
+        double nr = sfmi_hypot(rx, ry);
         for (int it = 0; it < SFM_CAM_MAX_ITERS && nr > 0.0; it++) {
             const double det = Dd[0] * Dd[3] - Dd[1] * Dd[2];
             if (!(det > 0.0))
@@ -98,7 +99,7 @@ int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3])
                     continue;
                 double fn[2], Dn[4];
                 distort(k, nx, ny, fn, Dn);
-                const double qx = fn[0] - xd[0], qy = fn[1] - xd[1], nq = hypot(qx, qy);
+                const double qx = fn[0] - xd[0], qy = fn[1] - xd[1], nq = sfmi_hypot(qx, qy);
                 if (nq < nr) {
                     x = nx;
                     y = ny;
@@ -120,7 +121,7 @@ int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3])
         if (!(nr <= SFM_CAM_UNDISTORT_TOL) || !(det > 0.0) || !isfinite(x) || !isfinite(y))
             return SFM_E_NO_CONVERGENCE;
     }
-    const double n = hypot(hypot(x, y), 1.0);
+    const double n = sfmi_hypot(sfmi_hypot(x, y), 1.0);
     b[0] = x / n;
     b[1] = y / n;
     b[2] = 1.0 / n;

@@ -19,6 +19,7 @@
 
 #include "core/camera_internal.h"
 #include "sfm/sfm_poly.h"
+#include "core/dmath.h"
 
 #define PI 3.14159265358979323846
 
@@ -39,10 +40,10 @@ int sfm_cam__fisheye_project(const double *k, const double X[3], double xd[2], d
     if (s == 0.0)
         return SFM_E_SINGULAR;
     const double x = X[0] / s, y = X[1] / s, z = X[2] / s;
-    const double rho = hypot(x, y);
+    const double rho = sfmi_hypot(x, y);
     if (rho == 0.0 && !(z > 0.0))
         return SFM_E_SINGULAR; /* the negative optical axis */
-    const double th = atan2(rho, z);
+    const double th = sfmi_atan2(rho, z);
     double dtd;
     const double td = theta_d(k, th, &dtd);
     /* small angles: theta / rho = (1/z)(1 - q^2/3 + q^4/5 - ...), q = rho/z */
@@ -88,7 +89,7 @@ static double theta_max(const double *k)
 
 int sfm_cam__fisheye_unproject(const double *k, const double xd[2], double b[3])
 {
-    const double r = hypot(xd[0], xd[1]);
+    const double r = sfmi_hypot(xd[0], xd[1]);
     if (r == 0.0) {
         b[0] = 0.0;
         b[1] = 0.0;
@@ -118,9 +119,9 @@ int sfm_cam__fisheye_unproject(const double *k, const double xd[2], double b[3])
     F = theta_d(k, th, NULL) - r;
     if (!(fabs(F) <= SFM_CAM_UNDISTORT_TOL))
         return SFM_E_NO_CONVERGENCE;
-    const double st = sin(th);
+    const double st = sfmi_sin(th);
     b[0] = st * xd[0] / r;
     b[1] = st * xd[1] / r;
-    b[2] = cos(th);
+    b[2] = sfmi_cos(th);
     return SFM_OK;
 }

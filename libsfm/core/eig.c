@@ -24,6 +24,7 @@
 
 #include "core/arena.h"
 #include "core/linalg_util.h"
+#include "core/dmath.h"
 
 /* QR iterations allowed per eigenvalue on average before giving up. */
 #define EIG_ITERS_PER_EIGENVALUE 40
@@ -80,7 +81,7 @@ static void hessenberg(double *H, double *Z, double *v, int n)
             xn += t * t;
         }
         xn = scale * sqrt(xn);
-        double beta = -copysign(hypot(alpha, xn), alpha);
+        double beta = -copysign(sfmi_hypot(alpha, xn), alpha);
         double tau = (beta - alpha) / beta;
         double inv = 1.0 / (alpha - beta);
         v[k + 1] = 1.0;
@@ -211,7 +212,7 @@ static int francis_qr(double *H, double *Z, double *wr, double *wi, int n)
                 /* real pair: rotate (zz, c), an eigenvector of the block for
                  * d + zz, onto e_1 to triangularize */
                 double zz = p + copysign(sqrt(q), p);
-                double r = hypot(zz, c);
+                double r = sfmi_hypot(zz, c);
                 double cs = zz / r, sn = c / r;
                 for (int j = p0; j < n; j++) {
                     double x = AT(H, p0, j), y = AT(H, hi, j);
@@ -514,9 +515,15 @@ static void normalize_vectors(double *V, const double *wi, int n)
                 /* multiply by conj(x_ib) / (|x_ib| |x|) */
                 double mod = sqrt(big), nrm = sqrt(s);
                 double cr = AT(V, ib, k) / mod / nrm, ci = -AT(V, ib, k + 1) / mod / nrm;
+                /* Both parts written as sums (with -ci precomputed): GCC 12's
+                 * vectorizer turns the pair (a*b - c*d, a*e + c*f) into a fused
+                 * multiply-add-subtract under -march=native even with
+                 * -ffp-contract=off, which would change the rounding on
+                 * FMA-capable x86-64 only. mk/check-fma.mk checks the object. */
+                const double nci = -ci;
                 for (int i = 0; i < n; i++) {
                     double re = AT(V, i, k), im = AT(V, i, k + 1);
-                    AT(V, i, k) = re * cr - im * ci;
+                    AT(V, i, k) = re * cr + im * nci;
                     AT(V, i, k + 1) = re * ci + im * cr;
                 }
                 AT(V, ib, k + 1) = 0.0;

@@ -12,6 +12,7 @@
 #include "sfm/sfm_common.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "core/dmath.h"
 
 #define MIN_DIAG 1e-6
 #define MAX_DIAG 1e32
@@ -58,7 +59,7 @@ void sfmi_lm_loss_eval(sfmi_lm_loss loss, double a2, double s, double *rho, doub
         }
         break;
     case SFMI_LM_LOSS_CAUCHY:
-        *rho = a2 * log1p(s / a2);
+        *rho = a2 * sfmi_log1p(s / a2);
         *rho1 = 1.0 / (1.0 + s / a2);
         break;
     case SFMI_LM_LOSS_TRUNCATED:

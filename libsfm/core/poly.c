@@ -24,6 +24,7 @@
 
 #include "core/poly_internal.h"
 #include "sfm/sfm_poly.h"
+#include "core/dmath.h"
 
 /* Relative size of a negative discriminant still treated as rounding noise. */
 #define MAYBE_TOL 1e-4
@@ -169,14 +170,14 @@ static void cubic_cands(double a, double b, double c, cand *cs)
     double Q3 = Q * Q * Q, R2 = R * R;
     if (R2 < Q3) {
         double sq = sqrt(Q);
-        double th = acos(fmax(-1.0, fmin(1.0, R / (sq * Q))));
+        double th = sfmi_acos(fmax(-1.0, fmin(1.0, R / (sq * Q))));
         const double tau = 6.283185307179586476925286766559;
-        cand_add(cs, -2.0 * sq * cos(th / 3.0) - a3, 0);
-        cand_add(cs, -2.0 * sq * cos((th + tau) / 3.0) - a3, 0);
-        cand_add(cs, -2.0 * sq * cos((th - tau) / 3.0) - a3, 0);
+        cand_add(cs, -2.0 * sq * sfmi_cos(th / 3.0) - a3, 0);
+        cand_add(cs, -2.0 * sq * sfmi_cos((th + tau) / 3.0) - a3, 0);
+        cand_add(cs, -2.0 * sq * sfmi_cos((th - tau) / 3.0) - a3, 0);
         return;
     }
-    double A = -copysign(cbrt(fabs(R) + sqrt(R2 - Q3)), R);
+    double A = -copysign(sfmi_cbrt(fabs(R) + sqrt(R2 - Q3)), R);
     double B = A != 0.0 ? Q / A : 0.0;
     cand_add(cs, A + B - a3, 0);
     /* the complex pair -(A+B)/2 - a/3 +- i sqrt(3)/2 (A - B) */
@@ -231,22 +232,22 @@ static int roots_upto4(const double *s, int d, double *r)
     case 3: {
         double a = s[1] / s[0], b = s[2] / s[0], cc = s[3] / s[0];
         if (!(isfinite(a) && isfinite(b) && isfinite(cc)))
-            return sfm_poly_real_roots(s, d, -INFINITY, INFINITY, r);
+            return sfm_poly_real_roots(s, d, -HUGE_VAL, HUGE_VAL, r);
         cubic_cands(a, b, cc, &cs);
         if (cs.n == 0)
-            return sfm_poly_real_roots(s, d, -INFINITY, INFINITY, r);
+            return sfm_poly_real_roots(s, d, -HUGE_VAL, HUGE_VAL, r);
         break;
     }
     default: {
         double a = s[1] / s[0], b = s[2] / s[0], cc = s[3] / s[0], dd = s[4] / s[0];
         if (!(isfinite(a) && isfinite(b) && isfinite(cc) && isfinite(dd)))
-            return sfm_poly_real_roots(s, d, -INFINITY, INFINITY, r);
+            return sfm_poly_real_roots(s, d, -HUGE_VAL, HUGE_VAL, r);
         /* resolvent cubic y^3 - b y^2 + (a c - 4 d) y + (4 b d - a^2 d - c^2) */
         double rc[4] = {1.0, -b, a * cc - 4.0 * dd, 4.0 * b * dd - a * a * dd - cc * cc};
         double yr[3];
         int ny = sfm_poly_roots3(rc, yr);
         if (ny <= 0)
-            return sfm_poly_real_roots(s, d, -INFINITY, INFINITY, r);
+            return sfm_poly_real_roots(s, d, -HUGE_VAL, HUGE_VAL, r);
         double y = yr[ny - 1];
         double e = fmax(0.25 * a * a + y - b, 0.0);
         double g = fmax(0.25 * y * y - dd, 0.0);

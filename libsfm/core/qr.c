@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "core/linalg_util.h"
+#include "core/dmath.h"
 
 /* 2-norm of A[r0..m) of column c, safe against overflow/underflow. */
 static double col_norm(const double *A, int m, int n, int r0, int c)
@@ -38,7 +39,7 @@ int sfm_qr_factor(double *A, int m, int n, double *tau)
             tau[k] = 0.0;
             continue;
         }
-        double beta = -copysign(hypot(alpha, xnorm), alpha);
+        double beta = -copysign(sfmi_hypot(alpha, xnorm), alpha);
         tau[k] = (beta - alpha) / beta;
         double inv = 1.0 / (alpha - beta);
         for (int i = k + 1; i < m; i++)

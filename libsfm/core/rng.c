@@ -2,6 +2,7 @@
 #include "sfm/sfm_rng.h"
 
 #include <math.h>
+#include "core/dmath.h"
 
 static uint64_t splitmix64(uint64_t *x)
 {
@@ -70,5 +71,5 @@ double sfm_rng_normal(sfm_rng *rng)
         v = 2.0 * sfm_rng_uniform(rng) - 1.0;
         s = u * u + v * v;
     } while (s >= 1.0 || s == 0.0);
-    return u * sqrt(-2.0 * log(s) / s);
+    return u * sqrt(-2.0 * sfmi_log(s) / s);
 }

@@ -19,6 +19,7 @@
 
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "core/dmath.h"
 
 static int finite_n(const double *v, int n)
 {
@@ -64,8 +65,8 @@ int sfm_rot_from_axis_angle(const double aa[3], double R[9])
         a = 1.0 - th2 / 6.0 + th2 * th2 / 120.0;
         b = 0.5 - th2 / 24.0 + th2 * th2 / 720.0;
     } else {
-        const double sh = sin(0.5 * th) / th;
-        a = sin(th) / th;
+        const double sh = sfmi_sin(0.5 * th) / th;
+        a = sfmi_sin(th) / th;
         b = 2.0 * sh * sh;
     }
     double M[9];
@@ -174,7 +175,7 @@ static void log_of_quat(const double q[4], double aa[3])
 {
     const double s = sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     /* 2 atan2(s, w) / s; its limit 2 / w as s -> 0 */
-    const double f = s > 0.0 ? 2.0 * atan2(s, q[0]) / s : 2.0 / q[0];
+    const double f = s > 0.0 ? 2.0 * sfmi_atan2(s, q[0]) / s : 2.0 / q[0];
     aa[0] = f * q[1];
     aa[1] = f * q[2];
     aa[2] = f * q[3];
@@ -205,7 +206,7 @@ int sfm_rot_angle_between(const double R1[9], const double R2[9], double *angle)
             D[3 * i + j] = R1[i] * R2[j] + R1[3 + i] * R2[3 + j] + R1[6 + i] * R2[6 + j];
     quat_of(D, q);
     const double s = sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    *angle = 2.0 * atan2(s, q[0]);
+    *angle = 2.0 * sfmi_atan2(s, q[0]);
     return SFM_OK;
 }
 

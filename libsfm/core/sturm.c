@@ -32,6 +32,7 @@
 
 #include "core/poly_internal.h"
 #include "sfm/sfm_poly.h"
+#include "core/dmath.h"
 
 #define NMAX (SFM_POLY_MAX_DEGREE + 1)
 /* A remainder whose every coefficient is below this multiple of the largest
@@ -328,7 +329,7 @@ int sfm_poly_real_roots(const double *c, int degree, double lo, double hi, doubl
         for (int i = 1; i <= d; i++) {
             if (p[i] == 0.0)
                 continue;
-            double t = log2(fabs(p[i])) - log2(fabs(p[0])) - (i == d ? 1.0 : 0.0);
+            double t = sfmi_log2(fabs(p[i])) - sfmi_log2(fabs(p[0])) - (i == d ? 1.0 : 0.0);
             lb = fmax(lb, t / (double)i);
         }
         int e = (int)ceil(lb) + 1;

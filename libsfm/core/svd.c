@@ -21,6 +21,7 @@
 #include "core/arena.h"
 #include "core/linalg_util.h"
 #include "core/svd_internal.h"
+#include "core/dmath.h"
 
 /* Sweeps before SFM_E_NO_CONVERGENCE; convergence takes 5 to 12 in practice. */
 #define SVD_MAX_SWEEPS 80
@@ -142,7 +143,7 @@ static void write_left_basis(const svd_ws *w, int R, int C, int r, double *out)
             w->tau[k] = 0.0;
             continue;
         }
-        double beta = -copysign(hypot(alpha, xn), alpha);
+        double beta = -copysign(sfmi_hypot(alpha, xn), alpha);
         w->tau[k] = (beta - alpha) / beta;
         double inv = 1.0 / (alpha - beta);
         for (int i = k + 1; i < R; i++)

@@ -17,6 +17,7 @@
 #include <stddef.h>
 
 #include "features/brief_pattern.h"
+#include "core/dmath.h"
 
 /* floor(sqrt(15^2 - v^2)) for v = 0..15: the half-width of the disc rows. */
 static const signed char disc_umax[16] = {15, 14, 14, 14, 14, 14, 13, 13, 12, 12, 11, 10, 9, 7, 5, 0};
@@ -101,7 +102,7 @@ static void steer(int stride, double c, double s, int32_t *restrict o1, int32_t 
 void sfm_feat_steer_bin(int stride, int bin, int32_t *table)
 {
     const double a = 6.283185307179586 * (double)bin / (double)SFM_FEAT_ANGLE_BINS;
-    steer(stride, cos(a), sin(a), table + (size_t)bin * 2 * SFM_BRIEF_PAIRS,
+    steer(stride, sfmi_cos(a), sfmi_sin(a), table + (size_t)bin * 2 * SFM_BRIEF_PAIRS,
           table + (size_t)bin * 2 * SFM_BRIEF_PAIRS + SFM_BRIEF_PAIRS);
 }
 
@@ -113,7 +114,7 @@ void sfm_feat_steer_table(int stride, int32_t *table)
 
 int sfm_feat_angle_bin(double c, double s)
 {
-    const double a = atan2(s, c); /* (-pi, pi] */
+    const double a = sfmi_atan2(s, c); /* (-pi, pi] */
     int b = (int)floor(a * ((double)SFM_FEAT_ANGLE_BINS / 6.283185307179586) + 0.5);
     b %= SFM_FEAT_ANGLE_BINS;
     return b < 0 ? b + SFM_FEAT_ANGLE_BINS : b;

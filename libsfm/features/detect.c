@@ -25,6 +25,7 @@
 #include "features/fast.h"
 #include "features/pyramid.h"
 #include "sfm/sfm_features.h"
+#include "core/dmath.h"
 
 #define MAX_SIDE 32768
 /* A cell keeps at most this many times its fair share of a level's quota. */
@@ -320,7 +321,7 @@ static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int32_t *steer,
     sfm_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
     kp->y = (ry + 0.5) * lv->sy - 0.5;
-    kp->angle = atan2(si, co);
+    kp->angle = sfmi_atan2(si, co);
     kp->response = c->harris;
     kp->scale = 0.5 * (lv->sx + lv->sy);
     kp->level = level;

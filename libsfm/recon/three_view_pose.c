@@ -301,7 +301,7 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
         sfm_ransac_default_options(&ro);
     sfm_pose best[3], cand[3];
     int best_in = -1;
-    double best_cost = INFINITY, cost;
+    double best_cost = HUGE_VAL, cost;
 
     int m = gather(&w, cams, n, cnt);
     double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];

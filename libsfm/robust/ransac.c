@@ -13,6 +13,7 @@
 #include "robust/prosac.h"
 #include "robust/sprt.h"
 #include "sfm/sfm_ransac.h"
+#include "core/dmath.h"
 
 /* Initial SPRT parameters; SPRT only starts once a best model exists and
  * sets eps from its support. */
@@ -196,15 +197,15 @@ static int collect_within(const engine *e, const double *model, double r2max, in
  * with probability conf. */
 static double needed_iterations(double eps, int k, double pass, double conf)
 {
-    double p = pow(eps, (double)k) * pass;
+    double p = sfmi_pow(eps, (double)k) * pass;
     if (p >= 1.0)
         return 0.0;
     if (p <= 1e-300)
         return INFINITY;
-    double denom = log1p(-p);
+    double denom = sfmi_log1p(-p);
     if (denom >= 0.0)
         return INFINITY;
-    return ceil(log(1.0 - conf) / denom);
+    return ceil(sfmi_log(1.0 - conf) / denom);
 }
 
 static int contains(const int *a, int k, int v)

@@ -3,6 +3,7 @@
 #include "robust/sprt.h"
 
 #include <math.h>
+#include "core/dmath.h"
 
 void sfm_sprt_init(sfm_sprt *s, double eps, double delta)
 {
@@ -20,7 +21,7 @@ void sfm_sprt_update(sfm_sprt *s)
     double eps = s->eps, delta = s->delta;
     if (!(eps > delta * 1.05) || eps >= 1.0 || delta <= 0.0) {
         s->active = 0;
-        s->A = INFINITY;
+        s->A = HUGE_VAL;
         s->mult_in = 1.0;
         s->mult_out = 1.0;
         return;
@@ -29,12 +30,12 @@ void sfm_sprt_update(sfm_sprt *s)
     s->mult_in = delta / eps;
     s->mult_out = (1.0 - delta) / (1.0 - eps);
     /* C: the Kullback-Leibler divergence between the two Bernoulli laws. */
-    double C = (1.0 - delta) * log((1.0 - delta) / (1.0 - eps)) + delta * log(delta / eps);
+    double C = (1.0 - delta) * sfmi_log((1.0 - delta) / (1.0 - eps)) + delta * sfmi_log(delta / eps);
     double ms = s->models_per_sample > 1.0 ? s->models_per_sample : 1.0;
     double K = SFM_SPRT_MODEL_COST * C / ms;
     double A = K + 1.0;
     for (int i = 0; i < 20; i++) {
-        double next = K + 1.0 + log(A);
+        double next = K + 1.0 + sfmi_log(A);
         if (fabs(next - A) < 1e-6 * A) {
             A = next;
             break;

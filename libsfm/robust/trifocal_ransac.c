@@ -80,7 +80,7 @@ static double tf_residual(void *vctx, const double *model, int i)
     double e;
     if (sfm_trifocal_point_error(P1, &model[27], &model[39], &c->x1[2 * i], &c->x2[2 * i],
                                  &c->x3[2 * i], &e, NULL) != SFM_OK)
-        return INFINITY;
+        return HUGE_VAL;
     return e / 3.0;
 }
 

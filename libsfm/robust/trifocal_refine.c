@@ -50,7 +50,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         for (int v = 0; v < 3; v++) {
             double r[2];
             if (!sfm_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
-                return INFINITY;
+                return HUGE_VAL;
             c += r[0] * r[0] + r[1] * r[1];
         }
     }
@@ -310,7 +310,7 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
     *status = SFM_OK;
     if (n > w->cap || n < SFM_TRIFOCAL_MIN_POINTS || max_iters < 0) {
         *status = SFM_E_ARGUMENT;
-        return INFINITY;
+        return HUGE_VAL;
     }
     tf_sys c;
     c.xs = xs;
@@ -331,7 +331,7 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
         int st = sfm_trifocal_point_error(P1, c.A2, c.A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &c.X[4 * q]);
         if (st < 0) {
             *status = st;
-            return INFINITY;
+            return HUGE_VAL;
         }
     }
     sfmi_lm_options opt;
@@ -349,7 +349,7 @@ double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const
     sfmi_lm_summary sum;
     if (sfmi_lm_run(&sys, &opt, &sum) != SFM_OK) {
         *status = SFM_E_SINGULAR;
-        return INFINITY;
+        return HUGE_VAL;
     }
     memcpy(P2, c.A2, sizeof c.A2);
     memcpy(P3, c.A3, sizeof c.A3);

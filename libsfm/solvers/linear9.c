@@ -14,7 +14,7 @@ int sfm__null9_exact(double *A, int m, double *N)
      * (v_k in row k of A from entry k on, beta_k) zeroes entries k+1..8 of
      * column k. */
     double beta[8];
-    double dmax = 0.0, dmin = INFINITY;
+    double dmax = 0.0, dmin = HUGE_VAL;
     for (int k = 0; k < m; k++) {
         double *a = A + 9 * k;
         double s = 0.0;

@@ -514,7 +514,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     double *R[10];
     for (int r = 0; r < 10; r++)
         R[r] = M[r];
-    double minpiv = INFINITY;
+    double minpiv = HUGE_VAL;
     for (int c = 0; c < 10; c++) {
         int piv = c;
         double pmax = fabs(R[c][c]);

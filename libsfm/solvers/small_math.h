@@ -8,6 +8,7 @@
 #define SFM_SOLVERS_SMALL_MATH_H
 
 #include <math.h>
+#include "core/dmath.h"
 
 /* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
 static inline int sfm_all_finite3(const double *v)
@@ -92,7 +93,7 @@ static inline double sfm_cubic_largest_root(double b, double c, double d)
     double x;
     if (disc >= 0.0) {
         double s = sqrt(disc);
-        double u = cbrt(-0.5 * q - copysign(s, q));
+        double u = sfmi_cbrt(-0.5 * q - copysign(s, q));
         x = (u != 0.0 ? u - p / (3.0 * u) : 0.0) - b3;
     } else {
         /* p < 0 here */
@@ -102,7 +103,7 @@ static inline double sfm_cubic_largest_root(double b, double c, double d)
             arg = 1.0;
         if (arg < -1.0)
             arg = -1.0;
-        x = 2.0 * r * cos(acos(arg) * (1.0 / 3.0)) - b3;
+        x = 2.0 * r * sfmi_cos(sfmi_acos(arg) * (1.0 / 3.0)) - b3;
     }
     for (int it = 0; it < 2; it++) {
         double f = ((x + b) * x + c) * x + d;

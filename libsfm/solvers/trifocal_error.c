@@ -52,7 +52,7 @@ static double cost(const double *P[3], const double *x[3], const double X[4], in
     for (int v = 0; v < 3; v++) {
         if (!sfm_trifocal_residual(P[v], X, x[v], r, NULL, NULL)) {
             *ok = 0;
-            return INFINITY;
+            return HUGE_VAL;
         }
         c += r[0] * r[0] + r[1] * r[1];
     }

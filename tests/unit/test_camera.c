@@ -311,7 +311,7 @@ SFM_TEST(camera_contracts)
     bad.fy = 0.0;
     SFM_CHECK_EQ_INT(sfm_camera_project(&bad, X, o2, J), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_camera_unproject(&bad, px, o3), SFM_E_ARGUMENT);
-    const double nonfinite[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
+    const double nonfinite[3] = {(double)NAN, (double)HUGE_VAL, -(double)HUGE_VAL};
     for (int k = 0; k < 3; k++) {
         double *fields[4] = {&bad.fx, &bad.cy, &bad.dist[2], &bad.dist[4]};
         for (int fi = 0; fi < 4; fi++) {

@@ -368,7 +368,7 @@ SFM_TEST(features_detect_contract)
     bad.width = 0;
     SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
     sfm_features_params q = p;
-    q.scale_factor = NAN;
+    q.scale_factor = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_features_workspace_size(&q, W, H), 0);
     q = p;
@@ -445,7 +445,7 @@ SFM_TEST(features_match_contract)
     SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need - 1, pairs, dists, 10), SFM_E_WORKSPACE);
     SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need, pairs, dists, 9), SFM_E_CAPACITY);
     sfm_match_params bad = mp;
-    bad.ratio = NAN;
+    bad.ratio = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
     bad = mp;
     bad.ratio = 0.0;

@@ -255,9 +255,9 @@ SFM_TEST(homography_4pt_collinear_triples)
     make_problem(t, 0, 4, p1, p2, Ht);
     sfm_mat3 H;
     sfm_test_fill_canary(&H, sizeof H);
-    p2[7] = INFINITY;
+    p2[7] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), SFM_E_NONFINITE);
-    p2[7] = NAN;
+    p2[7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(&H, sizeof H));
 }
@@ -275,8 +275,8 @@ SFM_TEST(homography_contract)
     SFM_CHECK_EQ_INT(sfm_homography_dlt(q1, q2, 3, &H), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_homography_dlt(NULL, q2, 10, &H), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_homography_dlt(q1, q2, 10, NULL), SFM_E_ARGUMENT);
-    p1[5] = NAN;
-    q2[19] = INFINITY;
+    p1[5] = (double)NAN;
+    q2[19] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_homography_4pt(p1, p2, &H), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_homography_dlt(q1, q2, 10, &H), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(&H, sizeof H));

@@ -130,7 +130,7 @@ SFM_TEST(lu_contract)
     SFM_CHECK_EQ_INT(sfm_lu_factor(A, 0, piv), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_lu_factor(A, -1, piv), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_lu_factor(A, SFM_LINALG_MAX_DIM + 1, piv), SFM_E_ARGUMENT);
-    double N[4] = {1, NAN, 3, 4};
+    double N[4] = {1, (double)NAN, 3, 4};
     sfm_test_fill_canary(piv, sizeof piv);
     SFM_CHECK_EQ_INT(sfm_lu_factor(N, 2, piv), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(piv, sizeof piv));
@@ -143,7 +143,7 @@ SFM_TEST(lu_contract)
     SFM_CHECK_EQ_INT(sfm_lu_solve(A, piv, 2, NULL, 1), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_lu_solve(A, piv, 2, Bc, 0), SFM_E_ARGUMENT);
     SFM_CHECK(sfm_test_canary_intact(Bc, sizeof Bc));
-    double Bn[2] = {INFINITY, 1};
+    double Bn[2] = {HUGE_VAL, 1};
     SFM_CHECK_EQ_INT(sfm_lu_solve(A, piv, 2, Bn, 1), SFM_E_NONFINITE);
     SFM_CHECK(isinf(Bn[0]) && Bn[1] == 1);
     int badpiv[2] = {5, 1};
@@ -166,7 +166,7 @@ SFM_TEST(cholesky_reconstructs_and_solves)
             memcpy(g_c, g_b, sizeof(double) * n * n);
             for (int i = 0; i < n; i++)
                 for (int j = i + 1; j < n; j++)
-                    g_c[i * n + j] = NAN; /* the upper triangle is never read */
+                    g_c[i * n + j] = (double)NAN; /* the upper triangle is never read */
             SFM_CHECK_EQ_INT(sfm_cholesky_factor(g_c, n), SFM_OK);
             matmul(g_c, g_c, g_d, n, n, n, 1);
             for (int i = 0; i < n * n; i++)
@@ -184,7 +184,7 @@ SFM_TEST(cholesky_reconstructs_and_solves)
 
 SFM_TEST(cholesky_contract)
 {
-    double A[4] = {4, 0, 2, 3}, N[4] = {4, 0, NAN, 3}, I[4] = {1, 0, 2, -1};
+    double A[4] = {4, 0, 2, 3}, N[4] = {4, 0, (double)NAN, 3}, I[4] = {1, 0, 2, -1};
     SFM_CHECK_EQ_INT(sfm_cholesky_factor(NULL, 2), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_cholesky_factor(A, 0), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_cholesky_factor(N, 2), SFM_E_NONFINITE);
@@ -248,7 +248,7 @@ SFM_TEST(qr_contract)
     SFM_CHECK_EQ_INT(sfm_qr_factor(A, 3, 2, NULL), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_qr_factor(A, 2, 3, tau), SFM_E_ARGUMENT); /* m < n */
     SFM_CHECK_EQ_INT(sfm_qr_factor(A, 3, 0, tau), SFM_E_ARGUMENT);
-    double N[6] = {1, 2, 3, NAN, 5, 6};
+    double N[6] = {1, 2, 3, (double)NAN, 5, 6};
     sfm_test_fill_canary(tau, sizeof tau);
     SFM_CHECK_EQ_INT(sfm_qr_factor(N, 3, 2, tau), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(tau, sizeof tau));
@@ -436,9 +436,9 @@ SFM_TEST(svd_contract)
     SFM_CHECK_EQ_INT(sfm_svd(A, 2, -3, U, S, V, g_ws, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_svd(A, 2, 3, U, S, V, g_ws, ws - 1), SFM_E_WORKSPACE);
     SFM_CHECK_EQ_INT(sfm_svd(A, 2, 3, U, S, V, g_ws + 1, ws - 1), SFM_E_WORKSPACE);
-    double N[6] = {1, 2, 3, 4, INFINITY, 6};
+    double N[6] = {1, 2, 3, 4, HUGE_VAL, 6};
     SFM_CHECK_EQ_INT(sfm_svd(N, 2, 3, U, S, V, g_ws, ws), SFM_E_NONFINITE);
-    N[4] = NAN;
+    N[4] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_svd(N, 2, 3, U, S, V, g_ws, ws), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(U, sizeof U));
     SFM_CHECK(sfm_test_canary_intact(S, sizeof S));
@@ -485,7 +485,7 @@ SFM_TEST(sym_eig_random_and_known)
             rand_mat(t, g_a, n, n);
             for (int i = 0; i < n; i++)
                 for (int j = i + 1; j < n; j++)
-                    g_a[i * n + j] = NAN; /* only the lower triangle is read */
+                    g_a[i * n + j] = (double)NAN; /* only the lower triangle is read */
             check_sym_eig(t, g_a, n, 1e-13);
         }
     double A[4] = {2, 0, 1, 2}, w[2], V[4];
@@ -529,7 +529,7 @@ SFM_TEST(sym_eig_contract)
     SFM_CHECK_EQ_INT(sfm_sym_eig(A, 2, w, V, NULL, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_sym_eig(A, 0, w, V, g_ws, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_sym_eig(A, 2, w, V, g_ws, ws - 1), SFM_E_WORKSPACE);
-    double N[4] = {1, 0, NAN, 3};
+    double N[4] = {1, 0, (double)NAN, 3};
     SFM_CHECK_EQ_INT(sfm_sym_eig(N, 2, w, V, g_ws, ws), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(w, sizeof w));
     SFM_CHECK(sfm_test_canary_intact(V, sizeof V));
@@ -769,7 +769,7 @@ SFM_TEST(eig_contract)
     SFM_CHECK_EQ_INT(sfm_eig(A, 2, wr, wi, V, NULL, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_eig(A, 0, wr, wi, V, g_ws, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_eig(A, 2, wr, wi, V, g_ws, ws - 1), SFM_E_WORKSPACE);
-    double N[4] = {1, 2, -INFINITY, 4};
+    double N[4] = {1, 2, -HUGE_VAL, 4};
     SFM_CHECK_EQ_INT(sfm_eig(N, 2, wr, wi, V, g_ws, ws), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(wr, sizeof wr));
     SFM_CHECK(sfm_test_canary_intact(wi, sizeof wi));
@@ -832,7 +832,7 @@ SFM_TEST(nullspace_contract)
     SFM_CHECK_EQ_INT(sfm_nullspace(A, 2, 3, 4, N, S, g_ws, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_nullspace(A, 2, 3, 1, N, S, NULL, ws), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_nullspace(A, 2, 3, 1, N, S, g_ws, ws - 1), SFM_E_WORKSPACE);
-    double B[6] = {1, 2, 3, 4, NAN, 6};
+    double B[6] = {1, 2, 3, 4, (double)NAN, 6};
     SFM_CHECK_EQ_INT(sfm_nullspace(B, 2, 3, 1, N, S, g_ws, ws), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(N, sizeof N));
     SFM_CHECK(sfm_test_canary_intact(S, sizeof S));

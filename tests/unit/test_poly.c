@@ -85,7 +85,7 @@ static int call_roots(int d, int closed, const double *c, double *out)
         return sfm_poly_roots3(c, out);
     if (closed && d == 4)
         return sfm_poly_roots4(c, out);
-    return sfm_poly_real_roots(c, d, -INFINITY, INFINITY, out);
+    return sfm_poly_real_roots(c, d, -HUGE_VAL, HUGE_VAL, out);
 }
 
 /* Simple roots r (sorted, distinct): every one found, once, within bound. */
@@ -186,7 +186,7 @@ SFM_TEST(poly_cubic_quartic_known_cases)
     SFM_CHECK_EQ_INT(sfm_poly_roots4(c, r), 2);
     SFM_CHECK_NEAR(r[0], -1.0, 1e-7);
     SFM_CHECK_NEAR(r[1], 2.0, 1e-7);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 4, -INFINITY, INFINITY, r), 2);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 4, -HUGE_VAL, HUGE_VAL, r), 2);
     SFM_CHECK_NEAR(r[0], -1.0, 1e-7);
     SFM_CHECK_NEAR(r[1], 2.0, 1e-7);
     /* leading zeros fall back to the lower degree */
@@ -267,7 +267,7 @@ static void double_root_case(sfm_test_ctx *t, const double *r, int d, int closed
     int n = call_roots(d, closed, c, out);
     SFM_CHECK(n >= d - 1 && n <= d);
     for (int i = 0; i < d; i++) {
-        double best = INFINITY;
+        double best = HUGE_VAL;
         for (int j = 0; j < n; j++)
             best = fmin(best, fabs(out[j] - r[i]));
         int dbl = (i > 0 && r[i] == r[i - 1]) || (i + 1 < d && r[i] == r[i + 1]);
@@ -320,7 +320,7 @@ SFM_TEST(poly_sturm_wilkinson10_and_interval)
     for (int i = 0; i < 10; i++)
         r[i] = (double)(i + 1);
     poly_from_roots(r, 10, 1.0, c);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 10, -INFINITY, INFINITY, out), 10);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 10, -HUGE_VAL, HUGE_VAL, out), 10);
     for (int i = 0; i < 10; i++)
         SFM_CHECK_NEAR(out[i], r[i], 1e-9 * r[i]);
     /* open interval: (3, 7.5) holds 4, 5, 6, 7; the ends are excluded */
@@ -328,21 +328,21 @@ SFM_TEST(poly_sturm_wilkinson10_and_interval)
     SFM_CHECK_NEAR(out[0], 4.0, 1e-10);
     SFM_CHECK_NEAR(out[3], 7.0, 1e-10);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 10, 3.0, 4.0, out), 0);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 10, 10.5, INFINITY, out), 0);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 10, 10.5, HUGE_VAL, out), 0);
     /* roots at zero are divided out and reported once */
     const double z[6] = {1.0, -1.0, -2.0, 0.0, 0.0, 0.0}; /* x^3 (x-2)(x+1) */
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(z, 5, -INFINITY, INFINITY, out), 3);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(z, 5, -HUGE_VAL, HUGE_VAL, out), 3);
     SFM_CHECK_NEAR(out[0], -1.0, 4 * EPS);
     SFM_CHECK_NEAR(out[1], 0.0, 0.0);
     SFM_CHECK_NEAR(out[2], 2.0, 8 * EPS);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(z, 5, 0.0, INFINITY, out), 1);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(z, 5, 0.0, HUGE_VAL, out), 1);
     /* leading zeros: degree drops */
     const double l[4] = {0.0, 0.0, 2.0, -1.0};
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(l, 3, -INFINITY, INFINITY, out), 1);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(l, 3, -HUGE_VAL, HUGE_VAL, out), 1);
     SFM_CHECK_NEAR(out[0], 0.5, 0.0);
     /* no real roots at all: x^10 + 1 */
     double e[11] = {1.0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1.0};
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(e, 10, -INFINITY, INFINITY, out), 0);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(e, 10, -HUGE_VAL, HUGE_VAL, out), 0);
 }
 
 SFM_TEST(poly_sturm_tight_cluster_degree10)
@@ -373,13 +373,13 @@ SFM_TEST(poly_contracts)
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 3, -1.0, 1.0, NULL), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 0, -1.0, 1.0, out), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, -2, -1.0, 1.0, out), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, SFM_POLY_MAX_DEGREE + 1, -INFINITY, INFINITY, out),
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, SFM_POLY_MAX_DEGREE + 1, -HUGE_VAL, HUGE_VAL, out),
                      SFM_E_CAPACITY);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 3, 1.0, 1.0, out), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 3, 2.0, 1.0, out), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 3, (double)NAN, 1.0, out), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_poly_real_roots(c, 3, -1.0, (double)NAN, out), SFM_E_NONFINITE);
-    const double bad[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
+    const double bad[3] = {(double)NAN, (double)HUGE_VAL, -(double)HUGE_VAL};
     for (int k = 0; k < 3; k++) {
         for (int pos = 0; pos < 5; pos++) {
             double cc[5] = {1.0, -2.0, -3.0, 4.0, 1.0};
@@ -389,7 +389,7 @@ SFM_TEST(poly_contracts)
             if (pos < 4)
                 SFM_CHECK_EQ_INT(sfm_poly_roots3(cc, out), SFM_E_NONFINITE);
             SFM_CHECK_EQ_INT(sfm_poly_roots4(cc, out), SFM_E_NONFINITE);
-            SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 4, -INFINITY, INFINITY, out),
+            SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 4, -HUGE_VAL, HUGE_VAL, out),
                              SFM_E_NONFINITE);
         }
     }
@@ -398,13 +398,13 @@ SFM_TEST(poly_contracts)
     double r[3] = {-1.0, 0.5, 2.0}, cc[4], o[4];
     poly_from_roots(r, 3, 1.0, cc);
     sfm_test_fill_canary(o, sizeof o);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 3, -INFINITY, INFINITY, o), 3);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 3, -HUGE_VAL, HUGE_VAL, o), 3);
     SFM_CHECK(sfm_test_canary_intact(&o[3], sizeof o[3]));
     sfm_test_fill_canary(o, sizeof o);
     SFM_CHECK_EQ_INT(sfm_poly_roots3(cc, o), 3);
     SFM_CHECK(sfm_test_canary_intact(&o[3], sizeof o[3]));
     /* a count below capacity leaves the rest untouched too */
     sfm_test_fill_canary(o, sizeof o);
-    SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 3, 0.0, INFINITY, o), 2);
+    SFM_CHECK_EQ_INT(sfm_poly_real_roots(cc, 3, 0.0, HUGE_VAL, o), 2);
     SFM_CHECK(sfm_test_canary_intact(&o[2], 2 * sizeof o[0]));
 }

@@ -254,9 +254,9 @@ SFM_TEST(p3p_contract)
         double xb[9], Xb[9];
         memcpy(xb, x, sizeof xb);
         memcpy(Xb, X, sizeof Xb);
-        xb[i] = NAN;
+        xb[i] = (double)NAN;
         SFM_CHECK_EQ_INT(sfm_p3p(xb, X, poses), SFM_E_NONFINITE);
-        Xb[i] = INFINITY;
+        Xb[i] = HUGE_VAL;
         SFM_CHECK_EQ_INT(sfm_p3p(x, Xb, poses), SFM_E_NONFINITE);
     }
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
@@ -477,19 +477,19 @@ SFM_TEST(upright_3pt_contract)
     for (int i = 0; i < 9; i++) {
         double b[9];
         memcpy(b, x1, sizeof b);
-        b[i] = NAN;
+        b[i] = (double)NAN;
         SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(b, x2, d1, d2, poses), SFM_E_NONFINITE);
         memcpy(b, x2, sizeof b);
-        b[i] = -INFINITY;
+        b[i] = -HUGE_VAL;
         SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(x1, b, d1, d2, poses), SFM_E_NONFINITE);
     }
     for (int i = 0; i < 3; i++) {
         double b[3];
         memcpy(b, d1, sizeof b);
-        b[i] = NAN;
+        b[i] = (double)NAN;
         SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(x1, x2, b, d2, poses), SFM_E_NONFINITE);
         memcpy(b, d2, sizeof b);
-        b[i] = NAN;
+        b[i] = (double)NAN;
         SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(x1, x2, d1, b, poses), SFM_E_NONFINITE);
     }
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
@@ -630,13 +630,13 @@ SFM_TEST(essential_to_poses_contract)
     SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, x2, -1, poses, cnt), SFM_E_ARGUMENT);
     double b[9];
     memcpy(b, E, sizeof b);
-    b[4] = NAN;
+    b[4] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
-    b[4] = INFINITY;
+    b[4] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
     double xb[3 * N];
     memcpy(xb, x2, sizeof xb);
-    xb[3 * N - 1] = NAN;
+    xb[3 * N - 1] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, xb, N, poses, cnt), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
     SFM_CHECK(sfm_test_canary_intact(cnt, sizeof cnt));

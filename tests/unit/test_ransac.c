@@ -409,7 +409,7 @@ SFM_TEST(ransac_prosac_uses_quality)
     SFM_CHECK(line_angle_err(model, line) < 0.01);
     /* the first samples come from the top-ranked points, all on the line */
     SFM_CHECK(st.iterations <= 300);
-    quality[3] = NAN;
+    quality[3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf),
                      SFM_E_NONFINITE);
 }
@@ -453,7 +453,7 @@ SFM_TEST(ransac_contract)
         double m2[3];
         SFM_CHECK(sfm_ransac_run(&est, NPTS - 8, &opt, m2, NULL, NULL, ws_buf + 1, need) > 0);
     }
-    opt.threshold = NAN;
+    opt.threshold = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_NONFINITE);
     opt.threshold = -1;
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);

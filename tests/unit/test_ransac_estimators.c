@@ -218,10 +218,10 @@ SFM_TEST(relpose_contract)
     SFM_CHECK_EQ_INT(sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, NULL, E, MASK, &st, WS,
                                         sizeof WS), SFM_E_ARGUMENT);
     double keep = P1[17];
-    P1[17] = NAN;
+    P1[17] = (double)NAN;
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &cam, &opt, WS, sizeof WS), SFM_E_NONFINITE);
     P1[17] = keep;
-    opt.threshold = INFINITY;
+    opt.threshold = HUGE_VAL;
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &cam, &opt, WS, sizeof WS), SFM_E_NONFINITE);
     opt.threshold = 0.0;
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &cam, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
@@ -277,7 +277,7 @@ SFM_TEST(upright_relpose_known_gravity)
     sfm_pose pose;
     SFM_CHECK_EQ_INT(sfm_ransac_relpose_upright(P1, P2, NE, &cam, &cam, d0, d1, NULL, &pose, NULL,
                                                 NULL, NULL, WS, sizeof WS), SFM_E_ARGUMENT);
-    d0[1] = NAN;
+    d0[1] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ransac_relpose_upright(P1, P2, NE, &cam, &cam, d0, d1, NULL, &pose, NULL,
                                                 NULL, NULL, WS, sizeof WS), SFM_E_NONFINITE);
 }
@@ -334,7 +334,7 @@ SFM_TEST(abspose_outlier_levels)
                      SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_ransac_abspose(P1, XW, 2, &cam, NULL, &pose, NULL, NULL, WS, need),
                      SFM_E_ARGUMENT);
-    XW[5] = NAN;
+    XW[5] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ransac_abspose(P1, XW, NE, &cam, NULL, &pose, NULL, NULL, WS, need),
                      SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(&pose, sizeof pose));

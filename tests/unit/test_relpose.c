@@ -223,7 +223,7 @@ static int all_finite(const sfm_mat3 *M, int n)
 
 static double best_dist(const sfm_mat3 *M, int n, const double *truth)
 {
-    double best = INFINITY;
+    double best = HUGE_VAL;
     for (int k = 0; k < n; k++) {
         double d = dist_proj(M[k].m, truth);
         if (d < best)
@@ -338,10 +338,10 @@ SFM_TEST(relpose_5pt_contract)
     SFM_CHECK_EQ_INT(sfm_relpose_5pt(NULL, x2, E), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_relpose_5pt(x1, NULL, E), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_relpose_5pt(x1, x2, NULL), SFM_E_ARGUMENT);
-    x1[7] = NAN;
+    x1[7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_relpose_5pt(x1, x2, E), SFM_E_NONFINITE);
     x1[7] = 0.1;
-    x2[14] = INFINITY;
+    x2[14] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_relpose_5pt(x1, x2, E), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(E, sizeof E));
 }
@@ -401,7 +401,7 @@ SFM_TEST(relpose_7pt_degenerate_and_contract)
     SFM_CHECK_EQ_INT(sfm_relpose_7pt(NULL, p2, F), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, NULL, F), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, p2, NULL), SFM_E_ARGUMENT);
-    p2[3] = NAN;
+    p2[3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, p2, F), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(F, sizeof F));
 }
@@ -524,8 +524,8 @@ SFM_TEST(relpose_8pt_degenerate_and_contract)
     SFM_CHECK_EQ_INT(sfm_fundamental_8pt(p1, p2, 7, &F), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_fundamental_8pt(NULL, p2, 8, &F), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_fundamental_8pt(p1, p2, -1, &F), SFM_E_ARGUMENT);
-    x1[29] = NAN;
-    p2[19] = -INFINITY;
+    x1[29] = (double)NAN;
+    p2[19] = -HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_relpose_8pt(x1, x2, 10, &E), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_fundamental_8pt(p1, p2, 10, &F), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(&E, sizeof E));

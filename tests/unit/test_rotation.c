@@ -284,7 +284,7 @@ SFM_TEST(rot_contracts)
     SFM_CHECK_EQ_INT(sfm_rot_angle_between(NULL, I, &ang), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_rot_angle_between(I, NULL, &ang), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_rot_angle_between(I, I, NULL), SFM_E_ARGUMENT);
-    const double bad[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
+    const double bad[3] = {(double)NAN, (double)HUGE_VAL, -(double)HUGE_VAL};
     for (int b = 0; b < 3; b++) {
         for (int pos = 0; pos < 9; pos++) {
             double M[9];

@@ -92,7 +92,7 @@ SFM_TEST(three_view_pose_contracts)
     bad.fx = 0;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_pose(px[0], px[1], px[2], N, &cam, &bad, &cam, NULL, est, NULL, NULL, ws, need),
                      SFM_E_ARGUMENT);
-    px[1][3] = NAN;
+    px[1][3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_pose(px[0], px[1], px[2], N, &cam, &cam, &cam, NULL, est, NULL, NULL, ws, need),
                      SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(est, sizeof est));

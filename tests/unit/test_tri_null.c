@@ -154,7 +154,7 @@ SFM_TEST(tri_null_declines_without_a_gap)
         SFM_CHECK(v[i] == 42.0);
     memset(R, 0, sizeof(double) * 27 * 27);
     SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 0);
-    R[5] = NAN;
+    R[5] = (double)NAN;
     R[0] = 1.0;
     SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 0);
     for (int i = 0; i < 27; i++)

@@ -344,21 +344,21 @@ SFM_TEST(triangulate_contract)
     /* NaN anywhere */
     double xb[3 * 4 * 2];
     memcpy(xb, s.xp, sizeof xb);
-    xb[9] = NAN;
+    xb[9] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_triangulate_dlt(3, s.Pp, 4, xb, X, fl), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_triangulate_optimal2(s.Pp, s.Pp + 12, 4, s.xp, xb + 8, X, fl),
                      SFM_E_NONFINITE);
     double Pb[36];
     memcpy(Pb, s.Pp, sizeof Pb);
-    Pb[20] = INFINITY;
+    Pb[20] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_triangulate_dlt(3, Pb, 4, s.xp, X, fl), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_triangulate_optimal2(s.Pp, Pb + 12, 4, s.xp, s.xp + 8, X, fl),
                      SFM_E_NONFINITE);
     sfm_pose pb[3];
     memcpy(pb, s.pose, sizeof pb);
-    pb[2].t[1] = NAN;
+    pb[2].t[1] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_triangulate_midpoint(3, pb, 4, s.f, X, fl), SFM_E_NONFINITE);
-    fz[3] = NAN;
+    fz[3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_triangulate_midpoint(3, s.pose, 4, fz, X, fl), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(X, sizeof X));
     SFM_CHECK(sfm_test_canary_intact(fl, sizeof fl));

@@ -364,7 +364,7 @@ SFM_TEST(trifocal_contracts)
     SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     double Pn[12];
     memcpy(Pn, P, sizeof Pn);
-    Pn[5] = NAN;
+    Pn[5] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_trifocal_from_cameras(P, Pn, P, out), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_trifocal_7pt(x, x, x, 6, out, tf_ws, sizeof tf_ws), SFM_E_ARGUMENT);
     /* all points identical: normalization is singular, nothing written */
@@ -376,7 +376,7 @@ SFM_TEST(trifocal_contracts)
     SFM_CHECK_EQ_INT(sfm_trifocal_7pt(xs, xs, xs, 7, out, tf_ws, sfm_trifocal_7pt_workspace_size() - 1),
                      SFM_E_WORKSPACE);
     SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
-    xs[3] = INFINITY;
+    xs[3] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_trifocal_7pt(xs, xs, xs, 7, out, tf_ws, sizeof tf_ws), SFM_E_NONFINITE);
     double e;
     SFM_CHECK_EQ_INT(sfm_trifocal_point_error(P, P, P, x, x, x, NULL, NULL), SFM_E_ARGUMENT);
