@@ -17,5 +17,6 @@
 #include "sfm/sfm_features.h"
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_ba.h"
+#include "sfm/sfm_vo.h"
 
 #endif

@@ -19,5 +19,12 @@ from .trifocal import *  # noqa: F401,F403
 from . import linalg  # noqa: F401,E402
 from .geometry import *  # noqa: F401,F403,E402
 from .ba import bundle_adjust  # noqa: F401,E402
+from .vo import VisualOdometry  # noqa: F401,E402
+
+
+def replay_many(dirs, client=None, **kw):
+    """Many recordings on Dask distributed; see libsfm.replay.replay_many."""
+    from .replay import replay_many as _rm
+    return _rm(dirs, client=client, **kw)
 from .robust import (estimate_absolute_pose, estimate_fundamental, estimate_homography,  # noqa: F401,E402
                      estimate_relative_pose, estimate_relative_pose_upright)
