@@ -377,7 +377,8 @@ static void start_reference(sfm_vo *vo, const double *gravity, sfm_vo_frame_resu
     }
 }
 
-static int initialise(sfm_vo *vo, const double *gravity, double t0, sfm_vo_frame_result *r)
+static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0,
+                      sfm_vo_frame_result *r)
 {
     vo_keyframe *ref = sfmi_vo_kf_at(vo, 0);
     int *best_d = vo->best_d, *best_q = vo->best_q;
@@ -547,6 +548,20 @@ static int initialise(sfm_vo *vo, const double *gravity, double t0, sfm_vo_frame
     r->quality = SFM_VO_QUALITY_GOOD;
     r->n_inliers = vo->kf_tracked;
     set_pose(r, k1->R, k1->t);
+    if (want_cov) {
+        int nc = 0;
+        for (int j = 0; j < k1->n; j++) {
+            int pid = k1->pid[j];
+            if (pid < 0)
+                continue;
+            memcpy(vo->m_a + 3 * nc, vo->X + 3 * (size_t)pid, 3 * sizeof(double));
+            vo->m_b[2 * nc] = k1->px[2 * j];
+            vo->m_b[2 * nc + 1] = k1->px[2 * j + 1];
+            vo->mask[nc++] = 1;
+        }
+        if (sfmi_vo_pose_covariance(vo, nc, k1->R, k1->t, r->covariance) == SFM_OK)
+            r->has_covariance = 1;
+    }
     return SFM_OK;
 }
 
@@ -765,7 +780,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
         start_reference(vo, gravity, &r);
         st = SFM_OK;
     } else if (!vo->mapped) {
-        st = initialise(vo, gravity, t0, &r);
+        st = initialise(vo, gravity, want_covariance, t0, &r);
     } else {
         st = track(vo, gravity, want_covariance, t0, &r);
     }

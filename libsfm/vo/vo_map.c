@@ -8,7 +8,11 @@
 
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_trifocal.h"
 #include "vo/vo_internal.h"
+
+/* Tracks the trifocal tensor is fitted on. */
+#define VO_TRIFOCAL_FIT 160
 
 vo_keyframe *sfmi_vo_kf_at(sfm_vo *vo, int i)
 {
@@ -221,26 +225,48 @@ int sfmi_vo_trifocal_check(sfm_vo *vo)
             in2[k2->pid[i]] = -1;
     if (n < 20)
         return 0;
+    /* The tensor is fitted on at most VO_TRIFOCAL_FIT evenly spread tracks
+     * (its cost grows with the refinement set), then every track is judged
+     * by its three-view reprojection error under the fitted cameras. */
+    int sub = n < VO_TRIFOCAL_FIT ? n : VO_TRIFOCAL_FIT;
+    if (3 * sub > vo->ba_max_obs)
+        sub = vo->ba_max_obs / 3;
+    double *s1 = vo->ba_xy, *s2 = s1 + 2 * sub, *s3 = s2 + 2 * sub;
+    for (int q = 0; q < sub; q++) {
+        int r = (int)((long)q * n / sub);
+        for (int d = 0; d < 2; d++) {
+            s1[2 * q + d] = vo->m_a[2 * r + d];
+            s2[2 * q + d] = vo->m_b[2 * r + d];
+            s3[2 * q + d] = vo->m_c[2 * r + d];
+        }
+    }
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
     opt.threshold = 2.0 * vo->p.threshold;
     opt.seed = vo->p.seed ^ (0x9e3779b97f4a7c15ull * (uint64_t)(vo->frame_index + 1));
-    opt.max_iterations = 200;
+    opt.max_iterations = 100;
     opt.min_iterations = 20;
-    double T[27];
-    int st = sfm_ransac_trifocal(vo->m_a, vo->m_b, vo->m_c, n, &opt, T, NULL, vo->mask, NULL,
-                                 vo->ransac_ws, vo->ransac_ws_size);
+    opt.lo_rounds = 1;
+    opt.polish_rounds = 0;
+    double T[27], P[36];
+    int st = sfm_ransac_trifocal(s1, s2, s3, sub, &opt, T, P, vo->mask, NULL, vo->ransac_ws,
+                                 vo->ransac_ws_size);
     if (st < 0)
         return st;
     /* A tensor that explains few of the tracks says nothing about the rest. */
-    if (st < n / 2)
+    if (st < sub / 2)
         return 0;
+    double lim = 3.0 * opt.threshold * opt.threshold; /* sum over three views */
     int removed = 0;
-    for (int r = 0; r < n; r++)
-        if (!vo->mask[r]) {
-            kf_drop_obs(vo, k3, vo->m_i[r]);
-            removed++;
-        }
+    for (int r = 0; r < n; r++) {
+        double e2;
+        int es = sfm_trifocal_point_error(P, P + 12, P + 24, vo->m_a + 2 * r, vo->m_b + 2 * r,
+                                          vo->m_c + 2 * r, &e2, NULL);
+        if (es == SFM_OK && e2 <= lim)
+            continue;
+        kf_drop_obs(vo, k3, vo->m_i[r]);
+        removed++;
+    }
     return removed;
 }
 
