@@ -27,7 +27,7 @@ demo-vo: all vo-deps $(VO_SEQ)/ground_truth.txt
 
 TEST_STEPS += test-vo-demo test-vo-kitti
 test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt
-	VO_SEQ=$(VO_SEQ) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py
+	VO_SEQ=$(VO_SEQ) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py tests/vo/test_vo_replay.py
 
 test-vo-kitti: all vo-deps
 	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py
