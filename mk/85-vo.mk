@@ -33,3 +33,42 @@ test-vo-kitti: all vo-deps
 	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py
 
 .PHONY: demo-vo vo-deps test-vo-demo test-vo-kitti
+
+# ---------------------------------------------------------------------------
+# Firmware examples of the VO pipeline.
+#   build/bin/vo-camera            firmware_examples/linux_v4l2_vo (V4L2, libcamera or replay)
+#   build/bin/vo-libcamera         firmware_examples/rpi_libcamera_vo (libcamera by default)
+#   build/aarch64/bin/vo-camera    the same cross-built (static; the capture library
+#                                  without PNG/JPEG/libcamera: PGM replay and V4L2)
+#   make test-vo-firmware          native and qemu-aarch64 runs on the rendered
+#                                  sequence give the same trajectory
+VO_FW := firmware_examples/linux_v4l2_vo
+VO_FW_FRAMES ?= 90
+
+$(BUILD)/bin/vo-camera: $(VO_FW)/vo_main.c $(PUBLIC_HEADERS) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a
+	@mkdir -p $(@D)
+	cc $(native_CFLAGS) -Iinclude -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
+
+$(BUILD)/bin/vo-libcamera: firmware_examples/rpi_libcamera_vo/main.c $(VO_FW)/vo_main.c $(PUBLIC_HEADERS) $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a
+	@mkdir -p $(@D)
+	cc $(native_CFLAGS) -Iinclude -o $@ $< $(BUILD)/libsfm_capture.a $(BUILD)/libsfm.a $(CAPTURE_LDLIBS)
+
+VO_A64_CAP_SRCS := $(CAPTURE_C_SRCS)
+VO_A64_CAP_OBJS := $(patsubst libsfm/capture/%.c,$(BUILD)/aarch64/capture/%.o,$(VO_A64_CAP_SRCS))
+$(BUILD)/aarch64/capture/%.o: libsfm/capture/%.c $(CAPTURE_HEADERS)
+	@mkdir -p $(@D)
+	$(AARCH64_CC) $(STD) $(OPT) $(WARN) $(CPPFLAGS_LIB) -c $< -o $@
+$(BUILD)/aarch64/libsfm_capture.a: $(VO_A64_CAP_OBJS)
+	@rm -f $@
+	$(AR_aarch64) rcs $@ $^
+$(BUILD)/aarch64/bin/vo-camera: $(VO_FW)/vo_main.c $(PUBLIC_HEADERS) $(BUILD)/aarch64/libsfm_capture.a $(BUILD)/aarch64/libsfm.a
+	@mkdir -p $(@D)
+	$(AARCH64_CC) $(STD) $(OPT) $(WARN) -DVO_NO_LIBCAMERA -Iinclude -o $@ $< $(BUILD)/aarch64/libsfm_capture.a $(BUILD)/aarch64/libsfm.a -static -lm
+
+vo-firmware: $(BUILD)/bin/vo-camera $(BUILD)/bin/vo-libcamera $(BUILD)/aarch64/bin/vo-camera
+
+TEST_STEPS += test-vo-firmware
+test-vo-firmware: vo-firmware $(VO_SEQ)/ground_truth.txt
+	sh tests/vo/run_firmware.sh $(BUILD) $(VO_SEQ) $(VO_FW_FRAMES)
+
+.PHONY: vo-firmware test-vo-firmware
