@@ -72,3 +72,26 @@ test-vo-firmware: vo-firmware $(VO_SEQ)/ground_truth.txt
 	sh tests/vo/run_firmware.sh $(BUILD) $(VO_SEQ) $(VO_FW_FRAMES)
 
 .PHONY: vo-firmware test-vo-firmware
+
+# ---------------------------------------------------------------------------
+# firmware_examples/cortex_m_relpose: bare-metal 5-point RANSAC on matches
+# streamed from a semihosting file, under qemu-system-arm (MPS2 AN500).
+VO_M7 := firmware_examples/cortex_m_relpose
+$(BUILD)/cortex-m7/examples/cortex_m_relpose.elf: $(VO_M7)/main.c $(BUILD)/cortex-m7/libsfm.a $(M7_DIR)/startup.c $(M7_DIR)/mps2_an500.ld
+	@mkdir -p $(@D)
+	$(M7_CC) $(M7_CFLAGS) -Iinclude -o $@ $(VO_M7)/main.c $(BUILD)/cortex-m7/libsfm.a $(M7_LDFLAGS) -lm
+$(BUILD)/cortex-m7/examples/matches.bin: tools/gen_relpose_stream.py
+	@mkdir -p $(@D)
+	$(PYTHON) tools/gen_relpose_stream.py $@
+
+firmware: $(BUILD)/cortex-m7/examples/cortex_m_relpose.elf
+TEST_STEPS += test-cortex-m-relpose
+# -icount shift=0: one instruction per virtual nanosecond, so SysTick ticks
+# count instructions (x40). The example reads matches.bin relative to cwd.
+test-cortex-m-relpose: $(BUILD)/cortex-m7/examples/cortex_m_relpose.elf $(BUILD)/cortex-m7/examples/matches.bin
+	cd $(BUILD)/cortex-m7/examples && timeout 600 qemu-system-arm -M mps2-an500 -cpu cortex-m7 -nographic \
+	  -monitor none -serial none -semihosting-config enable=on,target=native -icount shift=0 \
+	  -kernel cortex_m_relpose.elf && echo "1 passed, 0 failed" || { echo "0 passed, 1 failed"; exit 1; }
+	@arm-none-eabi-size $(BUILD)/cortex-m7/examples/cortex_m_relpose.elf
+
+.PHONY: test-cortex-m-relpose
