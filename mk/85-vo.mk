@@ -95,3 +95,9 @@ test-cortex-m-relpose: $(BUILD)/cortex-m7/examples/cortex_m_relpose.elf $(BUILD)
 	@arm-none-eabi-size $(BUILD)/cortex-m7/examples/cortex_m_relpose.elf
 
 .PHONY: test-cortex-m-relpose
+
+# make bench: VO ms/frame and per-stage shares beside the OpenCV baseline.
+BENCH_STEPS += bench-vo
+bench-vo: all vo-deps $(VO_SEQ)/ground_truth.txt
+	PYTHONPATH=python $(PYTHON) bench/vo_bench.py $(VO_SEQ)
+.PHONY: bench-vo
