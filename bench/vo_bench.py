@@ -30,7 +30,9 @@ def main():
     rec = replay.open_recording(a.seq)
     frames = [(t, cv2.imread(p, cv2.IMREAD_GRAYSCALE)) for t, p in rec.frames[:a.frames]]
     h, w = frames[0][1].shape
-    vo = VisualOdometry(w, h, rec.camera, max_features=a.features, window=a.window)
+    # the demo's settings (mk/85-vo.mk, VO_DEMO_SET)
+    vo = VisualOdometry(w, h, rec.camera, max_features=a.features, window=a.window, n_levels=3,
+                        point_min_parallax_deg=1.0)
     ms, st, ba = [], [], []
     for t, img in frames:
         t0 = time.perf_counter()

@@ -131,6 +131,8 @@ typedef struct sfm_vo_params {
     int keyframe_max_gap;   /* frames, default 10 */
     double keyframe_min_parallax_deg; /* median parallax of tracked points
                                since the last keyframe, default 0.5 */
+    double point_min_parallax_deg; /* new points: smallest angle between the
+                               two keyframes' rays, default 0.5 */
     int ba_iterations;      /* windowed BA iterations, 0 disables, default 8 */
     int use_trifocal;       /* default 1 */
     uint64_t seed;          /* RANSAC seeds derive from it and the frame index */

@@ -160,6 +160,7 @@ int sfm_vo_default_params(const sfm_vo_dims *dims, sfm_vo_params *p)
     p->keyframe_ratio = 0.7;
     p->keyframe_max_gap = 10;
     p->keyframe_min_parallax_deg = 0.5;
+    p->point_min_parallax_deg = 0.5;
     p->ba_iterations = 8;
     p->use_trifocal = 1;
     p->seed = SFM_RNG_DEFAULT_SEED;
@@ -170,6 +171,7 @@ static int params_check(const sfm_vo_dims *d, const sfm_vo_params *p, size_t fea
 {
     double f[] = {p->track_radius, p->init_radius, p->ratio, p->threshold, p->min_inlier_ratio,
                   p->min_parallax_deg, p->keyframe_ratio, p->keyframe_min_parallax_deg,
+                  p->point_min_parallax_deg,
                   p->frame_budget};
     if (!sfm_la_all_finite(f, sizeof f / sizeof f[0]))
         return SFM_E_NONFINITE;
@@ -183,7 +185,8 @@ static int params_check(const sfm_vo_dims *d, const sfm_vo_params *p, size_t fea
         p->min_iterations > p->max_iterations || p->min_inliers < 6 ||
         !(p->min_inlier_ratio >= 0 && p->min_inlier_ratio <= 1) || !(p->min_parallax_deg >= 0) ||
         !(p->keyframe_ratio >= 0 && p->keyframe_ratio <= 1) || p->keyframe_max_gap < 1 ||
-        !(p->keyframe_min_parallax_deg >= 0) || p->ba_iterations < 0)
+        !(p->keyframe_min_parallax_deg >= 0) || !(p->point_min_parallax_deg >= 0) ||
+        p->ba_iterations < 0)
         return SFM_E_ARGUMENT;
     sfm_features_params fp = p->features;
     fp.max_features = p->max_features;

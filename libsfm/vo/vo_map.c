@@ -160,7 +160,7 @@ int sfmi_vo_triangulate_new(sfm_vo *vo)
     projection(vo->K, b->R, b->t, Pb);
     memcpy(P, Pa, sizeof Pa);
     memcpy(P + 12, Pb, sizeof Pb);
-    double min_par = vo->p.keyframe_min_parallax_deg * 3.14159265358979323846 / 180.0;
+    double min_par = vo->p.point_min_parallax_deg * 3.14159265358979323846 / 180.0;
     int created = 0;
     for (int j = 0; j < b->n; j++) {
         int i = best_q[j];

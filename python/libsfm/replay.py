@@ -518,6 +518,8 @@ def main(argv=None):
     ap.add_argument("--budget-ms", type=float, default=0.0, help="per-frame time budget")
     ap.add_argument("--every", type=int, default=0, help="print a status line every N frames")
     ap.add_argument("--no-progress", action="store_true")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a pipeline parameter (sfm_vo_params field, or n_levels / fast_threshold)")
     ap.add_argument("--dask", nargs="?", const="local", help="scheduler address, or none for a local cluster")
     ap.add_argument("--csv", help="fleet runs: write the table here (else stdout)")
     a = ap.parse_args(argv)
@@ -531,6 +533,15 @@ def main(argv=None):
             cam = _kitti_calib(a.calib)
     kw = {"max_features": a.features, "window": a.window, "seed": a.seed,
           "frame_budget": a.budget_ms / 1e3}
+    for item in a.set:
+        key, _, val = item.partition("=")
+        try:
+            kw[key] = int(val)
+        except ValueError:
+            try:
+                kw[key] = float(val)
+            except ValueError:
+                ap.error("--set %s: not a number" % item)
     if a.dask is not None or len(a.dirs) > 1:
         client = None if a.dask in (None, "local") else a.dask
         rows = replay_many(a.dirs, client=client, camera=cam, **kw)
