@@ -207,3 +207,58 @@ SFM_TEST(vo_sideways_slide_known_answer)
                           "frame %d: c %g, expected %g", k, cx[k] / cx[last], (double)k / last);
     SFM_CHECK(cx[last] > 0);
 }
+
+/* A clock that advances 1 ms at every read: with a 6 ms budget every frame
+ * overruns, so the detector is asked for fewer features from the second
+ * frame on (down to a quarter), keyframes skip their bundle adjustment, and
+ * the frames say so in result.degraded. */
+static double fake_clock(void *ctx)
+{
+    double *t = ctx;
+    *t += 0.001;
+    return *t;
+}
+
+SFM_TEST(vo_time_budget_degrades)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    double now = 0;
+    p.clock = fake_clock;
+    p.clock_ctx = &now;
+    p.frame_budget = 0.006;
+    p.min_inliers = 8; /* a quarter of the features must still initialise */
+    sfm_vo *vo;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    make_texture(t);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    int fewer = 0, skipped = 0, min_feat = VNF, kf_tracked = 0, states[5] = {0};
+    for (int k = 0; k < 25; k++) {
+        crop2(VPAD - 40, 4 * k);
+        sfm_vo_frame_result r;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, k * 1000, NULL, 0, &r), SFM_OK);
+        /* frame 0 reads the clock only a few times: within budget */
+        if (k > 1)
+            SFM_CHECK_MSG(r.degraded & SFM_VO_DEGRADED_FEATURES, "frame %d not degraded", k);
+        if (r.is_keyframe && r.state == SFM_VO_TRACKING && r.n_keyframes > 2) {
+            kf_tracked++;
+            SFM_CHECK(r.degraded & SFM_VO_DEGRADED_BA_SKIPPED);
+        }
+        fewer += (r.degraded & SFM_VO_DEGRADED_FEATURES) != 0;
+        states[r.state]++;
+        skipped += (r.degraded & SFM_VO_DEGRADED_BA_SKIPPED) != 0;
+        if (r.n_features < min_feat)
+            min_feat = r.n_features;
+        if (r.has_pose && k > 1)
+            SFM_CHECK(r.quality != SFM_VO_QUALITY_GOOD);
+        SFM_CHECK(r.stage_seconds[SFM_VO_STAGE_FEATURES] > 0);
+    }
+    SFM_CHECK(fewer >= 23);
+    SFM_CHECK(kf_tracked > 0 && skipped == kf_tracked);
+    SFM_CHECK(min_feat <= VNF / 4);
+    SFM_TEST_LOG("features down to %d of %d, %d of %d later keyframes without BA; states: "
+                 "%d initialising, %d tracking, %d lost, %d parallax, %d rotation",
+                 min_feat, VNF, skipped, kf_tracked, states[0], states[1], states[2], states[3],
+                 states[4]);
+}
