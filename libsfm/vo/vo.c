@@ -385,20 +385,14 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
 {
     vo_keyframe *ref = sfmi_vo_kf_at(vo, 0);
     int *best_d = vo->best_d, *best_q = vo->best_q;
-    for (int j = 0; j < vo->n; j++) {
-        best_d[j] = 1 << 20;
-        best_q[j] = -1;
-    }
+    sfmi_vo_best_reset(best_d, best_q, vo->n);
     for (int i = 0; i < ref->n; i++) {
         int d;
         int j = sfmi_vo_grid_search(&vo->grid, vo->px, vo->desc, ref->px + 2 * i,
                                     vo->p.init_radius,
                                     ref->desc + (size_t)SFM_FEATURES_DESC_BYTES * i,
                                     vo->p.max_hamming, vo->p.ratio, NULL, NULL, 0, &d);
-        if (j >= 0 && d < best_d[j]) {
-            best_d[j] = d;
-            best_q[j] = i;
-        }
+        sfmi_vo_best_offer(best_d, best_q, j, d, i);
     }
     int nm = 0;
     for (int j = 0; j < vo->n; j++) {
@@ -573,10 +567,7 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
 static int match_map(sfm_vo *vo, const double R[9], const double t[3], double radius)
 {
     int *best_d = vo->best_d, *best_q = vo->best_q;
-    for (int j = 0; j < vo->n; j++) {
-        best_d[j] = 1 << 20;
-        best_q[j] = -1;
-    }
+    sfmi_vo_best_reset(best_d, best_q, vo->n);
     double w = vo->dims.width, h = vo->dims.height;
     for (int pid = 0; pid < vo->cap_points; pid++) {
         if (vo->pobs[pid] <= 0)
@@ -590,10 +581,7 @@ static int match_map(sfm_vo *vo, const double R[9], const double t[3], double ra
         int j = sfmi_vo_grid_search(&vo->grid, vo->px, vo->desc, uv, radius,
                                     vo->pdesc + (size_t)SFM_FEATURES_DESC_BYTES * pid,
                                     vo->p.max_hamming, vo->p.ratio, NULL, NULL, 0, &d);
-        if (j >= 0 && d < best_d[j]) {
-            best_d[j] = d;
-            best_q[j] = pid;
-        }
+        sfmi_vo_best_offer(best_d, best_q, j, d, pid);
     }
     int nm = 0;
     for (int j = 0; j < vo->n; j++) {

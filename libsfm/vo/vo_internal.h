@@ -130,6 +130,28 @@ int sfmi_vo_grid_search(const vo_grid *g, const double *px, const uint8_t *desc,
                         double ratio, const int *skip, const double *line, double line_tol,
                         int *dist);
 
+/* Keeps, per keypoint j of the searched set, the query that found it with
+ * the smallest distance (a one-to-one assignment). */
+static inline void sfmi_vo_best_reset(int *best_d, int *best_q, int n)
+{
+    for (int j = 0; j < n; j++) {
+        best_d[j] = 1 << 20;
+        best_q[j] = -1;
+    }
+}
+
+static inline void sfmi_vo_best_offer(int *best_d, int *best_q, int j, int d, int q)
+{
+    if (j >= 0 && d < best_d[j]) {
+        best_d[j] = d;
+        best_q[j] = q;
+    }
+}
+
+/* Points a BA problem at the workspace's BA arrays (pose, intrinsics,
+ * points, observations); camera_flags left NULL. */
+void sfmi_vo_ba_problem(sfm_vo *vo, int m, int np, int no, sfm_ba_problem *pr);
+
 /* ---- map and keyframes (vo_map.c) ---- */
 vo_keyframe *sfmi_vo_kf_at(sfm_vo *vo, int i); /* i-th oldest, 0 <= i < kf_count */
 int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc);

@@ -136,10 +136,7 @@ int sfmi_vo_triangulate_new(sfm_vo *vo)
     sfmi_vo_centre(b->R, b->t, cb);
     /* b's keypoints are the current frame's: the grid indexes them. */
     int *best_d = vo->best_d, *best_q = vo->best_q;
-    for (int j = 0; j < b->n; j++) {
-        best_d[j] = 1 << 20;
-        best_q[j] = -1;
-    }
+    sfmi_vo_best_reset(best_d, best_q, b->n);
     double tol = 2.0 * vo->p.threshold;
     for (int i = 0; i < a->n; i++) {
         if (a->pid[i] >= 0)
@@ -150,10 +147,7 @@ int sfmi_vo_triangulate_new(sfm_vo *vo)
         int j = sfmi_vo_grid_search(&vo->grid, b->px, b->desc, a->px + 2 * i, vo->p.init_radius,
                                     a->desc + (size_t)SFM_FEATURES_DESC_BYTES * i,
                                     vo->p.max_hamming, vo->p.ratio, b->pid, l, tol, &d);
-        if (j >= 0 && d < best_d[j]) {
-            best_d[j] = d;
-            best_q[j] = i;
-        }
+        sfmi_vo_best_offer(best_d, best_q, j, d, i);
     }
     double Pa[12], Pb[12], P[24];
     projection(vo->K, a->R, a->t, Pa);
@@ -270,6 +264,21 @@ int sfmi_vo_trifocal_check(sfm_vo *vo)
     return removed;
 }
 
+void sfmi_vo_ba_problem(sfm_vo *vo, int m, int np, int no, sfm_ba_problem *pr)
+{
+    memset(pr, 0, sizeof *pr);
+    pr->n_cameras = m;
+    pr->n_points = np;
+    pr->n_observations = no;
+    pr->rotations = vo->ba_R;
+    pr->translations = vo->ba_t;
+    pr->intrinsics = vo->ba_K;
+    pr->points = vo->ba_X;
+    pr->obs_camera = vo->ba_oc;
+    pr->obs_point = vo->ba_op;
+    pr->obs_xy = vo->ba_xy;
+}
+
 int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
 {
     int m = vo->kf_count;
@@ -306,17 +315,8 @@ int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
         vo->pt_ba[vo->ba_of_point[q]] = -1;
     if (np == 0 || no == 0)
         return SFM_OK;
-    sfm_ba_problem pr = {0};
-    pr.n_cameras = m;
-    pr.n_points = np;
-    pr.n_observations = no;
-    pr.rotations = vo->ba_R;
-    pr.translations = vo->ba_t;
-    pr.intrinsics = vo->ba_K;
-    pr.points = vo->ba_X;
-    pr.obs_camera = vo->ba_oc;
-    pr.obs_point = vo->ba_op;
-    pr.obs_xy = vo->ba_xy;
+    sfm_ba_problem pr;
+    sfmi_vo_ba_problem(vo, m, np, no, &pr);
     pr.camera_flags = vo->ba_cf;
     sfm_ba_options o;
     sfm_ba_default_options(&o);
@@ -378,17 +378,8 @@ int sfmi_vo_pose_covariance(sfm_vo *vo, int nm, const double R[9], const double 
     memcpy(vo->ba_R, R, 9 * sizeof(double));
     memcpy(vo->ba_t, t, 3 * sizeof(double));
     memcpy(vo->ba_K, vo->K, sizeof vo->K);
-    sfm_ba_problem pr = {0};
-    pr.n_cameras = 1;
-    pr.n_points = np;
-    pr.n_observations = np;
-    pr.rotations = vo->ba_R;
-    pr.translations = vo->ba_t;
-    pr.intrinsics = vo->ba_K;
-    pr.points = vo->ba_X;
-    pr.obs_camera = vo->ba_oc;
-    pr.obs_point = vo->ba_op;
-    pr.obs_xy = vo->ba_xy;
+    sfm_ba_problem pr;
+    sfmi_vo_ba_problem(vo, 1, np, np, &pr);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.mode = SFM_BA_MODE_POSE_ONLY;
