@@ -62,7 +62,7 @@ int main(int argc, char **argv)
         for (int rep = 0; rep < reps; rep++) {
             w.reset(sc);
             auto t0 = clk::now();
-            int st = sfm_ba_solve(&w.p, &o, ws.data(), ws.size(), &r, nullptr);
+            int st = sfm_ba_solve(&w.p, &o, &r, nullptr, 0, ws.data(), ws.size());
             auto t1 = clk::now();
             if (st != SFM_OK) {
                 std::printf("libsfm failed: %d\n", st);

@@ -129,12 +129,17 @@ static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est
     }
     if (np < SFM_TRIFOCAL_MIN_POINTS)
         return SFM_E_SINGULAR;
-    double Rs[27], ts[9], K[18];
+    double Rs[27], ts[9];
+    sfm_camera K[3]; /* the ideal pinhole cameras of the undistorted pixels */
     for (int v = 0; v < 3; v++) {
         memcpy(&Rs[9 * v], est[v].R, 9 * sizeof(double));
         memcpy(&ts[3 * v], est[v].t, 3 * sizeof(double));
-        const double k[6] = {cams[v]->fx, cams[v]->fy, cams[v]->cx, cams[v]->cy, 0, 0};
-        memcpy(&K[6 * v], k, sizeof k);
+        memset(&K[v], 0, sizeof K[v]);
+        K[v].model = SFM_CAMERA_PINHOLE;
+        K[v].fx = cams[v]->fx;
+        K[v].fy = cams[v]->fy;
+        K[v].cx = cams[v]->cx;
+        K[v].cy = cams[v]->cy;
     }
     sfm_ba_problem p = {3, np, no, Rs, ts, K, w->X, w->obs_cam, w->obs_pt, w->obs_xy, NULL, NULL, NULL};
     sfm_ba_options o;
@@ -146,7 +151,7 @@ static int polish(tv_ws *w, const sfm_camera *const cams[3], int m, sfm_pose est
     o.scale_distance = 1.0;
     o.max_iterations = 30;
     sfm_ba_result res;
-    st = sfm_ba_solve(&p, &o, w->ba_ws, w->ba_size, &res, NULL);
+    st = sfm_ba_solve(&p, &o, &res, NULL, 0, w->ba_ws, w->ba_size);
     if (st < 0)
         return st;
     for (int v = 0; v < 3; v++) {

@@ -3,9 +3,10 @@
  * orthonormal representation of Bartoli & Sturm ("Nonlinear estimation of
  * the fundamental matrix with minimal parameters", PAMI 2004): in Hartley-
  * normalised coordinates (x_n = T1 x, y_n = T2 y; Hartley 1997)
- *   F_n = U diag(cos th, sin th, 0) V^T,  U, V in SO(3),
- * updated as U <- U exp([a]x), V <- V exp([b]x), th <- th + dth: 7 degrees of
- * freedom, rank 2 and the scale fixed by construction, and
+ *   F_n = U diag(c, s, 0) V^T,  U, V in SO(3), (c, s) on the unit circle,
+ * updated as U <- U exp([a]x), V <- V exp([b]x) and (c, s) along its
+ * tangent (the paper's angle th = atan2(s, c), without its trigonometry): 7
+ * degrees of freedom, rank 2 and the scale fixed by construction, and
  * F = T2^T F_n T1 in pixels.
  *
  * The residual is the Sampson error in pixels (Hartley & Zisserman 11.4.3),
@@ -14,68 +15,125 @@
  * (F^T y)_12 = s1 (F_n^T y_n)_12, so both are evaluated in normalised
  * coordinates. Along a direction M of F_n: dC = y_n^T M x_n,
  * dD = 2 s2^2 (F_n x_n)_12 . (M x_n)_12 + 2 s1^2 (F_n^T y_n)_12 . (M^T y_n)_12,
- * dr = dC / sqrt(D) - C dD / (2 D^1.5).
+ * dr = dC / sqrt(D) - C dD / (2 D^1.5). With z = V^T x_n, p = U^T y_n,
+ * S = diag(c, s, 0), the seven directions act on a point through 3-vectors:
+ *   a_k: M x_n = -U [S z]x e_k, M^T y_n = V S [p]x e_k, dC = e_k.((S z) x p);
+ *   b_k: M x_n = U S [z]x e_k, M^T y_n = -V [S p]x e_k, dC = -e_k.(z x S p);
+ *   (c, s) along (dc, ds): M x_n = U dS z, M^T y_n = V dS p, dC = p.dS z.
  */
 #include "robust/fundamental_lm.h"
 
 #include <math.h>
 #include <string.h>
 
+#include "core/lm.h"
 #include "robust/epipolar.h"
-#include "robust/lm_small.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
 
 #define NP 7
 
-typedef struct fnorm {
-    double t1[3], t2[3]; /* Hartley normalisations (s, -s cx, -s cy) */
-} fnorm;
+typedef sfmi_fundamental_problem fnorm;
+
+static void mat3t_vec(const double *M, const double *x, double *y)
+{
+    for (int r = 0; r < 3; r++)
+        y[r] = M[r] * x[0] + M[3 + r] * x[1] + M[6 + r] * x[2];
+}
 
 /* F_n = U diag(c, s, 0) V^T. */
-static void compose(const double *U, const double *V, double th, double *Fn)
+static void compose(const double *U, const double *V, const double *cs, double *Fn)
 {
-    double c = cos(th), s = sin(th);
     for (int r = 0; r < 3; r++)
         for (int k = 0; k < 3; k++)
-            Fn[3 * r + k] = c * U[3 * r] * V[3 * k] + s * U[3 * r + 1] * V[3 * k + 1];
+            Fn[3 * r + k] = cs[0] * U[3 * r] * V[3 * k] + cs[1] * U[3 * r + 1] * V[3 * k + 1];
 }
 
-/* Pixel Sampson residual of point i under F_n; 0 with *ok = 0 when D
- * vanishes. Writes l = (F_n x_n), m = (F_n^T y_n), x_n and y_n. */
-static double resid(const fnorm *N, const double *Fn, const double *p, const double *q, double *xn,
-                    double *yn, double *l, double *m, double *C, double *D, int *ok)
+/* dr along the F_n direction with M x_n = Mx, M^T y_n = Mty and y_n^T M x_n = dC. */
+static double dres(const double *l, const double *m, double q1, double q2, double C, double D,
+                   double sD, const double *Mx, const double *Mty, double dC)
 {
-    xn[0] = N->t1[0] * p[0] + N->t1[1];
-    xn[1] = N->t1[0] * p[1] + N->t1[2];
-    xn[2] = 1.0;
-    yn[0] = N->t2[0] * q[0] + N->t2[1];
-    yn[1] = N->t2[0] * q[1] + N->t2[2];
-    yn[2] = 1.0;
-    sfm_matvec3(Fn, xn, l);
-    m[0] = Fn[0] * yn[0] + Fn[3] * yn[1] + Fn[6];
-    m[1] = Fn[1] * yn[0] + Fn[4] * yn[1] + Fn[7];
-    m[2] = Fn[2] * yn[0] + Fn[5] * yn[1] + Fn[8];
-    const double s1 = N->t1[0] * N->t1[0], s2 = N->t2[0] * N->t2[0];
-    *C = sfm_dot3(yn, l);
-    *D = s2 * (l[0] * l[0] + l[1] * l[1]) + s1 * (m[0] * m[0] + m[1] * m[1]);
-    *ok = *D > 1e-300;
-    return *ok ? *C / sqrt(*D) : 0.0;
+    const double dD = 2.0 * q2 * (l[0] * Mx[0] + l[1] * Mx[1]) + 2.0 * q1 * (m[0] * Mty[0] + m[1] * Mty[1]);
+    return dC / sD - 0.5 * C * dD / (D * sD);
 }
 
-static double cost_n(const fnorm *N, const double *p1, const double *p2, int n, double s2,
-                     const double *Fn)
+/* Residual block i: the pixel Sampson error of pair i; left out where D
+ * vanishes. Blocks: U, V (rotations), (c, s). */
+static int fundamental_residual(const void *user, const double *const *x, int i, double *r,
+                                double *J)
 {
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double xn[3], yn[3], l[3], m[3], C, D;
-        int ok;
-        double r = resid(N, Fn, p1 + 2 * i, p2 + 2 * i, xn, yn, l, m, &C, &D, &ok);
-        if (ok)
-            c += sfm_lm_cauchy_loss(r * r, s2);
+    const fnorm *N = user;
+    const double *U = x[0], *V = x[1], *cs = x[2];
+    const double *pp = N->p1 + 2 * i, *qq = N->p2 + 2 * i;
+    const double xn[3] = {N->t1[0] * pp[0] + N->t1[1], N->t1[0] * pp[1] + N->t1[2], 1.0};
+    const double yn[3] = {N->t2[0] * qq[0] + N->t2[1], N->t2[0] * qq[1] + N->t2[2], 1.0};
+    double z[3], p[3], Sz[3], Sp[3], l[3], m[3];
+    mat3t_vec(V, xn, z);
+    mat3t_vec(U, yn, p);
+    Sz[0] = cs[0] * z[0];
+    Sz[1] = cs[1] * z[1];
+    Sz[2] = 0.0;
+    Sp[0] = cs[0] * p[0];
+    Sp[1] = cs[1] * p[1];
+    Sp[2] = 0.0;
+    sfm_matvec3(U, Sz, l); /* F_n x_n */
+    sfm_matvec3(V, Sp, m); /* F_n^T y_n */
+    const double q1 = N->t1[0] * N->t1[0], q2 = N->t2[0] * N->t2[0];
+    const double C = p[0] * Sz[0] + p[1] * Sz[1];
+    const double D = q2 * (l[0] * l[0] + l[1] * l[1]) + q1 * (m[0] * m[0] + m[1] * m[1]);
+    if (!(D > 1e-300))
+        return 0;
+    const double sD = sqrt(D);
+    r[0] = C / sD;
+    if (J == NULL)
+        return 1;
+    double Szxp[3], zxSp[3];
+    sfm_cross3(Sz, p, Szxp);
+    sfm_cross3(z, Sp, zxSp);
+    for (int k = 0; k < 3; k++) {
+        double e[3] = {0.0, 0.0, 0.0}, ez[3], ep[3], Mx[3], Mty[3], w[3];
+        e[k] = 1.0;
+        /* a_k: -U (S z x e_k) = U (e_k x S z); V S (p x e_k) */
+        sfm_cross3(e, Sz, ez);
+        sfm_matvec3(U, ez, Mx);
+        sfm_cross3(p, e, ep);
+        w[0] = cs[0] * ep[0];
+        w[1] = cs[1] * ep[1];
+        w[2] = 0.0;
+        sfm_matvec3(V, w, Mty);
+        J[k] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, Szxp[k]);
+        /* b_k: U S (z x e_k); -V (S p x e_k) = V (e_k x S p) */
+        sfm_cross3(z, e, ez);
+        w[0] = cs[0] * ez[0];
+        w[1] = cs[1] * ez[1];
+        w[2] = 0.0;
+        sfm_matvec3(U, w, Mx);
+        sfm_cross3(e, Sp, ep);
+        sfm_matvec3(V, ep, Mty);
+        J[3 + k] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, -zxSp[k]);
     }
-    return c;
+    double B[2], dz[3], dp[3], Mx[3], Mty[3];
+    sfmi_lm_sphere_basis(cs, 2, B);
+    dz[0] = B[0] * z[0];
+    dz[1] = B[1] * z[1];
+    dz[2] = 0.0;
+    dp[0] = B[0] * p[0];
+    dp[1] = B[1] * p[1];
+    dp[2] = 0.0;
+    sfm_matvec3(U, dz, Mx);
+    sfm_matvec3(V, dp, Mty);
+    J[6] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, p[0] * dz[0] + p[1] * dz[1]);
+    return 1;
+}
+
+/* The Cauchy loss of scale^2 = s2 of a squared residual; r2 when s2 <= 0. */
+static double robust_loss(double r2, double s2)
+{
+    double rho = r2, rho1;
+    if (s2 > 0.0)
+        sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
+    return rho;
 }
 
 double sfm_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
@@ -86,7 +144,7 @@ double sfm_robust_fundamental_cost(const double *p1, const double *p2, int n, do
     for (int i = 0; i < n; i++) {
         double r2 = sfm_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
         if (r2 < SFM_ROBUST_HUGE)
-            c += sfm_lm_cauchy_loss(r2, s2);
+            c += robust_loss(r2, s2);
     }
     return c;
 }
@@ -118,19 +176,19 @@ static double det3(const double *a)
            a[2] * (a[3] * a[7] - a[4] * a[6]);
 }
 
-int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
-                              double F[9])
+int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, double scale,
+                                const double F[9], sfmi_fundamental_problem *N)
 {
-    fnorm N;
-    if (n < NP || sfm__hartley_2d(p1, n, N.t1) < 0 || sfm__hartley_2d(p2, n, N.t2) < 0)
+    if (n < NP || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
         return -1;
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    const double q1 = N.t1[0] * N.t1[0], q2 = N.t2[0] * N.t2[0];
+    N->p1 = p1;
+    N->p2 = p2;
     /* F_n = T2^-T F T1^-1, then its SVD with U, V rotations (the third
      * singular vectors carry no weight, so their signs are free) */
-    double ti1[3], ti2[3], Fn[9], U[9], S[3], V[9];
-    inv_norm(N.t1, ti1);
-    inv_norm(N.t2, ti2);
+    double ti1[3], ti2[3], Fn[9], S[3];
+    double *U = N->U, *V = N->V;
+    inv_norm(N->t1, ti1);
+    inv_norm(N->t2, ti2);
     congruence(ti2, F, ti1, Fn);
     if (sfm__svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
         return -1;
@@ -140,108 +198,31 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
     if (det3(V) < 0.0)
         for (int r = 0; r < 3; r++)
             V[3 * r + 2] = -V[3 * r + 2];
-    double th = atan2(S[1], S[0]);
-    compose(U, V, th, Fn);
-    double cur = cost_n(&N, p1, p2, n, s2, Fn);
-    double lambda = 1e-4;
-    int improved = 0;
-    for (int it = 0; it < iters; it++) {
-        /* directions of F_n: U [e_k]x Sg V^T, -U Sg [e_k]x V^T, U dSg V^T */
-        double dF[NP][9];
-        double c = cos(th), s = sin(th);
-        for (int k = 0; k < 3; k++) {
-            double e[3] = {0.0, 0.0, 0.0}, K[9], A[9], B[9], Vt[9];
-            e[k] = 1.0;
-            sfm_skew(e, K);
-            for (int r = 0; r < 3; r++)
-                for (int j = 0; j < 3; j++)
-                    Vt[3 * r + j] = V[3 * j + r];
-            /* U K Sg V^T: scale K's columns by (c, s, 0) */
-            for (int r = 0; r < 3; r++) {
-                A[3 * r] = K[3 * r] * c;
-                A[3 * r + 1] = K[3 * r + 1] * s;
-                A[3 * r + 2] = 0.0;
-            }
-            sfm_matmul3(U, A, B);
-            sfm_matmul3(B, Vt, dF[k]);
-            /* -U Sg K V^T: scale K's rows by (c, s, 0) */
-            for (int j = 0; j < 3; j++) {
-                A[j] = -K[j] * c;
-                A[3 + j] = -K[3 + j] * s;
-                A[6 + j] = 0.0;
-            }
-            sfm_matmul3(U, A, B);
-            sfm_matmul3(B, Vt, dF[3 + k]);
-        }
-        for (int r = 0; r < 3; r++)
-            for (int k = 0; k < 3; k++)
-                dF[6][3 * r + k] = -s * U[3 * r] * V[3 * k] + c * U[3 * r + 1] * V[3 * k + 1];
+    const double sn = sqrt(S[0] * S[0] + S[1] * S[1]);
+    N->cs[0] = S[0] / sn;
+    N->cs[1] = S[1] / sn;
+    const sfmi_lm_block blocks[3] = {{U, 9, SFMI_LM_SO3_RIGHT, 0, NULL, NULL},
+                                     {V, 9, SFMI_LM_SO3_RIGHT, 0, NULL, NULL},
+                                     {N->cs, 2, SFMI_LM_SPHERE, 0, NULL, NULL}};
+    memcpy(N->blocks, blocks, sizeof blocks);
+    const sfmi_lm_problem prob = {N->blocks, 3, n, 1, fundamental_residual, N,
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    N->prob = prob;
+    return 0;
+}
 
-        double JtJ[NP * NP], g[NP];
-        memset(JtJ, 0, sizeof JtJ);
-        memset(g, 0, sizeof g);
-        for (int i = 0; i < n; i++) {
-            double xn[3], yn[3], l[3], m[3], C, D;
-            int ok;
-            double r = resid(&N, Fn, p1 + 2 * i, p2 + 2 * i, xn, yn, l, m, &C, &D, &ok);
-            if (!ok)
-                continue;
-            double sD = sqrt(D), J[NP], w;
-            w = sfm_lm_cauchy_weight(r * r, s2);
-            for (int p = 0; p < NP; p++) {
-                const double *M = dF[p];
-                double Mx[3], Mty0, Mty1;
-                sfm_matvec3(M, xn, Mx);
-                Mty0 = M[0] * yn[0] + M[3] * yn[1] + M[6];
-                Mty1 = M[1] * yn[0] + M[4] * yn[1] + M[7];
-                double dC = sfm_dot3(yn, Mx);
-                double dD = 2.0 * q2 * (l[0] * Mx[0] + l[1] * Mx[1]) +
-                            2.0 * q1 * (m[0] * Mty0 + m[1] * Mty1);
-                J[p] = dC / sD - 0.5 * C * dD / (D * sD);
-            }
-            for (int p = 0; p < NP; p++) {
-                g[p] += w * J[p] * r;
-                for (int q = 0; q <= p; q++)
-                    JtJ[p * NP + q] += w * J[p] * J[q];
-            }
-        }
-        int accepted = 0;
-        for (int tries = 0; tries < 6 && !accepted; tries++) {
-            double x[NP], Ra[9], Rb[9], Un[9], Vn[9], Fnn[9];
-            if (sfm_lm_small_step(JtJ, g, NP, lambda, x) < 0) {
-                lambda *= 10.0;
-                continue;
-            }
-            if (sfm_rot_from_axis_angle(x, Ra) != SFM_OK ||
-                sfm_rot_from_axis_angle(x + 3, Rb) != SFM_OK)
-                return -1;
-            sfm_matmul3(U, Ra, Un);
-            sfm_matmul3(V, Rb, Vn);
-            double thn = th + x[6];
-            compose(Un, Vn, thn, Fnn);
-            double cn = cost_n(&N, p1, p2, n, s2, Fnn);
-            if (cn < cur) {
-                double rel = (cur - cn) / (cur > 0.0 ? cur : 1.0);
-                memcpy(U, Un, sizeof Un);
-                memcpy(V, Vn, sizeof Vn);
-                memcpy(Fn, Fnn, sizeof Fnn);
-                th = thn;
-                cur = cn;
-                accepted = 1;
-                improved = 1;
-                lambda = sfm_lm_small_relax(lambda);
-                if (rel < 1e-6)
-                    it = iters;
-            } else {
-                lambda *= 10.0;
-            }
-        }
-        if (!accepted)
-            break;
-    }
-    if (!improved)
-        return 1;
-    double Fp[9];
+int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
+                              double F[9])
+{
+    fnorm N;
+    if (sfmi_fundamental_lm_problem(p1, p2, n, scale, F, &N) < 0)
+        return -1;
+    double ws[SFMI_LM_DENSE_WS_DOUBLES(20, NP, 1)];
+    int st = sfmi_lm_refine(&N.prob, iters, 1e-6, ws, sizeof ws);
+    if (st != 0)
+        return st;
+    double Fn[9], Fp[9];
+    compose(N.U, N.V, N.cs, Fn);
     congruence(N.t2, Fn, N.t1, Fp);
     if (sfm__normalize9(Fp) != 0)
         return -1;

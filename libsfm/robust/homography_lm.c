@@ -25,8 +25,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/lm.h"
+#include "sfm/sfm_common.h"
 #include "robust/epipolar.h"
-#include "robust/lm_small.h"
 #include "solvers/normalize.h"
 
 #define NP 8
@@ -97,15 +98,17 @@ double sfm_robust_homography_cost(const double *p1, const double *p2, int n, dou
     double c = 0.0;
     for (int i = 0; i < n; i++) {
         double r2 = sfm_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
-        if (r2 < SFM_ROBUST_HUGE)
-            c += sfm_lm_cauchy_loss(r2, s2);
+        if (r2 < SFM_ROBUST_HUGE) {
+            double rho = r2, rho1;
+            if (s2 > 0.0)
+                sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
+            c += rho;
+        }
     }
     return c;
 }
 
-typedef struct hnorm {
-    double t1[3], t2[3];
-} hnorm;
+typedef sfmi_homography_problem hnorm;
 
 static void normalise(const hnorm *N, const double *p, const double *q, double *xn, double *yn)
 {
@@ -115,136 +118,115 @@ static void normalise(const hnorm *N, const double *p, const double *q, double *
     yn[1] = N->t2[0] * q[1] + N->t2[2];
 }
 
-static double cost_n(const hnorm *N, const double *p1, const double *p2, int n, double s2,
-                     const double *Hn)
+/* H_n <- H_n + d on the eight free entries. */
+static void entries_plus(const double *x, const double *d, double *out, const void *user)
 {
+    const hnorm *N = user;
+    memcpy(out, x, 9 * sizeof(double));
+    for (int p = 0; p < NP; p++)
+        out[N->ent[p]] += d[p];
+}
+
+/* Residual block i: the whitened Sampson 2-vector of pair i; left out where
+ * J J^T is singular. */
+static int homography_residual(const void *user, const double *const *x, int i, double *r,
+                               double *J)
+{
+    const hnorm *N = user;
+    const double *Hn = x[0];
     const double xs = N->t1[0], ys = N->t2[0];
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double xn[2], yn[2];
-        hs_pair P;
-        normalise(N, p1 + 2 * i, p2 + 2 * i, xn, yn);
-        if (sampson_pair(Hn, xn, yn, xs, ys, &P))
-            c += sfm_lm_cauchy_loss(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2);
+    double xn[2], yn[2];
+    hs_pair P;
+    normalise(N, N->p1 + 2 * i, N->p2 + 2 * i, xn, yn);
+    if (!sampson_pair(Hn, xn, yn, xs, ys, &P))
+        return 0;
+    r[0] = P.r[0];
+    r[1] = P.r[1];
+    if (J == NULL)
+        return 1;
+    const double X[3] = {xn[0], xn[1], 1.0};
+    for (int p = 0; p < NP; p++) {
+        const int k = N->ent[p] / 3, l = N->ent[p] % 3;
+        double du[3] = {0.0, 0.0, 0.0};
+        du[k] = X[l];
+        const double de0 = yn[1] * du[2] - du[1], de1 = du[0] - yn[0] * du[2];
+        /* dJ: the entries of J that hold H (k, l) */
+        double dJ1[4] = {0.0, 0.0, 0.0, ys * du[2]};
+        double dJ2[4] = {0.0, 0.0, -ys * du[2], 0.0};
+        if (l < 2) {
+            if (k == 2) {
+                dJ1[l] = xs * yn[1];
+                dJ2[l] = -xs * yn[0];
+            } else if (k == 1) {
+                dJ1[l] = -xs;
+            } else {
+                dJ2[l] = xs;
+            }
+        }
+        double da = 0.0, db = 0.0, dc = 0.0;
+        for (int m = 0; m < 4; m++) {
+            da += 2.0 * P.J1[m] * dJ1[m];
+            db += P.J1[m] * dJ2[m] + dJ1[m] * P.J2[m];
+            dc += 2.0 * P.J2[m] * dJ2[m];
+        }
+        const double dl11 = da / (2.0 * P.l11);
+        const double dl21 = (db - P.l21 * dl11) / P.l11;
+        const double dl22 = (dc - 2.0 * P.l21 * dl21) / (2.0 * P.l22);
+        const double dr0 = (de0 - P.r[0] * dl11) / P.l11;
+        J[p] = dr0;
+        J[NP + p] = (de1 - dl21 * P.r[0] - P.l21 * dr0 - P.r[1] * dl22) / P.l22;
     }
-    return c;
+    return 1;
+}
+
+int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double scale,
+                               const double H[9], sfmi_homography_problem *N)
+{
+    if (n < 4 || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
+        return -1;
+    N->p1 = p1;
+    N->p2 = p2;
+    /* H_n = T2 H T1^-1 */
+    double T1i[9], T2[9], tmp[9];
+    double *Hn = N->Hn;
+    const double ti1[3] = {1.0 / N->t1[0], -N->t1[1] / N->t1[0], -N->t1[2] / N->t1[0]};
+    sfm__hartley_matrix(ti1, T1i);
+    sfm__hartley_matrix(N->t2, T2);
+    sfm_matmul3(T2, H, tmp);
+    sfm_matmul3(tmp, T1i, Hn);
+    if (sfm__normalize9(Hn) != 0)
+        return -1;
+    int fixed = 0;
+    for (int k = 1; k < 9; k++)
+        if (fabs(Hn[k]) > fabs(Hn[fixed]))
+            fixed = k;
+    for (int k = 0, p = 0; k < 9; k++)
+        if (k != fixed)
+            N->ent[p++] = k;
+    const sfmi_lm_block block = {Hn, 9, SFMI_LM_CUSTOM, NP, entries_plus, N};
+    N->block = block;
+    const sfmi_lm_problem prob = {&N->block, 1, n, 2, homography_residual, N,
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+    N->prob = prob;
+    return 0;
 }
 
 int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
                              double H[9])
 {
     hnorm N;
-    if (n < 4 || sfm__hartley_2d(p1, n, N.t1) < 0 || sfm__hartley_2d(p2, n, N.t2) < 0)
+    if (sfmi_homography_lm_problem(p1, p2, n, scale, H, &N) < 0)
         return -1;
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    /* pixel distances: a pixel step moves normalised coordinates by s */
-    const double xs = N.t1[0], ys = N.t2[0];
-    /* H_n = T2 H T1^-1 */
-    double T1i[9], T2[9], tmp[9], Hn[9];
-    const double ti1[3] = {1.0 / N.t1[0], -N.t1[1] / N.t1[0], -N.t1[2] / N.t1[0]};
-    sfm__hartley_matrix(ti1, T1i);
-    sfm__hartley_matrix(N.t2, T2);
-    sfm_matmul3(T2, H, tmp);
-    sfm_matmul3(tmp, T1i, Hn);
-    if (sfm__normalize9(Hn) != 0)
-        return -1;
-    int fixed = 0, ent[NP];
-    for (int k = 1; k < 9; k++)
-        if (fabs(Hn[k]) > fabs(Hn[fixed]))
-            fixed = k;
-    for (int k = 0, p = 0; k < 9; k++)
-        if (k != fixed)
-            ent[p++] = k;
-    double cur = cost_n(&N, p1, p2, n, s2, Hn);
-    double lambda = 1e-4;
-    int improved = 0;
-    for (int it = 0; it < iters; it++) {
-        double JtJ[NP * NP], g[NP];
-        memset(JtJ, 0, sizeof JtJ);
-        memset(g, 0, sizeof g);
-        for (int i = 0; i < n; i++) {
-            double xn[2], yn[2], w;
-            hs_pair P;
-            normalise(&N, p1 + 2 * i, p2 + 2 * i, xn, yn);
-            if (!sampson_pair(Hn, xn, yn, xs, ys, &P))
-                continue;
-            w = sfm_lm_cauchy_weight(P.r[0] * P.r[0] + P.r[1] * P.r[1], s2);
-            const double X[3] = {xn[0], xn[1], 1.0};
-            double J[2][NP];
-            for (int p = 0; p < NP; p++) {
-                const int k = ent[p] / 3, l = ent[p] % 3;
-                double du[3] = {0.0, 0.0, 0.0};
-                du[k] = X[l];
-                const double de0 = yn[1] * du[2] - du[1], de1 = du[0] - yn[0] * du[2];
-                /* dJ: the entries of J that hold H (k, l) */
-                double dJ1[4] = {0.0, 0.0, 0.0, ys * du[2]};
-                double dJ2[4] = {0.0, 0.0, -ys * du[2], 0.0};
-                if (l < 2) {
-                    if (k == 2) {
-                        dJ1[l] = xs * yn[1];
-                        dJ2[l] = -xs * yn[0];
-                    } else if (k == 1) {
-                        dJ1[l] = -xs;
-                    } else {
-                        dJ2[l] = xs;
-                    }
-                }
-                double da = 0.0, db = 0.0, dc = 0.0;
-                for (int m = 0; m < 4; m++) {
-                    da += 2.0 * P.J1[m] * dJ1[m];
-                    db += P.J1[m] * dJ2[m] + dJ1[m] * P.J2[m];
-                    dc += 2.0 * P.J2[m] * dJ2[m];
-                }
-                const double dl11 = da / (2.0 * P.l11);
-                const double dl21 = (db - P.l21 * dl11) / P.l11;
-                const double dl22 = (dc - 2.0 * P.l21 * dl21) / (2.0 * P.l22);
-                const double dr0 = (de0 - P.r[0] * dl11) / P.l11;
-                J[0][p] = dr0;
-                J[1][p] = (de1 - dl21 * P.r[0] - P.l21 * dr0 - P.r[1] * dl22) / P.l22;
-            }
-            for (int m = 0; m < 2; m++)
-                for (int p = 0; p < NP; p++) {
-                    const double wj = w * J[m][p];
-                    g[p] += wj * P.r[m];
-                    for (int q = 0; q <= p; q++)
-                        JtJ[p * NP + q] += wj * J[m][q];
-                }
-        }
-        int accepted = 0;
-        for (int tries = 0; tries < 6 && !accepted; tries++) {
-            double x[NP], Hnn[9];
-            if (sfm_lm_small_step(JtJ, g, NP, lambda, x) < 0) {
-                lambda *= 10.0;
-                continue;
-            }
-            memcpy(Hnn, Hn, sizeof Hnn);
-            for (int p = 0; p < NP; p++)
-                Hnn[ent[p]] += x[p];
-            double cn = cost_n(&N, p1, p2, n, s2, Hnn);
-            if (cn < cur) {
-                double rel = (cur - cn) / (cur > 0.0 ? cur : 1.0);
-                memcpy(Hn, Hnn, sizeof Hnn);
-                cur = cn;
-                accepted = 1;
-                improved = 1;
-                lambda = sfm_lm_small_relax(lambda);
-                if (rel < 1e-6)
-                    it = iters;
-            } else {
-                lambda *= 10.0;
-            }
-        }
-        if (!accepted)
-            break;
-    }
-    if (!improved)
-        return 1;
+    double ws[SFMI_LM_DENSE_WS_DOUBLES(9, NP, 2)];
+    int st = sfmi_lm_refine(&N.prob, iters, 1e-6, ws, sizeof ws);
+    if (st != 0)
+        return st;
     /* H = T2^-1 H_n T1 */
-    double T2i[9], T1[9], Hp[9];
+    double T2i[9], T1[9], Hp[9], tmp[9];
     const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
     sfm__hartley_matrix(ti2, T2i);
     sfm__hartley_matrix(N.t1, T1);
-    sfm_matmul3(T2i, Hn, tmp);
+    sfm_matmul3(T2i, N.Hn, tmp);
     sfm_matmul3(tmp, T1, Hp);
     if (sfm__normalize9(Hp) != 0 || !sfm_all_finite9(Hp))
         return -1;

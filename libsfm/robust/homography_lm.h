@@ -2,6 +2,8 @@
 #ifndef SFM_ROBUST_HOMOGRAPHY_LM_H
 #define SFM_ROBUST_HOMOGRAPHY_LM_H
 
+#include "core/lm.h"
+
 /* Squared Sampson error in pixels of the pair (x, y) under H (Hartley &
  * Zisserman 4.2.6): the first-order squared distance of (x, y) to the
  * variety y ~ H x; SFM_ROBUST_HUGE when it is undefined. */
@@ -19,5 +21,23 @@ double sfm_robust_homography_cost(const double *p1, const double *p2, int n, dou
  * unchanged). Stack: under 2 KB; no workspace. */
 int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
                              double H[9]);
+
+/* The LM driver problem sfm_robust_homography_lm solves from H: Hartley
+ * normalisations, H_n held in the struct with its largest entry fixed (a
+ * custom block of 8 free entries), one 2-residual per pair. Returns 0, -1
+ * when H or the points cannot be normalised. For a Jacobian check; N must
+ * outlive its use. */
+#define SFMI_HOMOGRAPHY_NP 8
+typedef struct sfmi_homography_problem {
+    double t1[3], t2[3];
+    const double *p1, *p2;
+    int ent[SFMI_HOMOGRAPHY_NP]; /* the free entries of H_n; the ninth is held */
+    double Hn[9];
+    sfmi_lm_block block;
+    sfmi_lm_problem prob;
+} sfmi_homography_problem;
+
+int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double scale,
+                               const double H[9], sfmi_homography_problem *N);
 
 #endif

@@ -3,15 +3,25 @@
  * 2nd ed., alg. 16.2 step (iii)): minimize the reprojection error over the
  * cameras P2, P3 and the points, P1 = [I | 0] held. Points are homogeneous
  * unit 4-vectors updated in their 3-dimensional tangent space, so points at
- * infinity of the projective frame need no special case. The projective
- * gauge left after fixing P1 (4 DOF) and the camera scales are absorbed by
- * the additive LM damping; cameras are rescaled to unit norm after each step.
+ * infinity of the projective frame need no special case (the driver's
+ * SFMI_LM_SPHERE update and basis). The projective gauge left after fixing
+ * P1 (4 DOF) and the camera scales are absorbed by a small additive
+ * regularisation of the camera block beside the driver's damping; cameras
+ * are rescaled to unit norm after each accepted step.
+ *
+ * The system handed to the LM driver eliminates the points (Schur
+ * complement, H&Z A6.3): per point the 3x3 block V_j = Jp^T Jp (damped) is
+ * inverted, the reduced 24x24 camera system S = U - sum W_j V_j^-1 W_j^T is
+ * solved by Cholesky, and each point's step follows by back-substitution.
+ * The per-point Jacobians are recomputed in each solve rather than stored, so
+ * the workspace stays at a few doubles per point.
  */
 #include "robust/trifocal_refine.h"
 
 #include <math.h>
 #include <string.h>
 
+#include "core/lm.h"
 #include "sfm/sfm_common.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_trifocal.h"
@@ -23,6 +33,8 @@ void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w)
 {
     w->X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->Xold = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
+    w->U = SFM_ARENA_ARRAY(a, double, NC * NC);
+    w->S = SFM_ARENA_ARRAY(a, double, NC * NC);
     w->cap = n;
 }
 
@@ -45,18 +57,14 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
     return c;
 }
 
-/* Per-point blocks: Jp (6x3), Jc rows (view 2 -> cols 0..11, view 3 -> 12..23)
- * stored as two 2x12 blocks, residual r (6). */
-typedef struct point_blocks {
-    double Jp[18], Jc2[24], Jc3[24], r[6];
-} point_blocks;
+typedef sfmi_tf_point_blocks point_blocks;
 
-static int point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
+int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
                            const double X[4], point_blocks *b)
 {
     const double *P[3] = {P1, P2, P3};
     double B[12];
-    sfm_trifocal_tangent_basis(X, B);
+    sfmi_lm_sphere_basis(X, 4, B);
     for (int v = 0; v < 3; v++) {
         double JX[8];
         double *JP = v == 1 ? b->Jc2 : v == 2 ? b->Jc3 : NULL;
@@ -127,138 +135,223 @@ static void normalize12(double *P)
             P[k] /= s;
 }
 
+/* The LM system: cameras A2, A3 and points X at the current point; the
+ * trial B2, B3, Xt (formed by solve). U, Udiag, gc: the camera block of the
+ * normal equations at the current point. */
+typedef struct tf_sys {
+    const double *const *xs;
+    const int *idx;
+    int n;
+    double A2[12], A3[12], B2[12], B3[12];
+    double *X, *Xt;
+    double *U, *S; /* NC x NC */
+    double Udiag[NC], gc[NC], dc[NC];
+} tf_sys;
+
+/* The camera block's regularisation beside the damping: the Schur
+ * complement's diagonal vanishes along the gauge directions. */
+static double gauge_reg(double u)
+{
+    return 1e-12 * (u + 1.0);
+}
+
+static double tf_linearize(void *self, double *gmax)
+{
+    tf_sys *c = self;
+    double cost = total_cost(c->xs, c->idx, c->n, c->A2, c->A3, c->X);
+    if (!isfinite(cost))
+        return HUGE_VAL;
+    memset(c->U, 0, sizeof(double) * NC * NC);
+    memset(c->Udiag, 0, sizeof c->Udiag);
+    memset(c->gc, 0, sizeof c->gc);
+    double m = 0.0;
+    for (int q = 0; q < c->n; q++) {
+        point_blocks b;
+        if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], &b))
+            continue;
+        double W[72], gcq[24], V[9], gp[3];
+        point_products(&b, W, gcq, V, gp);
+        /* U: Jc^T Jc is block diagonal (view 2, view 3) */
+        for (int a = 0; a < 12; a++)
+            for (int k = 0; k < 12; k++) {
+                c->U[a * NC + k] += b.Jc2[a] * b.Jc2[k] + b.Jc2[12 + a] * b.Jc2[12 + k];
+                c->U[(12 + a) * NC + 12 + k] += b.Jc3[a] * b.Jc3[k] + b.Jc3[12 + a] * b.Jc3[12 + k];
+            }
+        for (int a = 0; a < NC; a++)
+            c->gc[a] += gcq[a];
+        for (int k = 0; k < 3; k++)
+            m = fmax(m, fabs(gp[k]));
+    }
+    for (int a = 0; a < NC; a++) {
+        c->Udiag[a] = c->U[a * NC + a];
+        m = fmax(m, fabs(c->gc[a]));
+    }
+    *gmax = m;
+    /* the driver's cost is half the sum of squares */
+    return 0.5 * cost;
+}
+
+/* Point q's damped block and its inverse; 0 when not invertible. */
+static int point_system(const tf_sys *c, int q, double mu, point_blocks *b, double W[72],
+                        double gp[3], double Vi[9], double Dp[3])
+{
+    double gcq[24], V[9];
+    if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b))
+        return 0;
+    point_products(b, W, gcq, V, gp);
+    for (int k = 0; k < 3; k++) {
+        Dp[k] = mu * sfmi_lm_clamp_diag(V[k * 4]);
+        V[k * 4] += Dp[k];
+    }
+    return inv3(V, Vi);
+}
+
+static int tf_solve(void *self, double mu, double *step2, double *x2, double *pred)
+{
+    tf_sys *c = self;
+    double *S = c->S, rhs[NC], Dc[NC];
+    memcpy(S, c->U, sizeof(double) * NC * NC);
+    for (int a = 0; a < NC; a++) {
+        Dc[a] = mu * sfmi_lm_clamp_diag(c->Udiag[a]) + gauge_reg(c->Udiag[a]);
+        S[a * NC + a] += Dc[a];
+        rhs[a] = c->gc[a];
+    }
+    /* reduced camera system S dc = -(gc - sum W V^-1 gp) */
+    for (int q = 0; q < c->n; q++) {
+        point_blocks b;
+        double W[72], gp[3], Vi[9], Dp[3], WVi[72];
+        if (!point_system(c, q, mu, &b, W, gp, Vi, Dp))
+            continue;
+        for (int a = 0; a < NC; a++)
+            for (int k = 0; k < 3; k++)
+                WVi[a * 3 + k] = W[a * 3] * Vi[k] + W[a * 3 + 1] * Vi[3 + k] + W[a * 3 + 2] * Vi[6 + k];
+        for (int a = 0; a < NC; a++) {
+            for (int k = 0; k < NC; k++)
+                S[a * NC + k] -= WVi[a * 3] * W[k * 3] + WVi[a * 3 + 1] * W[k * 3 + 1] +
+                                 WVi[a * 3 + 2] * W[k * 3 + 2];
+            rhs[a] -= WVi[a * 3] * gp[0] + WVi[a * 3 + 1] * gp[1] + WVi[a * 3 + 2] * gp[2];
+        }
+    }
+    for (int a = 0; a < NC; a++)
+        c->dc[a] = -rhs[a];
+    if (sfm_cholesky_factor(S, NC) != SFM_OK || sfm_cholesky_solve(S, NC, c->dc, 1) != SFM_OK)
+        return 0;
+    double h2 = 0.0, xx = 0.0, pr = 0.0;
+    for (int a = 0; a < NC; a++) {
+        const double h = c->dc[a];
+        h2 += h * h;
+        pr += h * (Dc[a] * h - c->gc[a]);
+    }
+    for (int k = 0; k < 12; k++) {
+        c->B2[k] = c->A2[k] + c->dc[k];
+        c->B3[k] = c->A3[k] + c->dc[12 + k];
+        xx += c->A2[k] * c->A2[k] + c->A3[k] * c->A3[k];
+    }
+    /* back-substitution: each point's step, applied on its sphere */
+    for (int q = 0; q < c->n; q++) {
+        const double *X = &c->X[4 * q];
+        double *Xt = &c->Xt[4 * q];
+        point_blocks b;
+        double W[72], gp[3], Vi[9], Dp[3], r3[3], d[3], B[12];
+        memcpy(Xt, X, 4 * sizeof(double));
+        for (int k = 0; k < 4; k++)
+            xx += X[k] * X[k];
+        if (!point_system(c, q, mu, &b, W, gp, Vi, Dp))
+            continue;
+        for (int k = 0; k < 3; k++) {
+            r3[k] = -gp[k];
+            for (int a = 0; a < NC; a++)
+                r3[k] -= W[a * 3 + k] * c->dc[a];
+        }
+        for (int k = 0; k < 3; k++) {
+            d[k] = Vi[k * 3] * r3[0] + Vi[k * 3 + 1] * r3[1] + Vi[k * 3 + 2] * r3[2];
+            h2 += d[k] * d[k];
+            pr += d[k] * (Dp[k] * d[k] - gp[k]);
+        }
+        sfmi_lm_sphere_basis(X, 4, B);
+        double nn = 0;
+        for (int r = 0; r < 4; r++) {
+            Xt[r] = X[r] + B[r * 3] * d[0] + B[r * 3 + 1] * d[1] + B[r * 3 + 2] * d[2];
+            nn += Xt[r] * Xt[r];
+        }
+        nn = sqrt(nn);
+        for (int r = 0; r < 4; r++)
+            Xt[r] /= nn;
+    }
+    *step2 = h2;
+    *x2 = xx;
+    *pred = 0.5 * pr;
+    return isfinite(h2) && isfinite(pr);
+}
+
+static double tf_trial(void *self)
+{
+    tf_sys *c = self;
+    double cost = total_cost(c->xs, c->idx, c->n, c->B2, c->B3, c->Xt);
+    return isfinite(cost) ? 0.5 * cost : HUGE_VAL;
+}
+
+static void tf_accept(void *self)
+{
+    tf_sys *c = self;
+    normalize12(c->B2);
+    normalize12(c->B3);
+    memcpy(c->A2, c->B2, sizeof c->A2);
+    memcpy(c->A3, c->B3, sizeof c->A3);
+    double *t = c->X;
+    c->X = c->Xt;
+    c->Xt = t;
+}
+
 double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
                      double P2[12], double P3[12], int max_iters, sfm_tf_refine_ws *w, int *status)
 {
     const double *xs[3] = {x1, x2, x3};
     *status = SFM_OK;
-    if (n > w->cap || n < SFM_TRIFOCAL_MIN_POINTS) {
+    if (n > w->cap || n < SFM_TRIFOCAL_MIN_POINTS || max_iters < 0) {
         *status = SFM_E_ARGUMENT;
         return INFINITY;
     }
-    double A2[12], A3[12];
-    memcpy(A2, P2, sizeof A2);
-    memcpy(A3, P3, sizeof A3);
-    normalize12(A2);
-    normalize12(A3);
+    tf_sys c;
+    c.xs = xs;
+    c.idx = idx;
+    c.n = n;
+    c.X = w->X;
+    c.Xt = w->Xold;
+    c.U = w->U;
+    c.S = w->S;
+    memcpy(c.A2, P2, sizeof c.A2);
+    memcpy(c.A3, P3, sizeof c.A3);
+    normalize12(c.A2);
+    normalize12(c.A3);
     /* Initial points: optimal triangulation under the current cameras. */
     for (int q = 0; q < n; q++) {
         int p = idx[q];
         double e;
-        int st = sfm_trifocal_point_error(P1, A2, A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &w->X[4 * q]);
+        int st = sfm_trifocal_point_error(P1, c.A2, c.A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &c.X[4 * q]);
         if (st < 0) {
             *status = st;
             return INFINITY;
         }
     }
-    double cost = total_cost(xs, idx, n, A2, A3, w->X);
-    if (!isfinite(cost)) {
+    sfmi_lm_options opt;
+    sfmi_lm_default_options(&opt);
+    opt.max_iterations = max_iters;
+    opt.function_tolerance = 1e-10;
+    /* From a minimal-sample start the Gauss-Newton step is already good and
+     * the gauge directions are held by gauge_reg: start nearly undamped
+     * (1e-8), or the few LO steps are spent shrinking the damping (at most
+     * 3x per accepted step) before the points converge. */
+    opt.initial_radius = 1e8;
+    opt.gradient_tolerance = 0.0;
+    opt.step_tolerance = 0.0;
+    const sfmi_lm_system sys = {&c, tf_linearize, tf_solve, tf_trial, tf_accept, 2 * 12 + 3 * n};
+    sfmi_lm_summary sum;
+    if (sfmi_lm_run(&sys, &opt, &sum) != SFM_OK) {
         *status = SFM_E_SINGULAR;
         return INFINITY;
     }
-    double lambda = 1e-4;
-    for (int it = 0; it < max_iters; it++) {
-        double S[NC * NC], g[NC], Udiag[NC];
-        memset(S, 0, sizeof S);
-        memset(Udiag, 0, sizeof Udiag);
-        memset(g, 0, sizeof g);
-        /* Pass 1: reduced camera system S dc = -g_red. */
-        for (int q = 0; q < n; q++) {
-            point_blocks b;
-            if (!point_jacobians(xs, idx[q], A2, A3, &w->X[4 * q], &b))
-                continue;
-            double W[72], gc[24], V[9], gp[3], Vi[9];
-            point_products(&b, W, gc, V, gp);
-            for (int k = 0; k < 3; k++)
-                V[k * 4] *= 1.0 + lambda;
-            if (!inv3(V, Vi))
-                continue;
-            /* U block: Jc^T Jc is block diagonal (view 2, view 3) */
-            for (int a = 0; a < 12; a++)
-                for (int c = 0; c < 12; c++) {
-                    S[a * NC + c] += b.Jc2[a] * b.Jc2[c] + b.Jc2[12 + a] * b.Jc2[12 + c];
-                    S[(12 + a) * NC + 12 + c] += b.Jc3[a] * b.Jc3[c] + b.Jc3[12 + a] * b.Jc3[12 + c];
-                }
-            for (int a = 0; a < 12; a++) {
-                Udiag[a] += b.Jc2[a] * b.Jc2[a] + b.Jc2[12 + a] * b.Jc2[12 + a];
-                Udiag[12 + a] += b.Jc3[a] * b.Jc3[a] + b.Jc3[12 + a] * b.Jc3[12 + a];
-            }
-            double WVi[72];
-            for (int a = 0; a < NC; a++)
-                for (int c = 0; c < 3; c++)
-                    WVi[a * 3 + c] = W[a * 3] * Vi[c] + W[a * 3 + 1] * Vi[3 + c] + W[a * 3 + 2] * Vi[6 + c];
-            for (int a = 0; a < NC; a++) {
-                for (int c = 0; c < NC; c++)
-                    S[a * NC + c] -= WVi[a * 3] * W[c * 3] + WVi[a * 3 + 1] * W[c * 3 + 1] +
-                                     WVi[a * 3 + 2] * W[c * 3 + 2];
-                g[a] += gc[a] - (WVi[a * 3] * gp[0] + WVi[a * 3 + 1] * gp[1] + WVi[a * 3 + 2] * gp[2]);
-            }
-        }
-        /* Marquardt damping of the camera block: lambda scales the diagonal
-         * of U (the Schur complement's own diagonal can vanish along the
-         * gauge directions). */
-        for (int a = 0; a < NC; a++) {
-            S[a * NC + a] += lambda * Udiag[a] + 1e-12 * (Udiag[a] + 1.0);
-            g[a] = -g[a];
-        }
-        if (sfm_cholesky_factor(S, NC) != SFM_OK || sfm_cholesky_solve(S, NC, g, 1) != SFM_OK) {
-            lambda *= 10;
-            continue;
-        }
-        /* Pass 2: back-substitute the points and try the step. */
-        double B2[12], B3[12];
-        for (int k = 0; k < 12; k++) {
-            B2[k] = A2[k] + g[k];
-            B3[k] = A3[k] + g[12 + k];
-        }
-        memcpy(w->Xold, w->X, sizeof(double) * 4 * (size_t)n);
-        for (int q = 0; q < n; q++) {
-            point_blocks b;
-            double *X = &w->X[4 * q];
-            if (!point_jacobians(xs, idx[q], A2, A3, X, &b))
-                continue;
-            double W[72], gc[24], V[9], gp[3], Vi[9], rhs[3], d[3], B[12];
-            point_products(&b, W, gc, V, gp);
-            for (int k = 0; k < 3; k++)
-                V[k * 4] *= 1.0 + lambda;
-            if (!inv3(V, Vi))
-                continue;
-            for (int c = 0; c < 3; c++) {
-                rhs[c] = -gp[c];
-                for (int a = 0; a < NC; a++)
-                    rhs[c] -= W[a * 3 + c] * g[a];
-            }
-            for (int c = 0; c < 3; c++)
-                d[c] = Vi[c * 3] * rhs[0] + Vi[c * 3 + 1] * rhs[1] + Vi[c * 3 + 2] * rhs[2];
-            sfm_trifocal_tangent_basis(X, B);
-            double nn = 0;
-            for (int r = 0; r < 4; r++) {
-                X[r] += B[r * 3] * d[0] + B[r * 3 + 1] * d[1] + B[r * 3 + 2] * d[2];
-                nn += X[r] * X[r];
-            }
-            nn = sqrt(nn);
-            for (int r = 0; r < 4; r++)
-                X[r] /= nn;
-        }
-        double c1 = total_cost(xs, idx, n, B2, B3, w->X);
-        if (c1 < cost) {
-            double gain = cost - c1;
-            normalize12(B2);
-            normalize12(B3);
-            memcpy(A2, B2, sizeof A2);
-            memcpy(A3, B3, sizeof A3);
-            cost = c1;
-            lambda = lambda * 0.1 > 1e-12 ? lambda * 0.1 : 1e-12;
-            if (gain < 1e-10 * (1.0 + cost))
-                break;
-        } else {
-            memcpy(w->X, w->Xold, sizeof(double) * 4 * (size_t)n);
-            lambda *= 10;
-            if (lambda > 1e8)
-                break;
-        }
-    }
-    memcpy(P2, A2, sizeof A2);
-    memcpy(P3, A3, sizeof A3);
-    return cost;
+    memcpy(P2, c.A2, sizeof c.A2);
+    memcpy(P3, c.A3, sizeof c.A3);
+    return 2.0 * sum.final_cost;
 }

@@ -8,9 +8,23 @@
 
 typedef struct sfm_tf_refine_ws {
     double *X;    /* 4n: current homogeneous points */
-    double *Xold; /* 4n: points before the step */
+    double *Xold; /* 4n: points of the trial step */
+    double *U, *S; /* 24 x 24: camera block, reduced system */
     int cap;      /* n the buffers hold */
 } sfm_tf_refine_ws;
+
+/* Per-point blocks: Jp (6x3, along the sfmi_lm_sphere_basis of X), Jc rows
+ * (view 2 -> P2's 12 entries, view 3 -> P3's) stored as two 2x12 blocks,
+ * residual r (6: views 1, 2, 3). */
+typedef struct sfmi_tf_point_blocks {
+    double Jp[18], Jc2[24], Jc3[24], r[6];
+} sfmi_tf_point_blocks;
+
+/* The residuals and Jacobians of point p (x1..x3 in xs) at X (unit
+ * homogeneous) under P1 = [I | 0], P2, P3. Returns 0 when a view cannot
+ * project X. */
+int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, const double *P3,
+                            const double X[4], sfmi_tf_point_blocks *b);
 
 /* Carves buffers for up to n points (measuring or real arena). */
 void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
@@ -20,9 +34,10 @@ void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
  * P2, P3 (P1 = [I | 0] fixed) and the points (homogeneous, updated in their
  * tangent space), with the points eliminated by the Schur complement: the
  * reduced 24x24 camera system is solved by Cholesky. H&Z alg. 16.2's gold
- * standard step. P2, P3 are updated in place (unit Frobenius norm) only when
- * the cost decreased. Returns the final cost (sum of squared pixel errors)
- * or a negative status.
+ * standard step, run by the LM driver (core/lm.h: at most max_iters steps,
+ * relative cost tolerance 1e-10). P2, P3 are written (unit Frobenius norm;
+ * the input when no step lowered the cost). Returns the final cost (sum of
+ * squared pixel errors), or INFINITY with *status negative.
  */
 double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
                      double P2[12], double P3[12], int max_iters, sfm_tf_refine_ws *w, int *status);

@@ -102,7 +102,7 @@ static sfm_vo *layout(sfm_arena *a, const sfm_vo_dims *d)
     v->ba_max_points = cap / 2 > nf ? cap / 2 : nf;
     v->ba_R = SFM_ARENA_ARRAY(a, double, 9 * w);
     v->ba_t = SFM_ARENA_ARRAY(a, double, 3 * w);
-    v->ba_K = SFM_ARENA_ARRAY(a, double, SFM_BA_INTRINSICS_STRIDE * w);
+    v->ba_cam = SFM_ARENA_ARRAY(a, sfm_camera, w);
     v->ba_cf = SFM_ARENA_ARRAY(a, unsigned char, w);
     v->ba_X = SFM_ARENA_ARRAY(a, double, 3 * (size_t)v->ba_max_points);
     v->ba_of_point = SFM_ARENA_ARRAY(a, int, v->ba_max_points);

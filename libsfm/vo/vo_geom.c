@@ -38,7 +38,7 @@ void sfmi_vo_transform(const double R[9], const double t[3], const double X[3], 
         x[r] = R[3 * r] * X[0] + R[3 * r + 1] * X[1] + R[3 * r + 2] * X[2] + t[r];
 }
 
-int sfmi_vo_project(const double K[6], const double R[9], const double t[3], const double X[3],
+int sfmi_vo_project(const double K[4], const double R[9], const double t[3], const double X[3],
                     double uv[2])
 {
     double x[3];

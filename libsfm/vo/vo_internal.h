@@ -38,7 +38,7 @@ struct sfm_vo {
     sfm_vo_dims dims;
     sfm_vo_params p;
     sfm_camera pinhole; /* K of the camera, no distortion */
-    double K[SFM_BA_INTRINSICS_STRIDE];
+    double K[4];        /* fx, fy, cx, cy of pinhole */
 
     /* keyframe window, a ring: slot (kf_head + i) % window is the i-th oldest */
     vo_keyframe kf[SFM_VO_MAX_WINDOW];
@@ -79,7 +79,8 @@ struct sfm_vo {
 
     /* bundle adjustment arrays */
     int ba_max_points, ba_max_obs;
-    double *ba_R, *ba_t, *ba_K, *ba_X, *ba_xy;
+    double *ba_R, *ba_t, *ba_X, *ba_xy;
+    sfm_camera *ba_cam; /* the pinhole camera, once per BA camera */
     int *ba_oc, *ba_op, *ba_of; /* camera, point, keypoint index of an observation */
     int *ba_of_slot;            /* window position of the observation's keyframe */
     unsigned char *ba_cf;
@@ -111,7 +112,7 @@ void sfmi_vo_compose(const double Ra[9], const double ta[3], const double Rb[9],
 void sfmi_vo_inverse(const double R[9], const double t[3], double Ri[9], double ti[3]);
 void sfmi_vo_transform(const double R[9], const double t[3], const double X[3], double x[3]);
 /* Projects a world point with K and a pose; 0 when behind the camera. */
-int sfmi_vo_project(const double K[6], const double R[9], const double t[3], const double X[3],
+int sfmi_vo_project(const double K[4], const double R[9], const double t[3], const double X[3],
                     double uv[2]);
 void sfmi_vo_centre(const double R[9], const double t[3], double c[3]);
 /* Angle (radians) at X between the rays from two centres. */

@@ -91,7 +91,7 @@ vo_keyframe *sfmi_vo_kf_push(sfm_vo *vo, const double R[9], const double t[3], i
     return k;
 }
 
-static void projection(const double K[6], const double R[9], const double t[3], double P[12])
+static void projection(const double K[4], const double R[9], const double t[3], double P[12])
 {
     for (int r = 0; r < 3; r++) {
         double kr[3] = {r == 0 ? K[0] : 0.0, r == 1 ? K[1] : 0.0, 0.0};
@@ -104,7 +104,7 @@ static void projection(const double K[6], const double R[9], const double t[3], 
 
 /* Pixel epipolar line in b of pixel uv of a: K^-T [t]x R K^-1 (u, v, 1),
  * scaled so that (l0, l1) has unit length (the value is then a distance). */
-static void epiline(const double K[6], const double Rab[9], const double tab[3],
+static void epiline(const double K[4], const double Rab[9], const double tab[3],
                     const double uv[2], double l[3])
 {
     double xn[3] = {(uv[0] - K[2]) / K[0], (uv[1] - K[3]) / K[1], 1.0}, y[3], ln[3];
@@ -272,7 +272,7 @@ void sfmi_vo_ba_problem(sfm_vo *vo, int m, int np, int no, sfm_ba_problem *pr)
     pr->n_observations = no;
     pr->rotations = vo->ba_R;
     pr->translations = vo->ba_t;
-    pr->intrinsics = vo->ba_K;
+    pr->cameras = vo->ba_cam;
     pr->points = vo->ba_X;
     pr->obs_camera = vo->ba_oc;
     pr->obs_point = vo->ba_op;
@@ -308,7 +308,7 @@ int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
         }
         memcpy(vo->ba_R + 9 * c, k->R, sizeof k->R);
         memcpy(vo->ba_t + 3 * c, k->t, sizeof k->t);
-        memcpy(vo->ba_K + SFM_BA_INTRINSICS_STRIDE * c, vo->K, sizeof vo->K);
+        vo->ba_cam[c] = vo->pinhole;
         vo->ba_cf[c] = c < fixed ? SFM_BA_FIX_POSE : 0;
     }
     for (int q = 0; q < np; q++)
@@ -333,7 +333,7 @@ int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
         o.scale_distance = hypot(hypot(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]);
     }
     sfm_ba_result res;
-    int st = sfm_ba_solve(&pr, &o, vo->ba_ws, vo->ba_ws_size, &res, NULL);
+    int st = sfm_ba_solve(&pr, &o, &res, NULL, 0, vo->ba_ws, vo->ba_ws_size);
     if (st < 0)
         return st;
     for (int c = 0; c < m; c++) {
@@ -377,7 +377,7 @@ int sfmi_vo_pose_covariance(sfm_vo *vo, int nm, const double R[9], const double 
         return SFM_E_SINGULAR;
     memcpy(vo->ba_R, R, 9 * sizeof(double));
     memcpy(vo->ba_t, t, 3 * sizeof(double));
-    memcpy(vo->ba_K, vo->K, sizeof vo->K);
+    vo->ba_cam[0] = vo->pinhole;
     sfm_ba_problem pr;
     sfmi_vo_ba_problem(vo, 1, np, np, &pr);
     sfm_ba_options o;
@@ -386,7 +386,7 @@ int sfmi_vo_pose_covariance(sfm_vo *vo, int nm, const double R[9], const double 
     o.max_iterations = 1;
     o.want_covariance = 1;
     sfm_ba_result res;
-    int st = sfm_ba_solve(&pr, &o, vo->ba_ws, vo->ba_ws_size, &res, cov);
+    int st = sfm_ba_solve(&pr, &o, &res, cov, 36, vo->ba_ws, vo->ba_ws_size);
     if (st < 0)
         return st;
     return res.covariance_status == SFM_OK ? SFM_OK : SFM_E_SINGULAR;

@@ -5,20 +5,24 @@ Layout (float64, row-major, as in C):
 * ``cameras``: a dict with
     - ``rotations``    (m, 3, 3) world-to-camera rotations, x_cam = R X + t
     - ``translations`` (m, 3)
-    - ``intrinsics``   (m, 6) rows {fx, fy, cx, cy, k1, k2}; (m, 4) rows
-      {fx, fy, cx, cy} are taken with k1 = k2 = 0
+    - either ``models``: m ``libsfm.Camera`` objects (pinhole, Brown-Conrady,
+      Kannala-Brandt fisheye), refined in copies;
+    - or ``intrinsics``: (m, 6) rows {fx, fy, cx, cy, k1, k2} (Brown-Conrady
+      cameras with p1 = p2 = k3 = 0); (m, 4) rows {fx, fy, cx, cy} are taken
+      with k1 = k2 = 0
 * ``points``: (n, 3) world points
 * ``observations``: (k, 4) rows (camera index, point index, x, y) in pixels;
   the indices must be integers
 
-The model: xn = x/z, yn = y/z, d = 1 + k1 r^2 + k2 r^4, u = fx d xn + cx,
-v = fy d yn + cy. Cost = 1/2 sum rho(w |r|^2).
+Each camera projects through its model (sfm_camera.h). Cost =
+1/2 sum rho(w |r|^2).
 
 ``options`` (all optional):
 
 * ``mode``: "full" | "pose_only" | "points_only"
 * ``intrinsics``: "fixed" | "shared" | "per_camera"
-* ``refine``: iterable of "focal", "principal", "radial"
+* ``refine``: iterable of "focal", "principal", "radial" (k1, k2),
+  "distortion" (every coefficient of the model)
 * ``loss``: "squared" | "huber" | "cauchy" | "truncated"; ``loss_scale`` (a)
 * ``gauge``: "first_camera" | "none"
 * ``scale_gauge``: "none" | "coordinate" | "distance", with ``scale_camera``,
@@ -30,7 +34,8 @@ v = fy d yn + cy. Cost = 1/2 sum rho(w |r|^2).
   indices whose intrinsics are held (per_camera mode); ``fixed_points``
 * ``covariance``: True to return the (m, 6, 6) pose covariances
 
-Returns a dict: ``cameras`` (same layout, intrinsics (m, 6)), ``points``,
+Returns a dict: ``cameras`` (same layout: ``models`` as Camera objects, or
+``intrinsics`` (m, 6)), ``points``,
 ``cost``, ``initial_cost``, ``iterations``, ``successful_steps``,
 ``stop_reason`` (a string), ``workspace_bytes`` and, when asked,
 ``covariance`` ((m, 6, 6), rows (w, t), or None when the undamped system is
@@ -39,10 +44,11 @@ singular).
 import numpy as np
 
 from ._ffi import as_array, check, dptr, ffi, iptr, lib, workspace
+from .geometry import Camera
 
 _MODES = {"full": 0, "pose_only": 1, "points_only": 2}
 _INTR = {"fixed": 0, "shared": 1, "per_camera": 2}
-_REFINE = {"focal": 1, "principal": 2, "radial": 4}
+_REFINE = {"focal": 1, "principal": 2, "radial": 4, "distortion": 8}
 _LOSS = {"squared": 0, "huber": 1, "cauchy": 2, "truncated": 3}
 _GAUGE = {"none": 0, "first_camera": 1}
 _SCALE = {"none": 0, "coordinate": 1, "distance": 2}
@@ -78,11 +84,24 @@ def bundle_adjust(cameras, points, observations, options=None):
     R = as_array(cameras["rotations"], (None, 3, 3), "rotations").copy()
     m = R.shape[0]
     t = as_array(cameras["translations"], (m, 3), "translations").copy()
-    K_in = np.ascontiguousarray(np.asarray(cameras["intrinsics"], dtype=np.float64))
-    if K_in.ndim != 2 or K_in.shape[0] != m or K_in.shape[1] not in (4, 6):
-        raise ValueError("intrinsics must have shape (m, 6) or (m, 4), got %s" % (K_in.shape,))
-    K = np.zeros((m, 6))
-    K[:, :K_in.shape[1]] = K_in
+    models = cameras.get("models")
+    cams = ffi.new("sfm_camera[]", m)
+    if models is not None:
+        models = list(models)
+        if len(models) != m or not all(isinstance(c, Camera) for c in models):
+            raise ValueError("models must be %d libsfm.Camera objects" % m)
+        for i, c in enumerate(models):
+            ffi.memmove(ffi.addressof(cams, i), c._c, ffi.sizeof("sfm_camera"))
+    else:
+        K_in = np.ascontiguousarray(np.asarray(cameras["intrinsics"], dtype=np.float64))
+        if K_in.ndim != 2 or K_in.shape[0] != m or K_in.shape[1] not in (4, 6):
+            raise ValueError("intrinsics must have shape (m, 6) or (m, 4), got %s" % (K_in.shape,))
+        K = np.zeros((m, 6))
+        K[:, :K_in.shape[1]] = K_in
+        for i in range(m):
+            cams[i].model = lib.SFM_CAMERA_BROWN
+            cams[i].fx, cams[i].fy, cams[i].cx, cams[i].cy = (float(v) for v in K[i, :4])
+            cams[i].dist[0], cams[i].dist[1] = float(K[i, 4]), float(K[i, 5])
     X = as_array(points, (None, 3), "points").copy()
     n = X.shape[0]
     obs = as_array(observations, (None, 4), "observations")
@@ -122,7 +141,7 @@ def bundle_adjust(cameras, points, observations, options=None):
     p.n_observations = k
     p.rotations = dptr(R)
     p.translations = dptr(t)
-    p.intrinsics = dptr(K)
+    p.cameras = cams
     p.points = dptr(X) if n else ffi.NULL
     p.obs_camera = iptr(oc)
     p.obs_point = iptr(op)
@@ -152,10 +171,21 @@ def bundle_adjust(cameras, points, observations, options=None):
     _buf, ws, ws_size = workspace(nbytes)
     cov = np.zeros((m, 6, 6)) if want_cov else None
     res = ffi.new("sfm_ba_result *")
-    check(lib.sfm_ba_solve(p, o, ws, ws_size, res, dptr(cov) if want_cov else ffi.NULL),
-          "sfm_ba_solve")
+    check(lib.sfm_ba_solve(p, o, res, dptr(cov) if want_cov else ffi.NULL,
+                           36 * m if want_cov else 0, ws, ws_size), "sfm_ba_solve")
+    cams_out = {"rotations": R, "translations": t}
+    if models is not None:
+        names = {v: k for k, v in Camera.MODELS.items()}
+        cams_out["models"] = [
+            Camera(names[cams[i].model], cams[i].fx, cams[i].fy, cams[i].cx, cams[i].cy,
+                   [cams[i].dist[e] for e in range(Camera.NDIST[names[cams[i].model]])])
+            for i in range(m)]
+    else:
+        for i in range(m):
+            K[i] = (cams[i].fx, cams[i].fy, cams[i].cx, cams[i].cy, cams[i].dist[0], cams[i].dist[1])
+        cams_out["intrinsics"] = K
     out = {
-        "cameras": {"rotations": R, "translations": t, "intrinsics": K},
+        "cameras": cams_out,
         "points": X,
         "cost": res.final_cost,
         "initial_cost": res.initial_cost,

@@ -37,7 +37,8 @@ static void big_free(big_scene *b)
 }
 
 typedef struct work {
-    double *R, *t, *K, *X;
+    double *R, *t, *X;
+    sfm_camera *K;
     sfm_ba_problem p;
 } work;
 
@@ -45,7 +46,7 @@ static void work_init(work *w, ba_scene *s)
 {
     w->R = malloc(sizeof(double) * 9 * s->m);
     w->t = malloc(sizeof(double) * 3 * s->m);
-    w->K = malloc(sizeof(double) * 6 * s->m);
+    w->K = malloc(sizeof(sfm_camera) * s->m);
     w->X = malloc(sizeof(double) * 3 * s->n);
     bas_problem(s, &w->p, w->R, w->t, w->K, w->X);
 }
@@ -64,7 +65,7 @@ static int solve(work *w, const sfm_ba_options *o, sfm_ba_result *r, double *cov
                      o->refine_intrinsics};
     size_t need = sfm_ba_workspace_size(&d);
     void *ws = malloc(need);
-    int st = sfm_ba_solve(&w->p, o, ws, need, r, cov);
+    int st = sfm_ba_solve(&w->p, o, r, cov, 36 * (size_t)w->p.n_cameras, ws, need);
     free(ws);
     return st;
 }
@@ -209,6 +210,19 @@ static int house_load(house *h)
         if (read_doubles(path, P, 12) != 12)
             return 0;
         decompose_P(P, h->K[v], h->R + 9 * v, h->t + 3 * v);
+        /* With K's diagonal positive the house's points come out behind its
+         * cameras (the image y axis points the other way). The library's
+         * camera models see only points ahead (z > 0): the same camera is
+         * K' [E R | E t] with E = diag(1, -1, -1) and K' = -K E, i.e. fx
+         * negated, which maps every point to the same pixel with z > 0. */
+        double *Rv = h->R + 9 * v, *tv = h->t + 3 * v;
+        if (Rv[6] * pts[0] + Rv[7] * pts[1] + Rv[8] * pts[2] + tv[2] < 0.0) {
+            for (int c = 3; c < 9; c++)
+                Rv[c] = -Rv[c];
+            tv[1] = -tv[1];
+            tv[2] = -tv[2];
+            h->K[v][0] = -h->K[v][0];
+        }
         snprintf(path, sizeof path, HOUSE_DIR "/2D/house.%03d.corners", v);
         ncorn[v] = read_doubles(path, corners[v], 4000) / 2;
         double *in = h->intr + 6 * v;
@@ -319,6 +333,7 @@ static void house_run(sfm_test_ctx *t, house *h, const double *xy_obs, int loss,
                       double *rms, double *rot_err, double *ctr_err, double *gt_med, double *gt_rms)
 {
     double R[9 * HOUSE_VIEWS], tt[3 * HOUSE_VIEWS], K[6 * HOUSE_VIEWS];
+    sfm_camera cams[HOUSE_VIEWS];
     double *X = malloc(sizeof(double) * 3 * h->n);
     double *err = malloc(sizeof(double) * h->nobs);
     memcpy(R, h->R, sizeof R);
@@ -347,7 +362,8 @@ static void house_run(sfm_test_ctx *t, house *h, const double *xy_obs, int loss,
     p.n_observations = h->nobs;
     p.rotations = R;
     p.translations = tt;
-    p.intrinsics = K;
+    bas_cameras_from_rows(K, h->m, cams);
+    p.cameras = cams;
     p.points = X;
     p.obs_camera = h->oc;
     p.obs_point = h->op;
@@ -365,7 +381,7 @@ static void house_run(sfm_test_ctx *t, house *h, const double *xy_obs, int loss,
     size_t need = sfm_ba_workspace_size(&d);
     void *ws = malloc(need);
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, ws, need, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, ws, need), SFM_OK);
     SFM_TEST_LOG("loss %d: cost %.4g -> %.6g in %d iterations (stop %d), %zu workspace bytes", loss,
                  r.initial_cost, r.final_cost, r.iterations, r.stop_reason, need);
     free(ws);

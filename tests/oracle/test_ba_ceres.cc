@@ -22,7 +22,7 @@ static void run(const char *name, Scene &sc, sfm_ba_options o)
     sfm_ba_dims d = {w.p.n_cameras, w.p.n_points, w.p.n_observations, o.intrinsics, o.refine_intrinsics};
     std::vector<unsigned char> ws(sfm_ba_workspace_size(&d));
     sfm_ba_result r;
-    int st = sfm_ba_solve(&w.p, &o, ws.data(), ws.size(), &r, nullptr);
+    int st = sfm_ba_solve(&w.p, &o, &r, nullptr, 0, ws.data(), ws.size());
 
     Work w2(sc);
     CeresBA cb;
@@ -65,7 +65,7 @@ int main(int, char **argv)
             sc.wgt[k] = 0.5 + sfm_test_uniform(&sc.ctx, 0.0, 2.0);
         run("weighted", sc, o);
     }
-    const int losses[3] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY, SFM_BA_LOSS_TRUNCATED};
+    const sfm_ba_loss losses[3] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY, SFM_BA_LOSS_TRUNCATED};
     const char *names[3] = {"huber+outliers", "cauchy+outliers", "truncated+outliers"};
     for (int l = 0; l < 3; l++) {
         Scene sc("ceres_robust", 5, 300, 0.5, l == 2 ? 0.5 : 2.0, l == 2 ? 0.01 : 0.05, 0.02);
@@ -85,6 +85,26 @@ int main(int, char **argv)
         io.intrinsics = SFM_BA_INTRINSICS_SHARED;
         io.refine_intrinsics = SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_RADIAL;
         run("shared focal+k1k2", sc, io);
+    }
+    {
+        /* Brown-Conrady: radial, tangential and k3 refined with the focal */
+        Scene sc("ceres_brown", 5, 300, 0.5, 2.0, 0.05, 0.05);
+        const double dist[5] = {-0.12, 0.05, 0.001, -0.0015, -0.01};
+        sc.set_model(SFM_CAMERA_BROWN, dist, 0.5, 1.02);
+        sfm_ba_options io = o;
+        io.intrinsics = SFM_BA_INTRINSICS_SHARED;
+        io.refine_intrinsics = SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_PRINCIPAL | SFM_BA_REFINE_DISTORTION;
+        run("brown shared all", sc, io);
+    }
+    {
+        /* Kannala-Brandt fisheye, k1..k4 refined with the focal */
+        Scene sc("ceres_fisheye", 5, 300, 0.5, 2.0, 0.05, 0.05);
+        const double dist[5] = {0.02, -0.01, 0.004, -0.001, 0.0};
+        sc.set_model(SFM_CAMERA_FISHEYE, dist, 0.5, 1.02);
+        sfm_ba_options io = o;
+        io.intrinsics = SFM_BA_INTRINSICS_SHARED;
+        io.refine_intrinsics = SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_DISTORTION;
+        run("fisheye shared focal+k1..k4", sc, io);
     }
     std::printf("%d passed, %d failed\n", g_pass, g_fail);
     return g_fail == 0 ? 0 : 1;

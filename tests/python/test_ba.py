@@ -174,3 +174,42 @@ def test_modes_and_shared_focal():
                                 "function_tolerance": 1e-15, "parameter_tolerance": 1e-15})
     np.testing.assert_allclose(out["cameras"]["intrinsics"], K, atol=1e-6)
     assert out["stop_reason"] in ("function_tolerance", "parameter_tolerance", "gradient")
+
+
+@pytest.mark.parametrize("model", ["brown", "fisheye"])
+def test_distorted_cameras_recover_truth_rendered_by_opencv(model):
+    """Observations rendered by OpenCV's own projection (cv2.projectPoints /
+    cv2.fisheye.projectPoints), noise-free; the start has a 2 % focal error and
+    no distortion: the shared focal and every distortion coefficient come
+    back, with the poses and points."""
+    cv2 = pytest.importorskip("cv2")
+    rng = np.random.default_rng(7)
+    R, t, _, X, obs = _scene(rng, m=5, n=60)
+    fx, fy, cx, cy = 500.0, 505.0, 320.0, 240.0
+    Kcv = np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1.0]])
+    dist = (np.array([-0.12, 0.05, 0.001, -0.0015, -0.01]) if model == "brown"
+            else np.array([0.02, -0.01, 0.004, -0.001]))
+    for row in obs:
+        i, j = int(row[0]), int(row[1])
+        rv = cv2.Rodrigues(R[i])[0]
+        if model == "brown":
+            uv, _ = cv2.projectPoints(X[j].reshape(1, 1, 3), rv, t[i], Kcv, dist)
+        else:
+            uv, _ = cv2.fisheye.projectPoints(X[j].reshape(1, 1, 3), rv, t[i].reshape(3, 1), Kcv, dist)
+        row[2:4] = uv.ravel()
+    R0, t0, X0 = _perturb(rng, R, t, X, deg=1.0, dt=0.02, dx=0.02)
+    t0[1, 0] = t[1, 0]
+    start = [libsfm.Camera(model, 1.02 * fx, 1.02 * fy, cx, cy) for _ in range(5)]
+    out = libsfm.bundle_adjust({"rotations": R0, "translations": t0, "models": start}, X0, obs,
+                               {"intrinsics": "shared", "refine": ["focal", "distortion"],
+                                "scale_gauge": "coordinate", "scale_camera": 1, "scale_coordinate": 0,
+                                "max_iterations": 200, "function_tolerance": 1e-15,
+                                "parameter_tolerance": 1e-15, "gradient_tolerance": 1e-14})
+    assert out["cost"] < 1e-12 < out["initial_cost"]
+    for c in out["cameras"]["models"]:
+        assert c.model == model
+        assert abs(c.fx - fx) < 1e-6 and abs(c.fy / c.fx - fy / fx) < 1e-12
+        np.testing.assert_allclose(c.dist, dist, atol=1e-8)
+    np.testing.assert_allclose(out["points"], X, atol=1e-7)
+    # the start objects are untouched
+    assert start[0].fx == 1.02 * fx and not np.any(start[0].dist)

@@ -135,11 +135,40 @@ static void bas_make(sfm_test_ctx *t, ba_scene *s, int m, int n, double sigma, d
         s->X0[j] += sfm_test_normal(t, pt);
 }
 
-static void bas_problem(ba_scene *s, sfm_ba_problem *p, double *R, double *tt, double *K, double *X)
+/* Intrinsics rows {fx, fy, cx, cy, k1, k2} of the scenes as Brown-Conrady
+ * cameras (p1 = p2 = k3 = 0), and back. */
+static inline void bas_cameras_from_rows(const double *K, int m, sfm_camera *cams)
+{
+    for (int i = 0; i < m; i++) {
+        memset(&cams[i], 0, sizeof cams[i]);
+        cams[i].model = SFM_CAMERA_BROWN;
+        cams[i].fx = K[6 * i];
+        cams[i].fy = K[6 * i + 1];
+        cams[i].cx = K[6 * i + 2];
+        cams[i].cy = K[6 * i + 3];
+        cams[i].dist[0] = K[6 * i + 4];
+        cams[i].dist[1] = K[6 * i + 5];
+    }
+}
+
+static inline void bas_rows_from_cameras(const sfm_camera *cams, int m, double *K)
+{
+    for (int i = 0; i < m; i++) {
+        K[6 * i] = cams[i].fx;
+        K[6 * i + 1] = cams[i].fy;
+        K[6 * i + 2] = cams[i].cx;
+        K[6 * i + 3] = cams[i].cy;
+        K[6 * i + 4] = cams[i].dist[0];
+        K[6 * i + 5] = cams[i].dist[1];
+    }
+}
+
+/* The problem from the scene's start; cams (m entries) from its rows. */
+static void bas_problem(ba_scene *s, sfm_ba_problem *p, double *R, double *tt, sfm_camera *cams, double *X)
 {
     memcpy(R, s->R0, sizeof(double) * 9 * s->m);
     memcpy(tt, s->t0, sizeof(double) * 3 * s->m);
-    memcpy(K, s->K0, sizeof(double) * 6 * s->m);
+    bas_cameras_from_rows(s->K0, s->m, cams);
     memcpy(X, s->X0, sizeof(double) * 3 * s->n);
     memset(p, 0, sizeof *p);
     p->n_cameras = s->m;
@@ -147,7 +176,7 @@ static void bas_problem(ba_scene *s, sfm_ba_problem *p, double *R, double *tt, d
     p->n_observations = s->nobs;
     p->rotations = R;
     p->translations = tt;
-    p->intrinsics = K;
+    p->cameras = cams;
     p->points = X;
     p->obs_camera = s->oc;
     p->obs_point = s->op;

@@ -5,7 +5,8 @@
 #include <string.h>
 
 #include "ba_scene.h"
-#include "refine/ba_project.h"
+#include "refine/ba_internal.h"
+#include "jacobian_check.h"
 #include "sfm/sfm.h"
 #include "sfm_test.h"
 
@@ -28,6 +29,7 @@ static double sR0[9 * MAXM], st0[3 * MAXM], sK0[6 * MAXM], sX0[3 * MAXN];
 static int soc[MAXO], sop[MAXO];
 static double sxy[2 * MAXO];
 static double pR[9 * MAXM], pt[3 * MAXM], pK[6 * MAXM], pX[3 * MAXN];
+static sfm_camera pC[MAXM];
 
 static void scene(sfm_test_ctx *t, ba_scene *s, int m, int n, double sigma, double rot, double tr,
                   double ptn)
@@ -44,65 +46,101 @@ static size_t ws_for(const sfm_ba_problem *p, const sfm_ba_options *o)
     return sfm_ba_workspace_size(&d);
 }
 
+/* One observation's residual for verify_jacobian: parameters in the
+ * tangent space (w, dt, dfocal, dcx, dcy, ddist[5], dX) around a base. */
+typedef struct obs_fn_data {
+    double R[9], t[3], X[3];
+    sfm_camera cam;
+    double aspect;
+} obs_fn_data;
+
+static int obs_apply(const obs_fn_data *d, const double *delta, double *uv, double *J, double *Jp)
+{
+    double dR[9], R[9], tt[3], X[3];
+    bas_rodrigues(delta, dR);
+    bas_matmul3(dR, d->R, R);
+    sfm_camera cam = d->cam;
+    cam.fx += delta[6];
+    cam.fy = cam.fx * d->aspect;
+    cam.cx += delta[7];
+    cam.cy += delta[8];
+    for (int e = 0; e < SFMI_BA_NDIST; e++)
+        cam.dist[e] += delta[9 + e];
+    for (int k = 0; k < 3; k++) {
+        tt[k] = d->t[k] + delta[3 + k];
+        X[k] = d->X[k] + delta[SFMI_BA_NLOC + k];
+    }
+    return sfmi_ba_project(&cam, d->aspect, R, tt, X, uv, J, Jp);
+}
+
+static int obs_residual(const void *user, const double *delta, double *r)
+{
+    return obs_apply(user, delta, r, NULL, NULL);
+}
+
+/* The analytic camera-side Jacobian and d(px)/dX of every camera model
+ * against central differences (jacobian_check.h), at points across the
+ * field of view. */
 SFM_TEST(ba_jacobian_matches_finite_differences)
 {
-    for (int it = 0; it < SFM_TEST_ITERS(20); it++) {
-        double R[9], tt[3], K[6], X[3], J[2 * SFM_BA_NLOC], Jp[6], uv[2];
-        sfm_test_random_rotation(t, R);
-        for (int k = 0; k < 3; k++) {
-            tt[k] = sfm_test_uniform(t, -1, 1);
-            X[k] = sfm_test_uniform(t, -1, 1);
-        }
-        tt[2] += 5.0;
-        /* make sure the point is in front */
-        double z = R[6] * X[0] + R[7] * X[1] + R[8] * X[2] + tt[2];
-        if (z < 1.0)
-            tt[2] += 2.0 - z;
-        K[0] = sfm_test_uniform(t, 300, 900);
-        K[1] = K[0] * sfm_test_uniform(t, 0.9, 1.1);
-        K[2] = 320; K[3] = 240;
-        K[4] = sfm_test_uniform(t, -0.3, 0.3);
-        K[5] = sfm_test_uniform(t, -0.1, 0.1);
-        SFM_CHECK(sfm_ba_project(R, tt, K, X, uv, J, Jp));
-        double ref[2];
-        SFM_CHECK(bas_project(R, tt, K, X, ref));
-        SFM_CHECK_NEAR(uv[0], ref[0], 1e-9);
-        SFM_CHECK_NEAR(uv[1], ref[1], 1e-9);
-        const double h = 1e-6;
-        for (int col = 0; col < SFM_BA_NLOC + 3; col++) {
-            double up[2], um[2];
-            double Rp[9], Rm[9], tp[3], tm[3], Kp[6], Km[6], Xp[3], Xm[3];
-            memcpy(Rp, R, sizeof R); memcpy(Rm, R, sizeof R);
-            memcpy(tp, tt, sizeof tt); memcpy(tm, tt, sizeof tt);
-            memcpy(Kp, K, sizeof K); memcpy(Km, K, sizeof K);
-            memcpy(Xp, X, sizeof X); memcpy(Xm, X, sizeof X);
-            if (col < 3) {
-                double w[3] = {0, 0, 0}, dR[9];
-                w[col] = h;
-                bas_rodrigues(w, dR);
-                bas_matmul3(dR, R, Rp);
-                w[col] = -h;
-                bas_rodrigues(w, dR);
-                bas_matmul3(dR, R, Rm);
-            } else if (col < 6) {
-                tp[col - 3] += h; tm[col - 3] -= h;
-            } else if (col == 6) {
-                double a = K[1] / K[0];
-                Kp[0] += h; Kp[1] = Kp[0] * a;
-                Km[0] -= h; Km[1] = Km[0] * a;
-            } else if (col < SFM_BA_NLOC) {
-                Kp[col - 5] += h; Km[col - 5] -= h;
-            } else {
-                Xp[col - SFM_BA_NLOC] += h; Xm[col - SFM_BA_NLOC] -= h;
+    const int models[3] = {SFM_CAMERA_PINHOLE, SFM_CAMERA_BROWN, SFM_CAMERA_FISHEYE};
+    for (int mi = 0; mi < 3; mi++) {
+        double worst = 0.0;
+        for (int it = 0; it < SFM_TEST_ITERS(20); it++) {
+            obs_fn_data d;
+            sfm_test_random_rotation(t, d.R);
+            for (int k = 0; k < 3; k++) {
+                d.t[k] = sfm_test_uniform(t, -1, 1);
+                d.X[k] = sfm_test_uniform(t, -1, 1);
             }
-            bas_project(Rp, tp, Kp, Xp, up);
-            bas_project(Rm, tm, Km, Xm, um);
+            d.t[2] += 5.0;
+            /* make sure the point is in front */
+            double z = d.R[6] * d.X[0] + d.R[7] * d.X[1] + d.R[8] * d.X[2] + d.t[2];
+            if (z < 1.0)
+                d.t[2] += 2.0 - z;
+            memset(&d.cam, 0, sizeof d.cam);
+            d.cam.model = models[mi];
+            d.cam.fx = sfm_test_uniform(t, 300, 900);
+            d.cam.fy = d.cam.fx * sfm_test_uniform(t, 0.9, 1.1);
+            d.cam.cx = 320;
+            d.cam.cy = 240;
+            d.aspect = d.cam.fy / d.cam.fx;
+            if (models[mi] == SFM_CAMERA_BROWN) {
+                d.cam.dist[0] = sfm_test_uniform(t, -0.3, 0.3);
+                d.cam.dist[1] = sfm_test_uniform(t, -0.1, 0.1);
+                d.cam.dist[2] = sfm_test_uniform(t, -0.01, 0.01);
+                d.cam.dist[3] = sfm_test_uniform(t, -0.01, 0.01);
+                d.cam.dist[4] = sfm_test_uniform(t, -0.05, 0.05);
+            } else if (models[mi] == SFM_CAMERA_FISHEYE) {
+                for (int e = 0; e < 4; e++)
+                    d.cam.dist[e] = sfm_test_uniform(t, -0.05, 0.05);
+            }
+            double uv[2], J[2 * SFMI_BA_NLOC], Jp[6];
+            const double zero[SFMI_BA_NLOC + 3] = {0};
+            SFM_CHECK(obs_apply(&d, zero, uv, J, Jp));
+            if (models[mi] != SFM_CAMERA_FISHEYE) {
+                /* the projection itself against the scene's own model */
+                double ref[2], K[6] = {d.cam.fx, d.cam.fy, d.cam.cx, d.cam.cy, d.cam.dist[0], d.cam.dist[1]};
+                if (models[mi] == SFM_CAMERA_PINHOLE || (d.cam.dist[2] == 0 && d.cam.dist[3] == 0 && d.cam.dist[4] == 0)) {
+                    SFM_CHECK(bas_project(d.R, d.t, K, d.X, ref));
+                    SFM_CHECK_NEAR(uv[0], ref[0], 1e-9);
+                    SFM_CHECK_NEAR(uv[1], ref[1], 1e-9);
+                }
+            }
+            /* the full analytic Jacobian: camera-side columns, then the point */
+            enum { NC = SFMI_BA_NLOC + 3 };
+            double Ja[2 * NC];
             for (int r = 0; r < 2; r++) {
-                double fd = (up[r] - um[r]) / (2 * h);
-                double an = col < SFM_BA_NLOC ? J[r * SFM_BA_NLOC + col] : Jp[r * 3 + col - SFM_BA_NLOC];
-                SFM_CHECK_NEAR(an, fd, 1e-4 * (1.0 + fabs(fd)));
+                for (int c = 0; c < SFMI_BA_NLOC; c++)
+                    Ja[r * NC + c] = J[r * SFMI_BA_NLOC + c];
+                for (int c = 0; c < 3; c++)
+                    Ja[r * NC + SFMI_BA_NLOC + c] = Jp[r * 3 + c];
             }
+            double err = sfm_test_verify_jacobian(obs_residual, &d, NC, 2, Ja, 1e-6);
+            worst = fmax(worst, err);
+            SFM_CHECK_MSG(err < 1e-5, "model %d: relative Jacobian error %.3g", models[mi], err);
         }
+        BA_LOG("camera model %d: worst relative Jacobian error %.3g", models[mi], worst);
     }
 }
 
@@ -114,7 +152,7 @@ SFM_TEST(ba_noise_free_recovers_truth)
     scene(t, &s, 4, 40, 0.0, 3.0, 0.1, 0.05);
     st0[3 + 0] = st[3 + 0];
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
@@ -125,7 +163,7 @@ SFM_TEST(ba_noise_free_recovers_truth)
     size_t need = ws_for(&p, &o);
     SFM_CHECK(need > 0 && need <= WS_BYTES);
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_OK);
     BA_LOG("initial %.3g final %.3g iters %d reason %d", r.initial_cost, r.final_cost, r.iterations, r.stop_reason);
     SFM_CHECK(r.initial_cost > 1e3);
     SFM_CHECK(r.final_cost < 1e-12);
@@ -145,21 +183,22 @@ SFM_TEST(ba_noisy_converges_to_minimum)
     scene(t, &s, 5, 50, sigma, 2.0, 0.05, 0.05);
     st0[3] = st[3]; /* the held gauge coordinate starts at its true value in both runs */
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.function_tolerance = 1e-12;
     sfm_ba_result r, r2;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     /* restart from the truth: same minimum */
     sfm_ba_problem p2;
-    static double qR[9 * MAXM], qt[3 * MAXM], qK[6 * MAXM], qX[3 * MAXN];
+    static double qR[9 * MAXM], qt[3 * MAXM], qX[3 * MAXN];
+    static sfm_camera qK[MAXM];
     memcpy(s.R0, s.R, sizeof(double) * 9 * s.m);
     memcpy(s.t0, s.t, sizeof(double) * 3 * s.m);
     memcpy(s.X0, s.X, sizeof(double) * 3 * s.n);
     bas_problem(&s, &p2, qR, qt, qK, qX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, g_ws, sizeof g_ws, &r2, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, &r2, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     BA_LOG("cost %.10g vs from truth %.10g, iters %d", r.final_cost, r2.final_cost, r.iterations);
     SFM_CHECK_NEAR(r.final_cost, r2.final_cost, 1e-8 * r2.final_cost);
     BA_LOG("point difference between the two starts %.3g", bas_max_abs_diff(pX, qX, 3 * s.n));
@@ -177,7 +216,7 @@ SFM_TEST(ba_held_parameters_do_not_move)
     ba_scene s;
     scene(t, &s, 4, 30, 0.5, 2.0, 0.05, 0.05);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     static unsigned char cflags[MAXM], pfix[MAXN];
     memset(cflags, 0, sizeof cflags);
     memset(pfix, 0, sizeof pfix);
@@ -193,11 +232,12 @@ SFM_TEST(ba_held_parameters_do_not_move)
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.scale_coordinate = 2;
     for (int i = 0; i < s.m; i++)
-        pK[6 * i] = pK[6 * i + 1] = 790.0; /* perturbed focal */
+        pC[i].fx = pC[i].fy = 790.0; /* perturbed focal */
     double K0[6 * MAXM];
-    memcpy(K0, pK, sizeof K0);
+    bas_rows_from_cameras(pC, s.m, K0);
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    bas_rows_from_cameras(pC, s.m, pK);
     SFM_CHECK(memcmp(pR, sR0, 9 * sizeof(double)) == 0);
     SFM_CHECK(memcmp(pt, st0, 3 * sizeof(double)) == 0);
     SFM_CHECK(memcmp(pR + 18, sR0 + 18, 9 * sizeof(double)) == 0);
@@ -219,18 +259,19 @@ SFM_TEST(ba_invariant_to_world_frame)
     ba_scene s;
     scene(t, &s, 4, 40, 0.5, 2.0, 0.05, 0.05);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.scale_gauge = SFM_BA_SCALE_DISTANCE;
     o.scale_distance = 3.0;
     o.function_tolerance = 1e-12;
     sfm_ba_result r1, r2;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r1, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r1, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     /* X' = sc Q X + b; camera: R' = R Q^T, t' = sc t - R Q^T b */
     double Q[9], b[3] = {1.0, -2.0, 0.5}, sc = 2.5;
     sfm_test_random_rotation(t, Q);
-    static double qR[9 * MAXM], qt[3 * MAXM], qK[6 * MAXM], qX[3 * MAXN];
+    static double qR[9 * MAXM], qt[3 * MAXM], qX[3 * MAXN];
+    static sfm_camera qK[MAXM];
     sfm_ba_problem p2;
     bas_problem(&s, &p2, qR, qt, qK, qX);
     for (int i = 0; i < s.m; i++) {
@@ -249,7 +290,7 @@ SFM_TEST(ba_invariant_to_world_frame)
             x[r] = sc * (Q[3 * r] * qX[3 * j] + Q[3 * r + 1] * qX[3 * j + 1] + Q[3 * r + 2] * qX[3 * j + 2]) + b[r];
         memcpy(qX + 3 * j, x, sizeof x);
     }
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, g_ws, sizeof g_ws, &r2, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, &r2, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     SFM_CHECK_NEAR(r1.final_cost, r2.final_cost, 1e-7 * r1.final_cost);
     /* distance gauge: both have |C1 - C0| = 3 */
     double md = 0.0;
@@ -290,24 +331,24 @@ SFM_TEST(ba_robust_loss_resists_outliers)
     sfm_ba_problem p;
     sfm_ba_result r;
     /* the clean maximum-likelihood estimate, for scale */
-    bas_problem(&s, &p, pR, pt, pK, pX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    bas_problem(&s, &p, pR, pt, pC, pX);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     double e_clean = bas_max_abs_diff(pX, sX, 3 * s.n);
     /* 10% gross outliers, 20 to 60 px */
     for (int k = 0; k < s.nobs; k += 10) {
         sxy[2 * k] += sfm_test_uniform(t, 20, 60);
         sxy[2 * k + 1] += sfm_test_uniform(t, -60, 60);
     }
-    bas_problem(&s, &p, pR, pt, pK, pX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    bas_problem(&s, &p, pR, pt, pC, pX);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     double e_sq = bas_max_abs_diff(pX, sX, 3 * s.n);
     BA_LOG("max point error: clean %.4f, outliers with squared loss %.4f", e_clean, e_sq);
     const int losses[2] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY};
     for (int l = 0; l < 3; l++) {
         if (l < 2)
-            bas_problem(&s, &p, pR, pt, pK, pX); /* truncated continues from Cauchy's answer */
+            bas_problem(&s, &p, pR, pt, pC, pX); /* truncated continues from Cauchy's answer */
         o.loss = l < 2 ? losses[l] : SFM_BA_LOSS_TRUNCATED;
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
         double e = bas_max_abs_diff(pX, sX, 3 * s.n);
         BA_LOG("loss %d: max point error %.4f (cost %.4g, %d iters)", o.loss, e, r.final_cost, r.iterations);
         /* Huber's influence is bounded, not zero: one-sided outliers bias it */
@@ -324,7 +365,7 @@ SFM_TEST(ba_covariance_matches_full_inverse)
     ba_scene s;
     scene(t, &s, 3, 8, 0.5, 1.0, 0.02, 0.02);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
@@ -333,8 +374,9 @@ SFM_TEST(ba_covariance_matches_full_inverse)
     o.function_tolerance = 1e-14;
     static double cov[36 * MAXM];
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, cov), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, cov, 36 * MAXM, g_ws, sizeof g_ws), SFM_OK);
     SFM_CHECK_EQ_INT(r.covariance_status, SFM_OK);
+    bas_rows_from_cameras(pC, s.m, pK);
     /* parameters: cam1 (w, t1, t2), cam2 (w, t), points */
     enum { NP = 5 + 6 + 3 * 8 };
     static double J[2 * 3 * 8 * NP], A[NP * NP], Ainv[NP * NP];
@@ -460,7 +502,7 @@ SFM_TEST(ba_intrinsics_recovered)
             }
         }
         sfm_ba_problem p;
-        bas_problem(&s, &p, pR, pt, pK, pX);
+        bas_problem(&s, &p, pR, pt, pC, pX);
         sfm_ba_options o;
         sfm_ba_default_options(&o);
         o.scale_gauge = SFM_BA_SCALE_COORDINATE;
@@ -471,7 +513,8 @@ SFM_TEST(ba_intrinsics_recovered)
         o.max_iterations = 200;
         sfm_ba_result r;
         SFM_CHECK(ws_for(&p, &o) <= sizeof g_ws);
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+        bas_rows_from_cameras(pC, s.m, pK);
         double ek = bas_max_abs_diff(pK, sK, 6 * s.m);
         BA_LOG("mode %d: K error %.3g, cost %.3g -> %.3g, %d iters, reason %d", mode, ek,
                      r.initial_cost, r.final_cost, r.iterations, r.stop_reason);
@@ -488,13 +531,13 @@ SFM_TEST(ba_pose_only_and_points_only)
     ba_scene s;
     scene(t, &s, 3, 40, 0.0, 3.0, 0.1, 0.0);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     o.mode = SFM_BA_MODE_POSE_ONLY;
     o.function_tolerance = 1e-14;
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     SFM_CHECK_EQ_INT(r.n_point_params, 0);
     SFM_CHECK(r.final_cost < 1e-12);
     SFM_CHECK(bas_max_abs_diff(pt, st, 3 * s.m) < 1e-8);
@@ -516,7 +559,7 @@ SFM_TEST(ba_pose_only_and_points_only)
             xy1[2 * nobs1 + 1] = sxy[2 * k + 1];
             nobs1++;
         }
-        bas_problem(&s, &p1, pR, pt, pK, pX);
+        bas_problem(&s, &p1, pR, pt, pC, pX);
         memcpy(pR, sR0 + 9, 9 * sizeof(double));
         memcpy(pt, st0 + 3, 3 * sizeof(double));
         p1.n_cameras = 1;
@@ -528,7 +571,7 @@ SFM_TEST(ba_pose_only_and_points_only)
         sfm_ba_default_options(&o1);
         o1.mode = SFM_BA_MODE_POSE_ONLY;
         o1.function_tolerance = 1e-14;
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p1, &o1, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p1, &o1, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
         SFM_CHECK_EQ_INT(r.n_camera_params, 6);
         SFM_CHECK(r.final_cost < 1e-12);
         SFM_CHECK(bas_max_abs_diff(pR, sR + 9, 9) < 1e-8);
@@ -537,9 +580,9 @@ SFM_TEST(ba_pose_only_and_points_only)
 
     /* points only: true cameras, perturbed points */
     scene(t, &s, 3, 40, 0.0, 0.0, 0.0, 0.1);
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     o.mode = SFM_BA_MODE_POINTS_ONLY;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sizeof g_ws, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
     SFM_CHECK_EQ_INT(r.n_camera_params, 0);
     SFM_CHECK(r.final_cost < 1e-12);
     SFM_CHECK(bas_max_abs_diff(pX, sX, 3 * s.n) < 1e-8);
@@ -551,7 +594,7 @@ SFM_TEST(ba_contract)
     ba_scene s;
     scene(t, &s, 3, 10, 0.5, 1.0, 0.01, 0.01);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pK, pX);
+    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
     sfm_ba_default_options(&o);
     sfm_ba_result r;
@@ -564,51 +607,51 @@ SFM_TEST(ba_contract)
     memcpy(c0X, pX, sizeof c0X);
 #define UNTOUCHED() (memcmp(c0R, pR, sizeof c0R) == 0 && memcmp(c0X, pX, sizeof c0X) == 0 && sfm_test_canary_intact(&r, sizeof r))
     sfm_test_fill_canary(&r, sizeof r);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(NULL, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, NULL, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, NULL, NULL), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, NULL, need, &r, NULL), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(NULL, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, NULL, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, NULL, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, NULL, need), SFM_E_WORKSPACE);
     /* one byte short, at several alignments */
     for (int off = 0; off < 16; off += 5)
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws + off, need - 1, &r, NULL), SFM_E_WORKSPACE);
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws + off, need - 1), SFM_E_WORKSPACE);
     SFM_CHECK(UNTOUCHED());
     o.want_covariance = 1;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     o.want_covariance = 0;
     /* NaN in points, observations, weights */
     pX[4] = NAN;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     pX[4] = c0X[4];
     double keep = sxy[3];
     sxy[3] = INFINITY;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     sxy[3] = keep;
     static double wts[MAXO];
     for (int k = 0; k < s.nobs; k++)
         wts[k] = 1.0;
     p.obs_weight = wts;
     wts[2] = NAN;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     wts[2] = -1.0;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     p.obs_weight = NULL;
     /* indices out of range */
     int kc = soc[5];
     soc[5] = 3;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     soc[5] = -1;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     soc[5] = kc;
     int kp = sop[5];
     sop[5] = 10;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     sop[5] = kp;
     /* a camera with no observations: move camera 2's observations to camera 1 */
     static int oc2[MAXO];
     for (int k = 0; k < s.nobs; k++)
         oc2[k] = soc[k] == 2 ? 1 : soc[k];
     p.obs_camera = oc2;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     p.obs_camera = soc;
     /* a free point nobody sees */
     p.n_points = 11;
@@ -617,37 +660,74 @@ SFM_TEST(ba_contract)
     pX[30] = pX[31] = pX[32] = 0.0;
     {
         sfm_ba_dims d = {3, 11, p.n_observations, 0, 0};
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, sfm_ba_workspace_size(&d), &r, NULL), SFM_E_ARGUMENT);
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sfm_ba_workspace_size(&d)), SFM_E_ARGUMENT);
     }
     p.n_points = 10;
     memcpy(pX + 30, keep3, sizeof keep3);
     /* bad counts and options */
     p.n_cameras = 0;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     p.n_cameras = 3;
     o.loss = 9;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     o.loss = SFM_BA_LOSS_HUBER;
     o.loss_scale = 0.0;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     sfm_ba_default_options(&o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.scale_camera = 3;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     sfm_ba_default_options(&o);
-    pK[0] = 0.0;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
-    pK[0] = sK0[0];
+    pC[0].fx = 0.0;
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
+    pC[0].fx = sK0[0];
+    pC[1].model = 7; /* no such model */
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
+    pC[1].model = SFM_CAMERA_BROWN;
+    pC[1].dist[3] = NAN;
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
+    pC[1].dist[3] = 0.0;
+    /* shared intrinsics need one model */
+    o.intrinsics = SFM_BA_INTRINSICS_SHARED;
+    o.refine_intrinsics = SFM_BA_REFINE_FOCAL;
+    pC[2].model = SFM_CAMERA_FISHEYE;
+    {
+        sfm_ba_dims d = {3, 10, p.n_observations, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL};
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sfm_ba_workspace_size(&d)), SFM_E_ARGUMENT);
+    }
+    pC[2].model = SFM_CAMERA_BROWN;
+    sfm_ba_default_options(&o);
+    /* NaN options are non-finite, not merely wrong */
+    o.loss_scale = NAN;
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
+    sfm_ba_default_options(&o);
+    o.function_tolerance = NAN;
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
+    sfm_ba_default_options(&o);
+    /* a covariance buffer shorter than 36 m */
+    {
+        static double cov[36 * MAXM];
+        o.want_covariance = 1;
+        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, cov, 36 * 3 - 1, g_ws, need), SFM_E_ARGUMENT);
+        o.want_covariance = 0;
+    }
+    /* counts beyond the arrays are caught by the workspace before any array
+     * is read (the workspace was sized for the real counts) */
+    p.n_points = 1000;
+    p.n_observations = 5000;
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_WORKSPACE);
+    p.n_points = 10;
+    p.n_observations = s.nobs;
     pR[0] = NAN;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     pR[0] = c0R[0] * 1.001; /* not a rotation */
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     for (int e = 0; e < 3; e++) /* a reflection */
         pR[9 + e] = -c0R[9 + e];
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws, need, &r, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     memcpy(pR, c0R, sizeof c0R);
     SFM_CHECK(UNTOUCHED());
     /* and the exact size works */
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, g_ws + 3, need, &r, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws + 3, need), SFM_OK);
 #undef UNTOUCHED
 }

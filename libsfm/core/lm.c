@@ -1,0 +1,526 @@
+/*
+ * The Levenberg-Marquardt driver (see lm.h for the contract): the loop that
+ * owns damping, acceptance and stopping, and the dense normal-equation system
+ * for small problems.
+ */
+#include "core/lm.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "core/arena.h"
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_rotation.h"
+
+#define MIN_DIAG 1e-6
+#define MAX_DIAG 1e32
+#define MAX_RADIUS 1e16
+#define MIN_RADIUS 1e-32
+#define MIN_RELATIVE_DECREASE 1e-3
+
+void sfmi_lm_default_options(sfmi_lm_options *o)
+{
+    o->max_iterations = 50;
+    o->function_tolerance = 1e-6;
+    o->gradient_tolerance = 1e-10;
+    o->step_tolerance = 1e-8;
+    o->initial_radius = 1e4;
+    o->want_covariance = 0;
+}
+
+int sfmi_lm_factor_full_rank(const double *L, const double *diag, int n)
+{
+    for (int i = 0; i < n; i++) {
+        const double l = L[(size_t)i * n + i];
+        if (!(l * l > SFMI_LM_COV_RANK_TOL * diag[i]))
+            return 0;
+    }
+    return 1;
+}
+
+double sfmi_lm_clamp_diag(double d)
+{
+    return d < MIN_DIAG ? MIN_DIAG : (d > MAX_DIAG ? MAX_DIAG : d);
+}
+
+void sfmi_lm_loss_eval(sfmi_lm_loss loss, double a2, double s, double *rho, double *rho1)
+{
+    switch (loss) {
+    case SFMI_LM_LOSS_HUBER:
+        if (s <= a2) {
+            *rho = s;
+            *rho1 = 1.0;
+        } else {
+            double r = sqrt(s), a = sqrt(a2);
+            *rho = 2.0 * a * r - a2;
+            *rho1 = a / r;
+        }
+        break;
+    case SFMI_LM_LOSS_CAUCHY:
+        *rho = a2 * log1p(s / a2);
+        *rho1 = 1.0 / (1.0 + s / a2);
+        break;
+    case SFMI_LM_LOSS_TRUNCATED:
+        if (s <= a2) {
+            *rho = s;
+            *rho1 = 1.0;
+        } else {
+            *rho = a2;
+            *rho1 = 0.0;
+        }
+        break;
+    default:
+        *rho = s;
+        *rho1 = 1.0;
+        break;
+    }
+}
+
+static int options_valid(const sfmi_lm_options *o)
+{
+    return o->max_iterations >= 0 && o->function_tolerance >= 0.0 &&
+           o->gradient_tolerance >= 0.0 && o->step_tolerance >= 0.0 &&
+           isfinite(o->initial_radius) && o->initial_radius > 0.0;
+}
+
+/* ---- the loop ------------------------------------------------------------- */
+
+int sfmi_lm_run(const sfmi_lm_system *sys, const sfmi_lm_options *opt, sfmi_lm_summary *summary)
+{
+    if (sys == NULL || opt == NULL || summary == NULL || !options_valid(opt))
+        return SFM_E_ARGUMENT;
+    double gmax = 0.0;
+    double cost = sys->linearize(sys->self, &gmax);
+    if (!isfinite(cost))
+        return SFM_E_NONFINITE;
+    sfmi_lm_summary s;
+    memset(&s, 0, sizeof s);
+    s.initial_cost = cost;
+    s.covariance_status = 1;
+    double radius = opt->initial_radius, decrease = 2.0;
+    sfmi_lm_stop stop = sys->n_free > 0 ? SFMI_LM_STOP_NONE : SFMI_LM_STOP_NO_PARAMETERS;
+    int iter = 0;
+    while (stop == SFMI_LM_STOP_NONE) {
+        if (gmax <= opt->gradient_tolerance) {
+            stop = SFMI_LM_STOP_GRADIENT;
+            break;
+        }
+        if (iter >= opt->max_iterations) {
+            stop = SFMI_LM_STOP_MAX_ITERATIONS;
+            break;
+        }
+        iter++;
+        double step2 = 0.0, x2 = 0.0, pred = 0.0;
+        if (!sys->solve(sys->self, 1.0 / radius, &step2, &x2, &pred)) {
+            radius /= decrease;
+            decrease *= 2.0;
+            if (radius < MIN_RADIUS)
+                stop = SFMI_LM_STOP_TRUST_REGION;
+            continue;
+        }
+        if (sqrt(step2) <= opt->step_tolerance * (sqrt(x2) + opt->step_tolerance)) {
+            stop = SFMI_LM_STOP_STEP;
+            break;
+        }
+        double cost2 = sys->trial(sys->self);
+        double rho = (isfinite(cost2) && pred > 0.0) ? (cost - cost2) / pred : -1.0;
+        if (rho > MIN_RELATIVE_DECREASE) {
+            double change = cost - cost2, prev = cost;
+            sys->accept(sys->self);
+            cost = sys->linearize(sys->self, &gmax);
+            s.successful_steps++;
+            if (!isfinite(cost)) {
+                /* the trial's cost was finite, so the callbacks disagree
+                 * with themselves: keep the point, report the collapse */
+                cost = cost2;
+                stop = SFMI_LM_STOP_TRUST_REGION;
+                break;
+            }
+            double f = 2.0 * rho - 1.0;
+            radius = radius / fmax(1.0 / 3.0, 1.0 - f * f * f);
+            if (radius > MAX_RADIUS)
+                radius = MAX_RADIUS;
+            decrease = 2.0;
+            if (fabs(change) <= opt->function_tolerance * prev)
+                stop = SFMI_LM_STOP_FUNCTION;
+        } else {
+            radius /= decrease;
+            decrease *= 2.0;
+            if (radius < MIN_RADIUS)
+                stop = SFMI_LM_STOP_TRUST_REGION;
+            else if (isfinite(cost2) && fabs(cost - cost2) <= opt->function_tolerance * cost)
+                stop = SFMI_LM_STOP_FUNCTION;
+        }
+    }
+    s.iterations = iter;
+    s.stop = stop;
+    s.final_cost = cost;
+    *summary = s;
+    return SFM_OK;
+}
+
+/* ---- manifolds ------------------------------------------------------------ */
+
+void sfmi_lm_sphere_basis(const double *x, int n, double *B)
+{
+    /* v = x + sign(x_k) |x| e_k, k the largest entry; the reflection
+     * I - 2 v v^T / v.v maps x onto -sign(x_k) |x| e_k, so its other
+     * columns are orthonormal and orthogonal to x. */
+    int k = 0;
+    double nn = 0.0;
+    for (int i = 0; i < n; i++) {
+        nn += x[i] * x[i];
+        if (fabs(x[i]) > fabs(x[k]))
+            k = i;
+    }
+    double v[SFMI_LM_SPHERE_MAX];
+    for (int i = 0; i < n; i++)
+        v[i] = x[i];
+    v[k] += (x[k] >= 0.0 ? 1.0 : -1.0) * sqrt(nn);
+    double vv = 0.0;
+    for (int i = 0; i < n; i++)
+        vv += v[i] * v[i];
+    double s = vv > 0.0 ? 2.0 / vv : 0.0;
+    for (int r = 0; r < n; r++) {
+        for (int j = 0, c = 0; j < n; j++) {
+            if (j == k)
+                continue;
+            B[r * (n - 1) + c] = (r == j ? 1.0 : 0.0) - s * v[r] * v[j];
+            c++;
+        }
+    }
+}
+
+static int block_tangent(const sfmi_lm_block *b)
+{
+    switch (b->manifold) {
+    case SFMI_LM_EUCLIDEAN:
+        return b->size >= 1 ? b->size : -1;
+    case SFMI_LM_SO3:
+    case SFMI_LM_SO3_RIGHT:
+        return b->size == 9 ? 3 : -1;
+    case SFMI_LM_SPHERE:
+        return b->size >= 2 && b->size <= SFMI_LM_SPHERE_MAX ? b->size - 1 : -1;
+    case SFMI_LM_CONSTANT:
+        return b->size >= 1 ? 0 : -1;
+    case SFMI_LM_CUSTOM:
+        return b->size >= 1 && b->tangent >= 0 && b->plus != NULL ? b->tangent : -1;
+    }
+    return -1;
+}
+
+int sfmi_lm_tangent_size(const sfmi_lm_block *blocks, int n_blocks)
+{
+    if (blocks == NULL || n_blocks < 1 || n_blocks > SFMI_LM_DENSE_MAX_BLOCKS)
+        return -1;
+    int nt = 0;
+    for (int b = 0; b < n_blocks; b++) {
+        int t = block_tangent(&blocks[b]);
+        if (t < 0 || blocks[b].x == NULL)
+            return -1;
+        nt += t;
+    }
+    return nt;
+}
+
+/* out = x (+) d on b's manifold; 0 when the result is not finite. */
+int sfmi_lm_block_plus(const sfmi_lm_block *b, const double *x, const double *d, double *out)
+{
+    switch (b->manifold) {
+    case SFMI_LM_EUCLIDEAN:
+        for (int i = 0; i < b->size; i++)
+            out[i] = x[i] + d[i];
+        break;
+    case SFMI_LM_SO3:
+    case SFMI_LM_SO3_RIGHT: {
+        double dR[9];
+        if (sfm_rot_from_axis_angle(d, dR) != SFM_OK)
+            return 0;
+        const double *A = b->manifold == SFMI_LM_SO3 ? dR : x;
+        const double *C = b->manifold == SFMI_LM_SO3 ? x : dR;
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                out[3 * r + c] = A[3 * r] * C[c] + A[3 * r + 1] * C[3 + c] + A[3 * r + 2] * C[6 + c];
+        break;
+    }
+    case SFMI_LM_SPHERE: {
+        const int n = b->size;
+        double B[SFMI_LM_SPHERE_MAX * (SFMI_LM_SPHERE_MAX - 1)], nn = 0.0;
+        sfmi_lm_sphere_basis(x, n, B);
+        for (int r = 0; r < n; r++) {
+            double v = x[r];
+            for (int c = 0; c < n - 1; c++)
+                v += B[r * (n - 1) + c] * d[c];
+            out[r] = v;
+            nn += v * v;
+        }
+        nn = sqrt(nn);
+        if (!(nn > 0.0))
+            return 0;
+        for (int r = 0; r < n; r++)
+            out[r] /= nn;
+        break;
+    }
+    case SFMI_LM_CONSTANT:
+        memcpy(out, x, sizeof(double) * (size_t)b->size);
+        break;
+    case SFMI_LM_CUSTOM:
+        b->plus(x, d, out, b->plus_user);
+        break;
+    }
+    for (int i = 0; i < b->size; i++)
+        if (!isfinite(out[i]))
+            return 0;
+    return 1;
+}
+
+/* ---- the dense system ----------------------------------------------------- */
+
+typedef struct dense_ws {
+    double *cur, *trial; /* n_values each */
+    double *H, *A;       /* nt x nt: normal matrix (lower), damped factor */
+    double *g, *h, *D;   /* nt: gradient J^T W r, step, damping */
+    double *r, *J;       /* residual_size, residual_size x nt */
+} dense_ws;
+
+typedef struct dense_ctx {
+    const sfmi_lm_problem *p;
+    dense_ws w;
+    int nv, nt;
+    double a2;
+    int voff[SFMI_LM_DENSE_MAX_BLOCKS], toff[SFMI_LM_DENSE_MAX_BLOCKS];
+} dense_ctx;
+
+static void dense_layout(sfm_arena *a, int nv, int nt, int rs, dense_ws *w)
+{
+    w->cur = SFM_ARENA_ARRAY(a, double, nv);
+    w->trial = SFM_ARENA_ARRAY(a, double, nv);
+    w->H = SFM_ARENA_ARRAY(a, double, (size_t)nt * nt + 1);
+    w->A = SFM_ARENA_ARRAY(a, double, (size_t)nt * nt + 1);
+    w->g = SFM_ARENA_ARRAY(a, double, nt + 1);
+    w->h = SFM_ARENA_ARRAY(a, double, nt + 1);
+    w->D = SFM_ARENA_ARRAY(a, double, nt + 1);
+    w->r = SFM_ARENA_ARRAY(a, double, rs);
+    w->J = SFM_ARENA_ARRAY(a, double, (size_t)rs * nt + 1);
+}
+
+size_t sfmi_lm_dense_workspace_size(int n_values, int n_tangent, int residual_size)
+{
+    if (n_values < 1 || n_tangent < 0 || n_tangent > SFMI_LM_DENSE_MAX_TANGENT ||
+        residual_size < 1 || residual_size > SFMI_LM_DENSE_MAX_RESIDUAL || n_values > (1 << 20))
+        return 0;
+    sfm_arena a;
+    dense_ws w;
+    sfm_arena_measure(&a);
+    dense_layout(&a, n_values, n_tangent, residual_size, &w);
+    return sfm_arena_required(&a);
+}
+
+/* Cost at the values v (+Inf when undefined); with lin, also H and g. */
+static double dense_eval(dense_ctx *c, const double *v, int lin, double *gmax)
+{
+    const sfmi_lm_problem *p = c->p;
+    dense_ws *w = &c->w;
+    const int nt = c->nt, rs = p->residual_size;
+    const double *xp[SFMI_LM_DENSE_MAX_BLOCKS];
+    for (int b = 0; b < p->n_blocks; b++)
+        xp[b] = v + c->voff[b];
+    if (lin) {
+        memset(w->H, 0, sizeof(double) * (size_t)nt * nt);
+        memset(w->g, 0, sizeof(double) * (size_t)nt);
+    }
+    double cost = 0.0;
+    for (int i = 0; i < p->n_residuals; i++) {
+        if (lin)
+            memset(w->J, 0, sizeof(double) * (size_t)rs * nt);
+        int ok = p->residual(p->user, xp, i, w->r, lin ? w->J : NULL);
+        if (ok < 0)
+            return HUGE_VAL;
+        if (ok == 0)
+            continue;
+        double s = 0.0;
+        for (int k = 0; k < rs; k++)
+            s += w->r[k] * w->r[k];
+        double rho, rho1;
+        sfmi_lm_loss_eval(p->loss, c->a2, s, &rho, &rho1);
+        cost += rho;
+        if (!lin || rho1 == 0.0)
+            continue;
+        for (int k = 0; k < rs; k++) {
+            const double *Jk = w->J + (size_t)k * nt;
+            const double rk = w->r[k];
+            for (int a = 0; a < nt; a++) {
+                const double wj = rho1 * Jk[a];
+                w->g[a] += wj * rk;
+                double *Hrow = w->H + (size_t)a * nt;
+                for (int b = 0; b <= a; b++)
+                    Hrow[b] += wj * Jk[b];
+            }
+        }
+    }
+    cost *= 0.5;
+    if (lin) {
+        double m = 0.0;
+        for (int a = 0; a < nt; a++)
+            m = fmax(m, fabs(w->g[a]));
+        *gmax = m;
+    }
+    return isfinite(cost) ? cost : HUGE_VAL;
+}
+
+static double dense_linearize(void *self, double *gmax)
+{
+    dense_ctx *c = self;
+    return dense_eval(c, c->w.cur, 1, gmax);
+}
+
+static int dense_solve(void *self, double mu, double *step2, double *x2, double *pred)
+{
+    dense_ctx *c = self;
+    dense_ws *w = &c->w;
+    const int nt = c->nt;
+    for (int a = 0; a < nt; a++) {
+        for (int b = 0; b <= a; b++)
+            w->A[(size_t)a * nt + b] = w->H[(size_t)a * nt + b];
+        w->D[a] = mu * sfmi_lm_clamp_diag(w->H[(size_t)a * nt + a]);
+        w->A[(size_t)a * nt + a] += w->D[a];
+        w->h[a] = -w->g[a];
+    }
+    if (sfm_cholesky_factor(w->A, nt) != SFM_OK || sfm_cholesky_solve(w->A, nt, w->h, 1) != SFM_OK)
+        return 0;
+    double s2 = 0.0, pr = 0.0;
+    for (int a = 0; a < nt; a++) {
+        s2 += w->h[a] * w->h[a];
+        pr += w->h[a] * (w->D[a] * w->h[a] - w->g[a]);
+    }
+    double xx = 0.0;
+    const sfmi_lm_problem *p = c->p;
+    for (int b = 0; b < p->n_blocks; b++) {
+        const sfmi_lm_block *B = &p->blocks[b];
+        if (B->manifold == SFMI_LM_SO3 || B->manifold == SFMI_LM_SO3_RIGHT ||
+            B->manifold == SFMI_LM_CONSTANT)
+            continue;
+        for (int i = 0; i < B->size; i++)
+            xx += w->cur[c->voff[b] + i] * w->cur[c->voff[b] + i];
+    }
+    *step2 = s2;
+    *x2 = xx;
+    *pred = 0.5 * pr;
+    return isfinite(s2) && isfinite(pr);
+}
+
+static double dense_trial(void *self)
+{
+    dense_ctx *c = self;
+    dense_ws *w = &c->w;
+    const sfmi_lm_problem *p = c->p;
+    for (int b = 0; b < p->n_blocks; b++) {
+        if (!sfmi_lm_block_plus(&p->blocks[b], w->cur + c->voff[b], w->h + c->toff[b], w->trial + c->voff[b]))
+            return HUGE_VAL;
+    }
+    return dense_eval(c, w->trial, 0, NULL);
+}
+
+static void dense_accept(void *self)
+{
+    dense_ctx *c = self;
+    memcpy(c->w.cur, c->w.trial, sizeof(double) * (size_t)c->nv);
+}
+
+int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt, void *ws,
+                        size_t ws_size, sfmi_lm_summary *summary, double *cov)
+{
+    if (prob == NULL || opt == NULL || summary == NULL || prob->residual == NULL ||
+        prob->n_residuals < 0 || prob->residual_size < 1 ||
+        prob->residual_size > SFMI_LM_DENSE_MAX_RESIDUAL || !options_valid(opt) ||
+        (opt->want_covariance && cov == NULL))
+        return SFM_E_ARGUMENT;
+    if ((unsigned)prob->loss > (unsigned)SFMI_LM_LOSS_TRUNCATED)
+        return SFM_E_ARGUMENT;
+    if (isnan(prob->loss_scale))
+        return SFM_E_NONFINITE;
+    if (prob->loss != SFMI_LM_LOSS_SQUARED && !(prob->loss_scale > 0.0 && isfinite(prob->loss_scale)))
+        return SFM_E_ARGUMENT;
+    const int nt = sfmi_lm_tangent_size(prob->blocks, prob->n_blocks);
+    if (nt < 0 || nt > SFMI_LM_DENSE_MAX_TANGENT)
+        return SFM_E_ARGUMENT;
+    dense_ctx c;
+    memset(&c, 0, sizeof c);
+    c.p = prob;
+    c.nt = nt;
+    for (int b = 0, vo = 0, to = 0; b < prob->n_blocks; b++) {
+        c.voff[b] = vo;
+        c.toff[b] = to;
+        vo += prob->blocks[b].size;
+        to += block_tangent(&prob->blocks[b]);
+        c.nv = vo;
+    }
+    size_t need = sfmi_lm_dense_workspace_size(c.nv, nt, prob->residual_size);
+    if (need == 0)
+        return SFM_E_ARGUMENT;
+    if (ws == NULL || ws_size < need)
+        return SFM_E_WORKSPACE;
+    sfm_arena ar;
+    sfm_arena_init(&ar, ws, ws_size);
+    dense_layout(&ar, c.nv, nt, prob->residual_size, &c.w);
+    if (!sfm_arena_ok(&ar))
+        return SFM_E_WORKSPACE;
+    for (int b = 0; b < prob->n_blocks; b++) {
+        const sfmi_lm_block *B = &prob->blocks[b];
+        for (int i = 0; i < B->size; i++)
+            if (!isfinite(B->x[i]))
+                return SFM_E_NONFINITE;
+        memcpy(c.w.cur + c.voff[b], B->x, sizeof(double) * (size_t)B->size);
+    }
+    c.a2 = prob->loss == SFMI_LM_LOSS_SQUARED ? 1.0 : prob->loss_scale * prob->loss_scale;
+
+    sfmi_lm_system sys = {&c, dense_linearize, dense_solve, dense_trial, dense_accept, nt};
+    sfmi_lm_summary s;
+    int st = sfmi_lm_run(&sys, opt, &s);
+    if (st != SFM_OK)
+        return st;
+    if (opt->want_covariance) {
+        /* H is the undamped matrix at the final point: the loop linearises
+         * after every accepted step */
+        s.covariance_status = SFM_OK;
+        if (nt > 0) {
+            memcpy(c.w.A, c.w.H, sizeof(double) * (size_t)nt * nt);
+            for (int a = 0; a < nt; a++)
+                c.w.D[a] = c.w.H[(size_t)a * nt + a];
+            if (sfm_cholesky_factor(c.w.A, nt) != SFM_OK || !sfmi_lm_factor_full_rank(c.w.A, c.w.D, nt)) {
+                s.covariance_status = SFM_E_SINGULAR;
+            } else {
+                /* the inverse column by column into cov, then checked */
+                double *C = cov;
+                for (int a = 0; a < nt * nt; a++)
+                    C[a] = 0.0;
+                for (int a = 0; a < nt; a++)
+                    C[(size_t)a * nt + a] = 1.0;
+                if (sfm_cholesky_solve(c.w.A, nt, C, nt) != SFM_OK)
+                    s.covariance_status = SFM_E_SINGULAR;
+                for (int a = 0; a < nt * nt && s.covariance_status == SFM_OK; a++)
+                    if (!isfinite(C[a]))
+                        s.covariance_status = SFM_E_SINGULAR;
+            }
+        }
+    }
+    for (int b = 0; b < prob->n_blocks; b++)
+        memcpy(prob->blocks[b].x, c.w.cur + c.voff[b], sizeof(double) * (size_t)prob->blocks[b].size);
+    *summary = s;
+    return SFM_OK;
+}
+
+int sfmi_lm_refine(const sfmi_lm_problem *prob, int max_iterations, double function_tolerance,
+                   void *ws, size_t ws_size)
+{
+    sfmi_lm_options opt;
+    sfmi_lm_default_options(&opt);
+    opt.max_iterations = max_iterations;
+    opt.function_tolerance = function_tolerance;
+    opt.gradient_tolerance = 0.0;
+    sfmi_lm_summary sum;
+    if (sfmi_lm_dense_solve(prob, &opt, ws, ws_size, &sum, NULL) != SFM_OK)
+        return -1;
+    return sum.successful_steps > 0 ? 0 : 1;
+}
