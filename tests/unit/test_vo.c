@@ -64,6 +64,19 @@ static void setup(sfm_vo_dims *d, sfm_vo_params *p)
     p->init_radius = 40.0;
 }
 
+/* A pipeline with the test parameters on the static workspace, and a fresh
+ * texture. */
+static sfm_vo *start_default(sfm_test_ctx *t)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    sfm_vo *vo = NULL;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    make_texture(t);
+    return vo;
+}
+
 SFM_TEST(vo_contract)
 {
     sfm_vo_dims d;
@@ -138,12 +151,7 @@ SFM_TEST(vo_contract)
  * may claim a tracked pose. */
 SFM_TEST(vo_no_parallax_is_never_tracking)
 {
-    sfm_vo_dims d;
-    sfm_vo_params p;
-    setup(&d, &p);
-    sfm_vo *vo;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
-    make_texture(t);
+    sfm_vo *vo = start_default(t);
     crop(VPAD);
     sfm_image_u8 img = {g_frame, VW, VH, VW};
     for (int k = 0; k < 6; k++) {
@@ -164,12 +172,7 @@ SFM_TEST(vo_no_parallax_is_never_tracking)
  * true centres are at k * s on +x, the rotation is the identity. */
 SFM_TEST(vo_sideways_slide_known_answer)
 {
-    sfm_vo_dims d;
-    sfm_vo_params p;
-    setup(&d, &p);
-    sfm_vo *vo;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
-    make_texture(t);
+    sfm_vo *vo = start_default(t);
     sfm_image_u8 img = {g_frame, VW, VH, VW};
     const int step = 4, n = 20;
     double cx[20];
