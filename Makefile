@@ -31,7 +31,7 @@ PYTHON ?= $(PYTHON_VENV)/bin/python
 
 # Modules of the core library, in layer order (data flows left to right; no
 # module includes a header of a module to its right).
-CORE_MODULES := core solvers robust refine recon features stereo
+CORE_MODULES := core solvers robust refine recon features stereo vo
 LIB_SRCS := $(foreach m,$(CORE_MODULES),$(wildcard libsfm/$(m)/*.c) $(wildcard libsfm/$(m)/generated/*.c))
 PUBLIC_HEADERS := $(wildcard include/sfm/*.h)
 

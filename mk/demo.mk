@@ -45,6 +45,7 @@ demo: all capture $(DEMO_BIN) $(DEMO_SYN)/ground_truth.txt
 	else \
 	  echo "=== real data skipped: $(DEMO_HJ_SRC) not found (Herz-Jesu-P8 is not part of the project)"; \
 	fi
+	@$(MAKE) --no-print-directory demo-vo
 
 TEST_STEPS += test-demo
 test-demo: $(DEMO_BIN) $(DEMO_SYN)/ground_truth.txt

@@ -5,6 +5,15 @@ replay directory (manifest.csv + three 640x480 PGM frames) and a ground-truth
 file the demo program reads.
 
     python3 tools/gen_demo_scene.py OUT_DIR
+    python3 tools/gen_demo_scene.py --sequence N OUT_DIR
+
+Sequence mode renders N frames (30 Hz timestamps) along a known smooth
+trajectory through the same room (a loop that sways left and right and
+forward and back while the camera turns to keep the boxes in view, with a
+little roll and pitch), one sample per pixel plus a slight blur to stand in
+for the optics, and writes the pose and the gravity direction (in camera
+coordinates, the world's +y) of every frame to ground_truth.txt, plus the
+trajectory as a TUM file (camera-to-world) in ground_truth.tum.
 
 Deterministic: the textures come from a fixed seed and the rendering is plain
 ray casting (nearest quad per ray, bilinear texture lookup, 3x3 supersampling
@@ -17,6 +26,7 @@ world-to-camera, x_cam = R X + t; the world frame is camera 1's.
 Ground-truth file (text, '#' comments):
     camera <view> fx fy cx cy
     pose <view> r00 r01 r02 r10 r11 r12 r20 r21 r22 t0 t1 t2
+    gravity <view> gx gy gz        (sequence mode: unit, camera coordinates)
 """
 import os
 import sys
@@ -137,6 +147,18 @@ def bilinear(tex, s, t):
     return (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy
 
 
+def _quad_bbox(o, qu, qv, R, t):
+    """Pixel box (x0, x1, y0, y1) holding the quad's image when all its
+    corners are in front of the camera, else None (test every ray)."""
+    corners = np.array([o, o + qu, o + qv, o + qu + qv])
+    xc = corners @ R.T + t
+    if np.any(xc[:, 2] < 0.05):
+        return None
+    u = FX * xc[:, 0] / xc[:, 2] + CX
+    v = FY * xc[:, 1] / xc[:, 2] + CY
+    return u.min() - 2, u.max() + 2, v.min() - 2, v.max() + 2
+
+
 def render(quads, textures, R, t, return_depth=False):
     """Gray image of the scene from pose (R, t); with return_depth also the
     exact depth (camera z) of the ray through each pixel's centre."""
@@ -153,11 +175,19 @@ def render(quads, textures, R, t, return_depth=False):
     out = np.full(u.shape, 128.0, np.float32)
     for (o, qu, qv), tex in zip(quads, textures):
         n = np.cross(qu, qv)
-        den = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
+        bb = _quad_bbox(o, qu, qv, R, t)
+        if bb is not None:
+            sel = np.flatnonzero((u >= bb[0]) & (u <= bb[1]) & (v >= bb[2]) & (v <= bb[3]))
+            if sel.size == 0:
+                continue
+        else:
+            sel = np.arange(u.size)
+        den = d[0][sel] * n[0] + d[1][sel] * n[1] + d[2][sel] * n[2]
         with np.errstate(divide="ignore", invalid="ignore"):
             lam = (n @ (o - C)) / den
-        cand = np.flatnonzero((lam > 1e-6) & (lam < best))
-        lc = lam[cand]
+        keep = (lam > 1e-6) & (lam < best[sel])
+        cand = sel[keep]
+        lc = lam[keep]
         s = ((C - o) @ qu + lc * (d[0][cand] * qu[0] + d[1][cand] * qu[1] + d[2][cand] * qu[2])) / (qu @ qu)
         tt = ((C - o) @ qv + lc * (d[0][cand] * qv[0] + d[1][cand] * qv[1] + d[2][cand] * qv[2])) / (qv @ qv)
         inside = (s >= 0) & (s <= 1) & (tt >= 0) & (tt <= 1)
@@ -177,9 +207,88 @@ def write_pgm(path, img):
         f.write(np.ascontiguousarray(img).tobytes())
 
 
+def look_at(C, target, roll_deg=0.0):
+    """World-to-camera rotation of a camera at C looking at target, y down
+    (the world's +y), rolled about its optical axis."""
+    z = np.asarray(target, float) - C
+    z /= np.linalg.norm(z)
+    x = np.cross([0.0, 1.0, 0.0], z)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    R = np.stack([x, y, z])  # rows: camera axes in world coordinates
+    return rot_z(roll_deg) @ R
+
+
+def trajectory(n):
+    """Room-frame poses (R, t) of n frames along one closed loop."""
+    poses = []
+    for i in range(n):
+        s = 2 * np.pi * i / n
+        C = np.array([1.1 * np.sin(s), -0.25 + 0.15 * np.sin(2 * s),
+                      1.2 * (1 - np.cos(s)) + 0.3 * np.sin(2 * s)])
+        target = np.array([0.4 * np.sin(s + 0.5), 0.0, 4.6])
+        R = look_at(C, target, 3.0 * np.sin(3 * s))
+        poses.append((R, -R @ C))
+    return poses
+
+
+def quat_wxyz(R):
+    w = np.sqrt(max(0.0, 1 + R[0, 0] + R[1, 1] + R[2, 2])) / 2
+    x = np.copysign(np.sqrt(max(0.0, 1 + R[0, 0] - R[1, 1] - R[2, 2])) / 2, R[2, 1] - R[1, 2])
+    y = np.copysign(np.sqrt(max(0.0, 1 - R[0, 0] + R[1, 1] - R[2, 2])) / 2, R[0, 2] - R[2, 0])
+    z = np.copysign(np.sqrt(max(0.0, 1 - R[0, 0] - R[1, 1] + R[2, 2])) / 2, R[1, 0] - R[0, 1])
+    return w, x, y, z
+
+
+def main_sequence(n, out):
+    global SUPERSAMPLE
+    SUPERSAMPLE = 1
+    os.makedirs(out, exist_ok=True)
+    rng = np.random.default_rng(SEED)
+    quads = scene()
+    textures = [texture(rng, np.linalg.norm(qu), np.linalg.norm(qv)) for _, qu, qv in quads]
+    room = trajectory(n)
+    R0, t0 = room[0]
+    rows = ["sequence,timestamp_ns,file"]
+    gts = []
+    for i, (Rr, tr) in enumerate(room):
+        img = render(quads, textures, Rr, tr)
+        img = cv2.GaussianBlur(img.astype(np.float32), (0, 0), 0.6)
+        img = img + rng.normal(0.0, NOISE_SIGMA, img.shape)
+        img = np.clip(np.rint(img), 0, 255).astype(np.uint8)
+        name = "frame%04d.pgm" % i
+        write_pgm(os.path.join(out, name), img)
+        rows.append("%d,%d,%s" % (i, i * 33333333, name))
+        # world = view 1: X1 = R0 X + t0, so x = Rr R0^T X1 + (tr - Rr R0^T t0)
+        R = Rr @ R0.T
+        gts.append((R, tr - R @ t0, Rr @ np.array([0.0, 1.0, 0.0])))
+        if i % 50 == 0:
+            print("rendered %d / %d" % (i, n), flush=True)
+    with open(os.path.join(out, "manifest.csv"), "w") as f:
+        f.write("\n".join(rows) + "\n")
+    with open(os.path.join(out, "ground_truth.txt"), "w") as f:
+        f.write("# libsfm demo sequence ground truth (tools/gen_demo_scene.py --sequence %d, seed %d)\n" % (n, SEED))
+        f.write("# camera <view> fx fy cx cy; pose <view> R (row-major) t, x_cam = R X + t (world = view 1);\n")
+        f.write("# gravity <view> g: the direction of gravity in that camera's coordinates\n")
+        f.write("camera 1 %.17g %.17g %.17g %.17g\n" % (FX, FY, CX, CY))
+        for i, (R, t, g) in enumerate(gts):
+            f.write("pose %d %s\n" % (i + 1, " ".join("%.17g" % x for x in list(R.ravel()) + list(t))))
+        for i, (R, t, g) in enumerate(gts):
+            f.write("gravity %d %.17g %.17g %.17g\n" % (i + 1, g[0], g[1], g[2]))
+    with open(os.path.join(out, "ground_truth.tum"), "w") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw (camera-to-world, world = view 1)\n")
+        for i, (R, t, g) in enumerate(gts):
+            C = -R.T @ t
+            w, x, y, z = quat_wxyz(R.T)
+            f.write("%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n" % (i * 0.033333333, C[0], C[1], C[2], x, y, z, w))
+    print("wrote %s: %d frames %dx%d, manifest.csv, ground_truth.txt, ground_truth.tum" % (out, n, WIDTH, HEIGHT))
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--sequence":
+        return main_sequence(int(sys.argv[2]), sys.argv[3])
     if len(sys.argv) != 2:
-        sys.exit("usage: gen_demo_scene.py OUT_DIR")
+        sys.exit("usage: gen_demo_scene.py OUT_DIR | --sequence N OUT_DIR")
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     rng = np.random.default_rng(SEED)

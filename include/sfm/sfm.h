@@ -21,5 +21,6 @@
 #include "sfm/sfm_factorize.h"
 #include "sfm/sfm_selfcal.h"
 #include "sfm/sfm_uncalibrated.h"
+#include "sfm/sfm_vo.h"
 
 #endif

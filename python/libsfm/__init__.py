@@ -60,6 +60,7 @@ from .robust import (RANSAC_DEFAULTS, estimate_absolute_pose, estimate_fundament
 from . import calib  # noqa: F401
 from .recon import (factorize_projective, reconstruct_three_view, reconstruct_three_view_images,
                     reconstruct_two_view, self_calibrate)
+from .vo import VisualOdometry
 from . import stereo as _stereo
 from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
                      homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)
@@ -69,6 +70,12 @@ def version():
     """The C library's version string "MAJOR.MINOR.PATCH" (sfm_version)."""
     v = lib.sfm_version()
     return "%d.%d.%d" % (v // 10000, v // 100 % 100, v % 100)
+
+
+def replay_many(dirs, client=None, **kw):
+    """Many recordings on Dask distributed; see libsfm.replay.replay_many."""
+    from .replay import replay_many as _rm
+    return _rm(dirs, client=client, **kw)
 
 
 if not bundle_adjust.__doc__:
@@ -92,6 +99,6 @@ __all__ = [
     "poly_roots", "rot_from_axis_angle", "rot_to_axis_angle", "rot_from_quat", "rot_to_quat",
     "rot_nearest", "skew", "rot_angle_between", "POLY_MAX_DEGREE",
     "factorize_projective", "self_calibrate", "reconstruct_three_view", "reconstruct_two_view",
-    "reconstruct_three_view_images",
+    "reconstruct_three_view_images", "VisualOdometry", "replay_many",
     "linalg", "frames", "calib",
 ] + list(_stereo.__all__)

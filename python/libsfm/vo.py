@@ -1,0 +1,155 @@
+"""Monocular visual odometry over a frame sequence (sfm_vo.h).
+
+    vo = libsfm.VisualOdometry(width, height, camera=(fx, fy, cx, cy))
+    for img, ts in frames:
+        r = vo.push(img, ts)          # a FrameResult
+        if r.has_pose: ... r.R_cw, r.t_cw (world-to-camera), r.R_wc, r.c_w
+
+Poses: world-to-camera x_cam = R_cw X + t_cw; camera-to-world
+X = R_wc x_cam + c_w (c_w is the camera centre). The world frame is the first
+frame's camera. The work happens in C; this module only converts.
+"""
+import time
+
+import numpy as np
+
+from ._ffi import check, ffi, lib
+
+STATES = {
+    lib.SFM_VO_INITIALISING: "initialising",
+    lib.SFM_VO_TRACKING: "tracking",
+    lib.SFM_VO_LOST: "lost",
+    lib.SFM_VO_INSUFFICIENT_PARALLAX: "insufficient_parallax",
+    lib.SFM_VO_PURE_ROTATION: "pure_rotation",
+}
+QUALITIES = {lib.SFM_VO_QUALITY_NONE: "none", lib.SFM_VO_QUALITY_GOOD: "good",
+             lib.SFM_VO_QUALITY_DEGRADED: "degraded"}
+STAGES = ("features", "tracking", "mapping", "trifocal", "ba")
+
+_MODELS = {"pinhole": lib.SFM_CAMERA_PINHOLE, "brown": lib.SFM_CAMERA_BROWN,
+           "fisheye": lib.SFM_CAMERA_FISHEYE}
+
+
+class FrameResult:
+    """One frame's output; arrays are float64 copies."""
+
+    __slots__ = ("timestamp_ns", "frame_index", "state", "quality", "has_pose", "is_keyframe",
+                 "R_cw", "t_cw", "R_wc", "c_w", "covariance", "n_features", "n_matches",
+                 "n_inliers", "n_map_points", "n_keyframes", "degraded", "stage_seconds",
+                 "median_parallax_deg")
+
+    def __init__(self, r):
+        self.timestamp_ns = int(r.timestamp_ns)
+        self.frame_index = int(r.frame_index)
+        self.state = STATES.get(r.state, "unknown")
+        self.quality = QUALITIES.get(r.quality, "unknown")
+        self.has_pose = bool(r.has_pose)
+        self.is_keyframe = bool(r.is_keyframe)
+        self.R_cw = np.array(list(r.R_cw)).reshape(3, 3)
+        self.t_cw = np.array(list(r.t_cw))
+        self.R_wc = np.array(list(r.R_wc)).reshape(3, 3)
+        self.c_w = np.array(list(r.c_w))
+        self.covariance = np.array(list(r.covariance)).reshape(6, 6) if r.has_covariance else None
+        self.n_features = int(r.n_features)
+        self.n_matches = int(r.n_matches)
+        self.n_inliers = int(r.n_inliers)
+        self.n_map_points = int(r.n_map_points)
+        self.n_keyframes = int(r.n_keyframes)
+        self.degraded = int(r.degraded)
+        self.stage_seconds = dict(zip(STAGES, list(r.stage_seconds)))
+        self.median_parallax_deg = float(r.median_parallax_deg)
+
+
+@ffi.callback("double(void *)")
+def _clock(_ctx):
+    return time.perf_counter()
+
+
+def _camera(camera, model="pinhole"):
+    c = ffi.new("sfm_camera *")
+    vals = [float(v) for v in camera]
+    if len(vals) < 4:
+        raise ValueError("camera must be fx, fy, cx, cy[, dist...]")
+    c.model = _MODELS[model] if len(vals) == 4 or model != "pinhole" else lib.SFM_CAMERA_BROWN
+    c.fx, c.fy, c.cx, c.cy = vals[:4]
+    for i, d in enumerate(vals[4:9]):
+        c.dist[i] = d
+    return c
+
+
+class VisualOdometry:
+    """The C pipeline on a workspace this object owns.
+
+    camera: (fx, fy, cx, cy) or (fx, fy, cx, cy, k1, k2, p1, p2, k3) (Brown,
+    as OpenCV's), with model="fisheye" for (fx, fy, cx, cy, k1, k2, k3, k4).
+    camera=None asks for self-calibration, which this build does not have:
+    SfmError (unsupported). Keyword arguments set sfm_vo_params fields
+    (threshold, min_inliers, ba_iterations, use_trifocal, seed, ...);
+    frame_budget (seconds) turns the timed degradation on; timing=True reads
+    a clock for the per-stage seconds.
+    """
+
+    def __init__(self, width, height, camera, max_features=1000, window=5, model="pinhole",
+                 timing=True, n_levels=None, fast_threshold=None, **params):
+        dims = ffi.new("sfm_vo_dims *")
+        dims.width, dims.height = int(width), int(height)
+        dims.max_features, dims.window = int(max_features), int(window)
+        p = ffi.new("sfm_vo_params *")
+        check(lib.sfm_vo_default_params(dims, p), "sfm_vo_default_params")
+        if camera is None:
+            p.calibrated = 0
+        else:
+            p.camera = _camera(camera, model)[0]
+        if n_levels is not None:
+            p.features.n_levels = int(n_levels)
+        if fast_threshold is not None:
+            p.features.fast_threshold = int(fast_threshold)
+        for k, v in params.items():
+            if not hasattr(p, k) or k in ("camera", "features", "clock", "clock_ctx"):
+                raise TypeError("unknown VO parameter %r" % k)
+            setattr(p, k, v)
+        if timing or p.frame_budget > 0:
+            p.clock = _clock
+        size = lib.sfm_vo_workspace_size(dims)
+        if size == 0:
+            raise ValueError("VO dimensions out of range")
+        self._ws = np.empty(size, np.uint8)
+        self._vo = ffi.new("sfm_vo **")
+        self._dims = dims
+        self._params = p
+        check(lib.sfm_vo_init(dims, p, ffi.from_buffer(self._ws), size, self._vo), "sfm_vo_init")
+        self.width, self.height = int(width), int(height)
+        self.workspace_bytes = int(size)
+        self._img = ffi.new("sfm_image_u8 *")
+        self._res = ffi.new("sfm_vo_frame_result *")
+        self._grav = ffi.new("double[3]")
+        self._cap = int(max_features) * int(window)
+        self._xyz = np.empty((self._cap, 3))
+        self._ids = np.empty(self._cap, np.uint32)
+
+    def push(self, image, timestamp_ns, gravity=None, covariance=False):
+        img = np.ascontiguousarray(image)
+        if img.ndim != 2 or img.dtype != np.uint8 or img.shape != (self.height, self.width):
+            raise ValueError("image must be a (%d, %d) uint8 array" % (self.height, self.width))
+        self._img.data = ffi.cast("const uint8_t *", ffi.from_buffer(img))
+        self._img.width, self._img.height, self._img.stride = self.width, self.height, self.width
+        g = ffi.NULL
+        if gravity is not None:
+            gv = np.asarray(gravity, float).ravel()
+            if gv.shape != (3,):
+                raise ValueError("gravity must be a 3-vector")
+            for i in range(3):
+                self._grav[i] = gv[i]
+            g = self._grav
+        check(lib.sfm_vo_push_frame(self._vo[0], self._img, int(timestamp_ns), g,
+                                    1 if covariance else 0, self._res), "sfm_vo_push_frame")
+        return FrameResult(self._res)
+
+    def map_points(self):
+        """(ids (n,) uint32, xyz (n, 3)) of the live map points."""
+        n = check(lib.sfm_vo_map_points(self._vo[0], ffi.cast("double *", ffi.from_buffer(self._xyz)),
+                                        ffi.cast("uint32_t *", ffi.from_buffer(self._ids)), self._cap))
+        return self._ids[:n].copy(), self._xyz[:n].copy()
+
+    def reset(self):
+        check(lib.sfm_vo_reset(self._vo[0]), "sfm_vo_reset")

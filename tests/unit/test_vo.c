@@ -1,0 +1,267 @@
+/* Visual odometry: the contract of every entry point, honesty on frames
+ * without parallax, and a known motion (a textured plane facing the camera,
+ * the camera sliding sideways: the image shifts by a fixed number of pixels
+ * a frame, so the true centres lie on the x axis at equal steps). */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_vo.h"
+#include "sfm_test.h"
+
+#define VW 160
+#define VH 120
+#define VPAD 64
+#define VNF 200
+#define VWIN 3
+#define VWS (900u * 1024u)
+
+static unsigned char g_vo_ws[VWS];
+static uint8_t g_tex[VH * (VW + 2 * VPAD)];
+static uint8_t g_frame[VW * VH];
+
+/* Blocks of random gray (corners for FAST) on a smooth random ramp. */
+static void make_texture(sfm_test_ctx *t)
+{
+    int tw = VW + 2 * VPAD;
+    for (int y = 0; y < VH; y++)
+        for (int x = 0; x < tw; x++)
+            g_tex[y * tw + x] = 0;
+    for (int by = 0; by < VH; by += 6)
+        for (int bx = 0; bx < tw; bx += 6) {
+            int g = (int)sfm_test_uniform(t, 20, 235);
+            for (int y = by; y < by + 6 && y < VH; y++)
+                for (int x = bx; x < bx + 6 && x < tw; x++)
+                    g_tex[y * tw + x] = (uint8_t)g;
+        }
+}
+
+/* Upper half: a plane at depth Z shifted by off; lower half: a plane at 2Z
+ * (half the shift). Both planes face the camera. */
+static void crop2(int base, int shift)
+{
+    int tw = VW + 2 * VPAD;
+    for (int y = 0; y < VH; y++) {
+        int off = base + (y < VH / 2 ? shift : shift / 2);
+        memcpy(g_frame + y * VW, g_tex + y * tw + off, VW);
+    }
+}
+
+static void crop(int off) { crop2(off, 0); }
+
+static void setup(sfm_vo_dims *d, sfm_vo_params *p)
+{
+    d->width = VW;
+    d->height = VH;
+    d->max_features = VNF;
+    d->window = VWIN;
+    sfm_vo_default_params(d, p);
+    p->camera.fx = p->camera.fy = 160.0;
+    p->camera.cx = (VW - 1) / 2.0;
+    p->camera.cy = (VH - 1) / 2.0;
+    p->features.cell_size = 16;
+    p->features.n_levels = 2;
+    p->min_inliers = 12;
+    p->init_radius = 40.0;
+}
+
+/* A pipeline with the test parameters on the static workspace, and a fresh
+ * texture. */
+static sfm_vo *start_default(sfm_test_ctx *t)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    sfm_vo *vo = NULL;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    make_texture(t);
+    return vo;
+}
+
+SFM_TEST(vo_contract)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    size_t need = sfm_vo_workspace_size(&d);
+    SFM_CHECK(need > 0 && need <= VWS);
+    sfm_vo_dims bad = d;
+    bad.window = SFM_VO_MAX_WINDOW + 1;
+    SFM_CHECK(sfm_vo_workspace_size(&bad) == 0);
+    bad = d;
+    bad.max_features = 4;
+    SFM_CHECK(sfm_vo_workspace_size(&bad) == 0);
+    SFM_CHECK(sfm_vo_workspace_size(NULL) == 0);
+    SFM_CHECK_EQ_INT(sfm_vo_default_params(NULL, &p), SFM_E_ARGUMENT);
+
+    sfm_vo *vo = NULL;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, need - 1, &vo), SFM_E_WORKSPACE);
+    SFM_CHECK(vo == NULL);
+    SFM_CHECK_EQ_INT(sfm_vo_init(NULL, &p, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, NULL, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, NULL, need, &vo), SFM_E_ARGUMENT);
+    sfm_vo_params q = p;
+    q.calibrated = 0;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_UNSUPPORTED);
+    q = p;
+    q.threshold = NAN;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_NONFINITE);
+    q = p;
+    q.camera.fx = 0;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    q = p;
+    q.window = VWIN + 1; /* above the workspace's window */
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    q = p;
+    q.max_features = VNF + 1;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK(vo == NULL);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, need, &vo), SFM_OK);
+    SFM_CHECK(vo != NULL);
+
+    make_texture(t);
+    crop(VPAD);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    sfm_vo_frame_result r, canary;
+    sfm_test_fill_canary(&canary, sizeof canary);
+    r = canary;
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(NULL, &img, 0, NULL, 0, &r), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, NULL, 0, NULL, 0, &r), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, NULL, 0, NULL), SFM_E_ARGUMENT);
+    sfm_image_u8 small = {g_frame, VW - 1, VH, VW};
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &small, 0, NULL, 0, &r), SFM_E_ARGUMENT);
+    double gnan[3] = {0, NAN, 0}, gzero[3] = {0, 0, 0};
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, gnan, 0, &r), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, gzero, 0, &r), SFM_E_ARGUMENT);
+    SFM_CHECK(memcmp(&r, &canary, sizeof r) == 0);
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 1000, NULL, 0, &r), SFM_OK);
+    SFM_CHECK_EQ_INT(r.frame_index, 0);
+    SFM_CHECK_EQ_INT(r.state, SFM_VO_INITIALISING);
+    r = canary;
+    SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 999, NULL, 0, &r), SFM_E_ARGUMENT);
+    SFM_CHECK(memcmp(&r, &canary, sizeof r) == 0);
+    double xyz[3];
+    SFM_CHECK_EQ_INT(sfm_vo_map_points(vo, NULL, NULL, 1), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_map_points(vo, xyz, NULL, -1), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_reset(NULL), SFM_E_ARGUMENT);
+    SFM_CHECK(strcmp(sfm_vo_state_str(SFM_VO_PURE_ROTATION), "pure_rotation") == 0);
+    SFM_CHECK(strcmp(sfm_vo_state_str(99), "unknown") == 0);
+}
+
+/* The same frame again and again: no baseline, so no frame after the first
+ * may claim a tracked pose. */
+SFM_TEST(vo_no_parallax_is_never_tracking)
+{
+    sfm_vo *vo = start_default(t);
+    crop(VPAD);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    for (int k = 0; k < 6; k++) {
+        sfm_vo_frame_result r;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, k * 1000, NULL, 0, &r), SFM_OK);
+        SFM_CHECK_MSG(r.state != SFM_VO_TRACKING, "frame %d reported tracking", k);
+        if (k == 0)
+            SFM_CHECK(r.has_pose && r.state == SFM_VO_INITIALISING);
+        else
+            SFM_CHECK_MSG(!r.has_pose && (r.state == SFM_VO_INSUFFICIENT_PARALLAX ||
+                                           r.state == SFM_VO_PURE_ROTATION ||
+                                           r.state == SFM_VO_INITIALISING),
+                          "frame %d: state %s, pose %d", k, sfm_vo_state_str(r.state), r.has_pose);
+    }
+}
+
+/* Sideways slide past two fronto-parallel planes (depths Z and 2Z): the
+ * true centres are at k * s on +x, the rotation is the identity. */
+SFM_TEST(vo_sideways_slide_known_answer)
+{
+    sfm_vo *vo = start_default(t);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    const int step = 4, n = 20;
+    double cx[20];
+    int have[20] = {0}, tracked = 0;
+    for (int k = 0; k < n; k++) {
+        crop2(VPAD - 40, step * k);
+        sfm_vo_frame_result r;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, k * 1000, NULL, 1, &r), SFM_OK);
+        if (r.has_pose) {
+            have[k] = 1;
+            cx[k] = r.c_w[0];
+            /* the centre stays on the x axis, the rotation stays identity */
+            double off = hypot(r.c_w[1], r.c_w[2]);
+            SFM_CHECK_MSG(off <= 0.05 * fabs(r.c_w[0]) + 1e-9, "frame %d: centre (%g %g %g)", k,
+                          r.c_w[0], r.c_w[1], r.c_w[2]);
+            SFM_CHECK_MSG(fabs(r.R_wc[0] - 1) < 1e-3 && fabs(r.R_wc[4] - 1) < 1e-3 &&
+                              fabs(r.R_wc[8] - 1) < 1e-3,
+                          "frame %d: rotation not identity", k);
+            /* R_wc is the transpose of R_cw and c_w = -R_cw^T t_cw */
+            double c0 = -(r.R_cw[0] * r.t_cw[0] + r.R_cw[3] * r.t_cw[1] + r.R_cw[6] * r.t_cw[2]);
+            SFM_CHECK_NEAR(c0, r.c_w[0], 1e-9);
+        }
+        if (r.state == SFM_VO_TRACKING) {
+            tracked++;
+            SFM_CHECK(r.has_covariance);
+        }
+    }
+    SFM_CHECK_MSG(tracked >= n - 6, "tracked %d of %d", tracked, n);
+    /* Equal steps: c(k) / c(k_last) = k / k_last (scale-free). */
+    int last = n - 1;
+    SFM_CHECK(have[last]);
+    for (int k = 1; k < n; k++)
+        if (have[k] && have[last])
+            SFM_CHECK_MSG(fabs(cx[k] / cx[last] - (double)k / last) < 0.03,
+                          "frame %d: c %g, expected %g", k, cx[k] / cx[last], (double)k / last);
+    SFM_CHECK(cx[last] > 0);
+}
+
+/* A clock that advances 1 ms at every read: with a 6 ms budget every frame
+ * overruns, so the detector is asked for fewer features from the second
+ * frame on (down to a quarter), keyframes skip their bundle adjustment, and
+ * the frames say so in result.degraded. */
+static double fake_clock(void *ctx)
+{
+    double *t = ctx;
+    *t += 0.001;
+    return *t;
+}
+
+SFM_TEST(vo_time_budget_degrades)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    double now = 0;
+    p.clock = fake_clock;
+    p.clock_ctx = &now;
+    p.frame_budget = 0.006;
+    p.min_inliers = 8; /* a quarter of the features must still initialise */
+    sfm_vo *vo;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    make_texture(t);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    int fewer = 0, skipped = 0, min_feat = VNF, kf_tracked = 0, states[5] = {0};
+    for (int k = 0; k < 25; k++) {
+        crop2(VPAD - 40, 4 * k);
+        sfm_vo_frame_result r;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, k * 1000, NULL, 0, &r), SFM_OK);
+        /* frame 0 reads the clock only a few times: within budget */
+        if (k > 1)
+            SFM_CHECK_MSG(r.degraded & SFM_VO_DEGRADED_FEATURES, "frame %d not degraded", k);
+        if (r.is_keyframe && r.state == SFM_VO_TRACKING && r.n_keyframes > 2) {
+            kf_tracked++;
+            SFM_CHECK(r.degraded & SFM_VO_DEGRADED_BA_SKIPPED);
+        }
+        fewer += (r.degraded & SFM_VO_DEGRADED_FEATURES) != 0;
+        states[r.state]++;
+        skipped += (r.degraded & SFM_VO_DEGRADED_BA_SKIPPED) != 0;
+        if (r.n_features < min_feat)
+            min_feat = r.n_features;
+        if (r.has_pose && k > 1)
+            SFM_CHECK(r.quality != SFM_VO_QUALITY_GOOD);
+        SFM_CHECK(r.stage_seconds[SFM_VO_STAGE_FEATURES] > 0);
+    }
+    SFM_CHECK(fewer >= 23);
+    SFM_CHECK(kf_tracked > 0 && skipped == kf_tracked);
+    SFM_CHECK(min_feat <= VNF / 4);
+    SFM_TEST_LOG("features down to %d of %d, %d of %d later keyframes without BA; states: "
+                 "%d initialising, %d tracking, %d lost, %d parallax, %d rotation",
+                 min_feat, VNF, skipped, kf_tracked, states[0], states[1], states[2], states[3],
+                 states[4]);
+}
