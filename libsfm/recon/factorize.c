@@ -193,7 +193,7 @@ static int iterate_block(fz_ws *w, int m, int n, const int *views, int k, int p,
     for (int a = 0; a < k; a++)
         for (int b = 0; b < p; b++)
             w->z[(size_t)a * p + b] = 1.0;
-    double prev = INFINITY, prev_step = -1;
+    double prev = HUGE_VAL, prev_step = -1;
     res->monotone = 1;
     res->converged = 0;
     res->iterations = 0;

@@ -183,7 +183,7 @@ static double score(sfmi_mu *c, double f, sfm_pose poses[3])
 {
     double cost, ff = f;
     if (!start_from_focal(c, f, poses) || refine(c, poses, &ff, 0, SWEEP_ITERS, &cost) != SFM_OK)
-        return INFINITY;
+        return HUGE_VAL;
     return cost;
 }
 
@@ -298,11 +298,11 @@ static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_p
         }
     int m = 0;
     for (int i = 0; i < n; i++) {
-        double e2 = INFINITY;
+        double e2 = HUGE_VAL;
         if (c->nv == 3) {
             if (sfm_trifocal_point_error(P[0], P[1], P[2], &xall[0][2 * i], &xall[1][2 * i],
                                          &xall[2][2 * i], &e2, NULL) != SFM_OK)
-                e2 = INFINITY;
+                e2 = HUGE_VAL;
         } else {
             double Xh[3];
             int fl;
@@ -504,7 +504,7 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     /* free-focal bundle adjustment from the linear start and from the
      * sweep's best; the sweep's fixed-focal answer as a third candidate */
     rep->stage = SFM_UNCAL_STAGE_BA;
-    double cost, fs[3] = {0, 0, 0}, cs[3] = {INFINITY, INFINITY, INFINITY};
+    double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
     sfm_pose sol[3][3];
     for (int s = 0; s < 3; s++) {
         double f0 = s == 0 ? f_linear : f_sweep;
@@ -532,7 +532,7 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
         double best_f = fs[s];
         /* observability of f: the fixed-focal cost far from the answer */
         rep->stage = SFM_UNCAL_STAGE_BA;
-        double c_far = INFINITY;
+        double c_far = HUGE_VAL;
         for (int q = 0; q < K; q++)
             if (fabs(sfmi_log(fk[q] / best_f)) > sfmi_log(FAR_FACTOR) && ck[q] < c_far)
                 c_far = ck[q];

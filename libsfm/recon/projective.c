@@ -54,7 +54,7 @@ int sfmi_hartley_view(const double *px, int n, double T[9], double *xn)
     sfm__hartley_matrix(t, T);
     for (int j = 0; j < n; j++) {
         if (isnan(px[2 * j]) || isnan(px[2 * j + 1])) {
-            xn[2 * j] = xn[2 * j + 1] = NAN;
+            xn[2 * j] = xn[2 * j + 1] = (double)NAN;
             continue;
         }
         xn[2 * j] = t[0] * px[2 * j] + t[1];
@@ -193,6 +193,6 @@ double sfmi_third_view_scale(const sfm_pose *p3, int m, const double *X, const i
     }
     double s = num / den;
     if (!(den > 0) || !isfinite(s))
-        return NAN;
+        return (double)NAN;
     return s;
 }

@@ -156,7 +156,7 @@ static double linearize(void *self, double *grad_max)
     for (int k = 0; k < s->nobs; k++) {
         double *Jc = &s->Jc[2 * CT * k], *Jp = &s->Jp[2 * PT * k], *r = &s->r[2 * k];
         if (!residual(s, s->P, s->X, k, r, Jc, Jp))
-            return INFINITY;
+            return HUGE_VAL;
         cost += 0.5 * (r[0] * r[0] + r[1] * r[1]);
         int i = s->oc[k], j = s->op[k];
         double *H = &s->Hcc[CT * CT * i], *g = &s->gc[CT * i], *Hp = &s->Hpp[PT * PT * j], *gq = &s->gp[PT * j];
@@ -343,7 +343,7 @@ static double trial(void *self)
     for (int k = 0; k < s->nobs; k++) {
         double r[2];
         if (!residual(s, s->Pt, s->Xt, k, r, NULL, NULL))
-            return INFINITY;
+            return HUGE_VAL;
         cost += 0.5 * (r[0] * r[0] + r[1] * r[1]);
     }
     return cost;

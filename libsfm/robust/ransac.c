@@ -201,10 +201,10 @@ static double needed_iterations(double eps, int k, double pass, double conf)
     if (p >= 1.0)
         return 0.0;
     if (p <= 1e-300)
-        return INFINITY;
+        return HUGE_VAL;
     double denom = sfmi_log1p(-p);
     if (denom >= 0.0)
-        return INFINITY;
+        return HUGE_VAL;
     return ceil(sfmi_log(1.0 - conf) / denom);
 }
 
@@ -435,7 +435,7 @@ static int polish(const engine *e, int rounds, int best_inl)
     memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
     uint64_t last = 0;
     int done = 0;
-    double moved = INFINITY; /* largest change of a model entry in the last refit */
+    double moved = HUGE_VAL; /* largest change of a model entry in the last refit */
     for (int r = 0; r < rounds; r++) {
         int c = collect_within(e, e->spare, lo_band2(e, e->spare, 1), e->inl);
         if (c < e->k)
@@ -559,9 +559,9 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     const int use_clock = opt->clock != NULL && opt->time_budget > 0.0;
     double t0 = use_clock ? opt->clock(opt->clock_ctx) : 0.0;
 
-    double best_score = INFINITY;
+    double best_score = HUGE_VAL;
     int best_inl = 0, have_best = 0;
-    double k_needed = INFINITY, stop_share = 0.0;
+    double k_needed = HUGE_VAL, stop_share = 0.0;
     int it_best = 0; /* samples drawn when the best model last improved */
     int it = 0, models = 0, rejected = 0, lo_runs = 0, inner_runs = 0;
     int stop = SFM_RANSAC_STOP_MAX_ITERATIONS;

@@ -25,7 +25,7 @@ static void upright_plus(const double *R, const double *d, double *out, const vo
     double dR[9];
     if (sfm_rot_from_axis_angle(w, dR) != SFM_OK) {
         for (int k = 0; k < 9; k++)
-            out[k] = NAN;
+            out[k] = (double)NAN;
         return;
     }
     sfm_matmul3(dR, R, out);

@@ -20,7 +20,7 @@ static double depth_of(const sfm_stereo_rectification *r, double d)
 {
     double den = d - (r->K1[2] - r->K2[2]);
     if (!(den > 0.0))
-        return NAN;
+        return (double)NAN;
     return r->K1[0] * r->baseline / den;
 }
 

@@ -48,8 +48,8 @@ static int border_box(const sfm_camera *cam, int w, int h, const double *Rr, box
     int cnt[4] = {0, 0, 0, 0};
     double mx[4] = {0, 0, 0, 0}, my[4] = {0, 0, 0, 0};
     int total = 0;
-    b->ox0 = b->oy0 = INFINITY;
-    b->ox1 = b->oy1 = -INFINITY;
+    b->ox0 = b->oy0 = HUGE_VAL;
+    b->ox1 = b->oy1 = -HUGE_VAL;
     for (int s = 0; s < 4; s++) {
         for (int k = 0; k < BORDER_SAMPLES; k++) {
             double a = (double)k / (double)(BORDER_SAMPLES - 1);
@@ -93,10 +93,10 @@ static int border_box(const sfm_camera *cam, int w, int h, const double *Rr, box
         if (my[s] < my[st]) st = s;
         if (my[s] > my[sb]) sb = s;
     }
-    b->ix0 = -INFINITY;
-    b->ix1 = INFINITY;
-    b->iy0 = -INFINITY;
-    b->iy1 = INFINITY;
+    b->ix0 = -HUGE_VAL;
+    b->ix1 = HUGE_VAL;
+    b->iy0 = -HUGE_VAL;
+    b->iy1 = HUGE_VAL;
     for (int k = 0; k < cnt[sl]; k++) if (side_x[sl][k] > b->ix0) b->ix0 = side_x[sl][k];
     for (int k = 0; k < cnt[sr]; k++) if (side_x[sr][k] < b->ix1) b->ix1 = side_x[sr][k];
     for (int k = 0; k < cnt[st]; k++) if (side_y[st][k] > b->iy0) b->iy0 = side_y[st][k];
@@ -413,8 +413,8 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
         used++;
     }
     if (used == 0) {
-        *median_dy = NAN;
-        *max_dy = NAN;
+        *median_dy = (double)NAN;
+        *max_dy = (double)NAN;
         return 0;
     }
     double lo = 0.0, hi = mx;

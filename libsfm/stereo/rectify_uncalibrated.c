@@ -123,7 +123,7 @@ int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const d
 
     /* The smallest disparity of the matches goes to zero (image 2 moves),
      * then both go back around the image centre. */
-    double dmin = INFINITY;
+    double dmin = HUGE_VAL;
     for (int i = 0; i < n; i++) {
         double p1[2], p2[2];
         if (!dehom(H1a, x1 + 2 * i, p1) || !dehom(H2a, x2 + 2 * i, p2))

@@ -279,7 +279,8 @@ static void run_minimal(const scene *s)
 static void run_ba(const scene *s)
 {
     enum { M = 3, N = 60, NOBS = M * N };
-    static double R[M * 9], t[M * 3], K[M * 6], X[N * 3], xy[NOBS * 2];
+    static double R[M * 9], t[M * 3], X[N * 3], xy[NOBS * 2];
+    static sfm_camera cams[M];
     static int oc[NOBS], op[NOBS];
     sfm_rng rng;
     sfm_rng_seed(&rng, 7);
@@ -296,8 +297,11 @@ static void run_ba(const scene *s)
             }
         for (int k = 0; k < 3; k++)
             t[3 * v + k] = s->pose[v].t[k] + (v == 0 ? 0.0 : 0.02 * sfm_rng_normal(&rng));
-        const double k6[6] = {500.0, 500.0, 320.0, 240.0, 0.0, 0.0};
-        memcpy(K + 6 * v, k6, sizeof k6);
+        memset(&cams[v], 0, sizeof cams[v]);
+        cams[v].model = SFM_CAMERA_PINHOLE;
+        cams[v].fx = cams[v].fy = 500.0;
+        cams[v].cx = 320.0;
+        cams[v].cy = 240.0;
     }
     for (int i = 0; i < N; i++)
         for (int k = 0; k < 3; k++)
@@ -326,7 +330,7 @@ static void run_ba(const scene *s)
     pb.n_observations = NOBS;
     pb.rotations = R;
     pb.translations = t;
-    pb.intrinsics = K;
+    pb.cameras = cams;
     pb.points = X;
     pb.obs_camera = oc;
     pb.obs_point = op;
@@ -349,7 +353,7 @@ static void run_ba(const scene *s)
     if (!ws_ok("ba", sfm_ba_workspace_size(&dims)))
         return;
     sfm_ba_result res;
-    int r = sfm_ba_solve(&pb, &bo, g_ws, WS_BYTES, &res, NULL);
+    int r = sfm_ba_solve(&pb, &bo, &res, NULL, 0, g_ws, WS_BYTES);
     uint64_t h = fnv1a(FNV_INIT, R, sizeof R);
     h = fnv1a(h, t, sizeof t);
     emit("ba.poses", r, r < 0 ? FNV_INIT : h);

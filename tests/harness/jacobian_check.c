@@ -10,17 +10,17 @@ double sfm_test_verify_jacobian(sfm_test_residual_fn f, const void *user, int n,
                                 const double *J, double h)
 {
     if (n < 1 || n > MAXN || m < 1 || m > MAXM)
-        return INFINITY;
+        return HUGE_VAL;
     double worst = 0.0;
     for (int j = 0; j < n; j++) {
         double d[MAXN], rp[MAXM], rm[MAXM];
         memset(d, 0, sizeof d);
         d[j] = h;
         if (!f(user, d, rp))
-            return INFINITY;
+            return HUGE_VAL;
         d[j] = -h;
         if (!f(user, d, rm))
-            return INFINITY;
+            return HUGE_VAL;
         double dmax = 0.0, emax = 0.0;
         for (int i = 0; i < m; i++) {
             double fd = (rp[i] - rm[i]) / (2.0 * h);
@@ -63,14 +63,14 @@ double sfm_test_verify_lm_residual(const sfmi_lm_problem *prob, int i, double h)
     const int nt = sfmi_lm_tangent_size(prob->blocks, prob->n_blocks);
     const int m = prob->residual_size;
     if (nt < 1 || nt > MAXN || m > MAXM)
-        return INFINITY;
+        return HUGE_VAL;
     double r[MAXM], J[MAXM * MAXN];
     const double *xp[SFMI_LM_DENSE_MAX_BLOCKS];
     for (int b = 0; b < prob->n_blocks; b++)
         xp[b] = prob->blocks[b].x;
     memset(J, 0, sizeof(double) * (size_t)m * nt);
     if (prob->residual(prob->user, xp, i, r, J) <= 0)
-        return INFINITY;
+        return HUGE_VAL;
     lm_probe pr = {prob, i};
     return sfm_test_verify_jacobian(lm_probe_residual, &pr, nt, m, J, h);
 }

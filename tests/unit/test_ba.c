@@ -619,18 +619,18 @@ SFM_TEST(ba_contract)
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     o.want_covariance = 0;
     /* NaN in points, observations, weights */
-    pX[4] = NAN;
+    pX[4] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     pX[4] = c0X[4];
     double keep = sxy[3];
-    sxy[3] = INFINITY;
+    sxy[3] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     sxy[3] = keep;
     static double wts[MAXO];
     for (int k = 0; k < s.nobs; k++)
         wts[k] = 1.0;
     p.obs_weight = wts;
-    wts[2] = NAN;
+    wts[2] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     wts[2] = -1.0;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
@@ -684,7 +684,7 @@ SFM_TEST(ba_contract)
     pC[1].model = 7; /* no such model */
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);
     pC[1].model = SFM_CAMERA_BROWN;
-    pC[1].dist[3] = NAN;
+    pC[1].dist[3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     pC[1].dist[3] = 0.0;
     /* shared intrinsics need one model */
@@ -698,10 +698,10 @@ SFM_TEST(ba_contract)
     pC[2].model = SFM_CAMERA_BROWN;
     sfm_ba_default_options(&o);
     /* NaN options are non-finite, not merely wrong */
-    o.loss_scale = NAN;
+    o.loss_scale = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     sfm_ba_default_options(&o);
-    o.function_tolerance = NAN;
+    o.function_tolerance = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     sfm_ba_default_options(&o);
     /* a covariance buffer shorter than 36 m */
@@ -718,7 +718,7 @@ SFM_TEST(ba_contract)
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_WORKSPACE);
     p.n_points = 10;
     p.n_observations = s.nobs;
-    pR[0] = NAN;
+    pR[0] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_NONFINITE);
     pR[0] = c0R[0] * 1.001; /* not a rotation */
     SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, need), SFM_E_ARGUMENT);

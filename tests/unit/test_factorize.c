@@ -52,7 +52,7 @@ static void scene(sfm_test_ctx *t, double sigma, double missing)
         int kept = M;
         for (int i = 0; i < M && missing > 0; i++)
             if (kept > 2 && sfm_test_uniform(t, 0, 1) < missing) {
-                obs[(i * N + j) * 2] = obs[(i * N + j) * 2 + 1] = NAN;
+                obs[(i * N + j) * 2] = obs[(i * N + j) * 2 + 1] = (double)NAN;
                 kept--;
             }
     }
@@ -135,12 +135,12 @@ SFM_TEST(factorize_contract)
     sfm_factorize_default_options(&o);
     o.tolerance = -1;
     SFM_CHECK_EQ_INT(sfm_factorize_projective(M, N, obs, &o, P, X, NULL, ws, need), SFM_E_ARGUMENT);
-    obs[5] = INFINITY;
+    obs[5] = HUGE_VAL;
     SFM_CHECK_EQ_INT(sfm_factorize_projective(M, N, obs, NULL, P, X, NULL, ws, need), SFM_E_NONFINITE);
     /* a view with every observation missing cannot be resectioned */
     scene(t, 0.3, 0.0);
     for (int j = 0; j < N; j++)
-        obs[(3 * N + j) * 2] = obs[(3 * N + j) * 2 + 1] = NAN;
+        obs[(3 * N + j) * 2] = obs[(3 * N + j) * 2 + 1] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_factorize_projective(M, N, obs, NULL, P, X, NULL, ws, need), SFM_E_SINGULAR);
     /* every track of view 4 at one pixel */
     scene(t, 0.3, 0.0);

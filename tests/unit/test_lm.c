@@ -310,11 +310,11 @@ SFM_TEST(lm_dense_contract_statuses_and_nothing_written)
     o.max_iterations = -1;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_ARGUMENT);
     sfmi_lm_default_options(&o);
-    o.initial_radius = NAN;
+    o.initial_radius = (double)NAN;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_ARGUMENT);
     sfmi_lm_default_options(&o);
     p.loss = SFMI_LM_LOSS_HUBER;
-    p.loss_scale = NAN;
+    p.loss_scale = (double)NAN;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_NONFINITE);
     p.loss_scale = -1.0;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_ARGUMENT);
@@ -325,7 +325,7 @@ SFM_TEST(lm_dense_contract_statuses_and_nothing_written)
     blk[1].tangent = 1;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_ARGUMENT);
     blk[1].manifold = SFMI_LM_EUCLIDEAN;
-    b[1] = NAN;
+    b[1] = (double)NAN;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(&s, sizeof s));
     SFM_CHECK(b[0] == 0.0);

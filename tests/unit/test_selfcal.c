@@ -150,6 +150,6 @@ SFM_TEST(selfcal_linear_contract)
     SFM_CHECK_EQ_INT(sfm_selfcal_linear(3, Pp, wh, 5, NULL, K, H, NULL), SFM_E_ARGUMENT);
     double bad[6] = {W, HH, 0, HH, W, HH};
     SFM_CHECK_EQ_INT(sfm_selfcal_linear(3, Pp, bad, 0, NULL, K, H, NULL), SFM_E_ARGUMENT);
-    Pp[3] = NAN;
+    Pp[3] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_selfcal_linear(3, Pp, wh, 0, NULL, K, H, NULL), SFM_E_NONFINITE);
 }

@@ -166,7 +166,7 @@ SFM_TEST(stereo_rectify_contract)
     SFM_CHECK_EQ_INT(sfm_stereo_rectify(&c, &c, 4, 480, I, tv, 0, 0, 0, &r), SFM_E_ARGUMENT);
     double Rbad[9] = {1, 0, 0, 0, 2, 0, 0, 0, 1};
     SFM_CHECK_EQ_INT(sfm_stereo_rectify(&c, &c, 640, 480, Rbad, tv, 0, 0, 0, &r), SFM_E_ARGUMENT);
-    double tn[3] = {NAN, 0, 0};
+    double tn[3] = {(double)NAN, 0, 0};
     SFM_CHECK_EQ_INT(sfm_stereo_rectify(&c, &c, 640, 480, I, tn, 0, 0, 0, &r), SFM_E_NONFINITE);
     double t0[3] = {0, 0, 0};
     SFM_CHECK_EQ_INT(sfm_stereo_rectify(&c, &c, 640, 480, I, t0, 0, 0, 0, &r), SFM_E_SINGULAR);

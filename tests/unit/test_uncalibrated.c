@@ -177,7 +177,7 @@ SFM_TEST(uncal_three_view_contract)
     o.focal_max = o.focal_min;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
-    px[1][7] = NAN;
+    px[1][7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_NONFINITE);
     SFM_CHECK(K[0] == 0);

@@ -103,7 +103,7 @@ SFM_TEST(vo_contract)
     q.calibrated = 0;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_UNSUPPORTED);
     q = p;
-    q.threshold = NAN;
+    q.threshold = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_NONFINITE);
     q = p;
     q.camera.fx = 0;
@@ -129,7 +129,7 @@ SFM_TEST(vo_contract)
     SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, NULL, 0, NULL), SFM_E_ARGUMENT);
     sfm_image_u8 small = {g_frame, VW - 1, VH, VW};
     SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &small, 0, NULL, 0, &r), SFM_E_ARGUMENT);
-    double gnan[3] = {0, NAN, 0}, gzero[3] = {0, 0, 0};
+    double gnan[3] = {0, (double)NAN, 0}, gzero[3] = {0, 0, 0};
     SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, gnan, 0, &r), SFM_E_NONFINITE);
     SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, 0, gzero, 0, &r), SFM_E_ARGUMENT);
     SFM_CHECK(memcmp(&r, &canary, sizeof r) == 0);
