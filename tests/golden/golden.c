@@ -435,6 +435,60 @@ static void run_linalg(void)
     }
 }
 
+/* Dense stereo on a generated 128 x 64 pair (textured blobs, a step in
+ * disparity): rectification and its remap table through a Brown camera, SGM
+ * (5 and 8 paths) and the correlation matcher; the disparities are floats
+ * from integer costs, so they must agree to the bit. */
+static void run_stereo(void)
+{
+    enum { W = 128, H = 64, WT = W + 48 };
+    static uint8_t tex[H * WT], L[W * H], R[W * H];
+    static float disp[W * H];
+    static int32_t map[2 * W * H];
+    sfm_rng rng;
+    sfm_rng_seed(&rng, 11);
+    for (int i = 0; i < H * WT; i++)
+        tex[i] = (uint8_t)(sfm_rng_next(&rng) >> 56);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            int d = x < W / 2 ? 5 : 12;
+            L[y * W + x] = tex[y * WT + x + 16];
+            R[y * W + x] = tex[y * WT + x + 16 + d];
+        }
+    sfm_camera cam;
+    memset(&cam, 0, sizeof cam);
+    cam.model = SFM_CAMERA_BROWN;
+    cam.fx = cam.fy = 110.0;
+    cam.cx = 63.5;
+    cam.cy = 31.5;
+    cam.dist[0] = -0.12;
+    cam.dist[1] = 0.03;
+    double aa[3] = {0.01, -0.03, 0.005}, Rr[9], t[3] = {-0.3, 0.01, 0.02};
+    sfm_rot_from_axis_angle(aa, Rr);
+    sfm_stereo_rectification rect;
+    int r = sfm_stereo_rectify(&cam, &cam, W, H, Rr, t, 0.0, 0, 0, &rect);
+    emit_bytes("stereo.rectification", r, &rect, sizeof rect);
+    r = r < 0 ? r : sfm_stereo_rectify_map(&cam, W, H, &rect, 2, map, 2 * W * H);
+    emit_bytes("stereo.map", r, map, sizeof map);
+    sfm_stereo_sgm_options so;
+    sfm_stereo_sgm_default_options(&so);
+    so.num_disparities = 24;
+    for (int k = 0; k < 2; k++) {
+        so.paths = k ? SFM_STEREO_PATHS_8 : SFM_STEREO_PATHS_5;
+        if (!ws_ok("stereo_sgm", sfm_stereo_sgm_workspace_size(W, H, &so)))
+            return;
+        r = sfm_stereo_sgm(L, R, W, H, W, &so, disp, g_ws, WS_BYTES);
+        emit_bytes(k ? "stereo.sgm8" : "stereo.sgm5", r, disp, sizeof disp);
+    }
+    sfm_stereo_block_options bo;
+    sfm_stereo_block_default_options(&bo);
+    bo.num_disparities = 24;
+    if (!ws_ok("stereo_block", sfm_stereo_block_workspace_size(W, H, &bo)))
+        return;
+    r = sfm_stereo_block(L, R, W, H, W, &bo, disp, g_ws, WS_BYTES);
+    emit_bytes("stereo.block", r, disp, sizeof disp);
+}
+
 int main(void)
 {
     static scene s;
@@ -459,6 +513,7 @@ int main(void)
     run_ba(&s);
     run_features();
     run_linalg();
+    run_stereo();
     printf("golden: %d workspace failures\n", g_failures);
     return g_failures ? 1 : 0;
 }
