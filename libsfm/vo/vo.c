@@ -494,7 +494,7 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
             continue;
         if (!sfmi_vo_project(vo->K, ref->R, ref->t, X, u0) || !sfmi_vo_project(vo->K, R1, t1, X, u1))
             continue;
-        if (hypot(u0[0] - x[0], u0[1] - x[1]) > tol || hypot(u1[0] - x[2], u1[1] - x[3]) > tol)
+        if (sfmi_hypot(u0[0] - x[0], u0[1] - x[1]) > tol || sfmi_hypot(u1[0] - x[2], u1[1] - x[3]) > tol)
             continue;
         if (sfmi_vo_ray_angle(c0, c1, X) < min_par)
             continue;

@@ -10,6 +10,7 @@
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "vo/vo_internal.h"
+#include "core/dmath.h"
 
 /* Tracks the trifocal tensor is fitted on. */
 #define VO_TRIFOCAL_FIT 160
@@ -167,7 +168,7 @@ int sfmi_vo_triangulate_new(sfm_vo *vo)
         double ua[2], ub[2];
         if (!sfmi_vo_project(vo->K, a->R, a->t, X, ua) || !sfmi_vo_project(vo->K, b->R, b->t, X, ub))
             continue;
-        double ea = hypot(ua[0] - x[0], ua[1] - x[1]), eb = hypot(ub[0] - x[2], ub[1] - x[3]);
+        double ea = sfmi_hypot(ua[0] - x[0], ua[1] - x[1]), eb = sfmi_hypot(ub[0] - x[2], ub[1] - x[3]);
         if (ea > tol || eb > tol)
             continue;
         if (sfmi_vo_ray_angle(ca, cb, X) < min_par)
@@ -330,7 +331,7 @@ int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
         sfmi_vo_centre(vo->ba_R + 9, vo->ba_t + 3, c1);
         o.scale_gauge = SFM_BA_SCALE_DISTANCE;
         o.scale_camera = 1;
-        o.scale_distance = hypot(hypot(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]);
+        o.scale_distance = sfmi_hypot(sfmi_hypot(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]);
     }
     sfm_ba_result res;
     int st = sfm_ba_solve(&pr, &o, &res, NULL, 0, vo->ba_ws, vo->ba_ws_size);
@@ -353,7 +354,7 @@ int sfmi_vo_window_ba(sfm_vo *vo, int fixed, int scale_gauge)
             continue;
         double uv[2];
         int ok = sfmi_vo_project(vo->K, k->R, k->t, vo->X + 3 * (size_t)pid, uv);
-        if (!ok || hypot(uv[0] - k->px[2 * i], uv[1] - k->px[2 * i + 1]) > lim)
+        if (!ok || sfmi_hypot(uv[0] - k->px[2 * i], uv[1] - k->px[2 * i + 1]) > lim)
             kf_drop_obs(vo, k, i);
     }
     return SFM_OK;
