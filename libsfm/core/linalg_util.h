@@ -72,4 +72,26 @@ static inline void sfm_la_rotate(double *x, double *y, int n, size_t inc, double
     }
 }
 
+
+/* Inverse of a 3x3 by cofactors; 0 (nothing written) when |det| is not
+ * above min_abs_det. */
+static inline int sfmi_mat3_inverse(const double *A, double *Ai, double min_abs_det)
+{
+    double c0 = A[4] * A[8] - A[5] * A[7], c1 = A[5] * A[6] - A[3] * A[8], c2 = A[3] * A[7] - A[4] * A[6];
+    double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
+    if (!(fabs(det) > min_abs_det))
+        return 0;
+    double id = 1.0 / det;
+    Ai[0] = c0 * id;
+    Ai[1] = (A[2] * A[7] - A[1] * A[8]) * id;
+    Ai[2] = (A[1] * A[5] - A[2] * A[4]) * id;
+    Ai[3] = c1 * id;
+    Ai[4] = (A[0] * A[8] - A[2] * A[6]) * id;
+    Ai[5] = (A[2] * A[3] - A[0] * A[5]) * id;
+    Ai[6] = c2 * id;
+    Ai[7] = (A[1] * A[6] - A[0] * A[7]) * id;
+    Ai[8] = (A[0] * A[4] - A[1] * A[3]) * id;
+    return 1;
+}
+
 #endif

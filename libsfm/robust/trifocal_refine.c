@@ -16,6 +16,7 @@
  * The per-point Jacobians are recomputed in each solve rather than stored, so
  * the workspace stays at a few doubles per point.
  */
+#include "core/linalg_util.h"
 #include "robust/trifocal_refine.h"
 
 #include <math.h>
@@ -104,25 +105,6 @@ static void point_products(const point_blocks *b, double W[72], double gc[24], d
     }
 }
 
-/* Inverse of a symmetric positive definite 3x3 by cofactors. */
-static int inv3(const double A[9], double Ai[9])
-{
-    double c0 = A[4] * A[8] - A[5] * A[7], c1 = A[5] * A[6] - A[3] * A[8], c2 = A[3] * A[7] - A[4] * A[6];
-    double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
-    if (!(fabs(det) > 1e-300))
-        return 0;
-    double id = 1.0 / det;
-    Ai[0] = c0 * id;
-    Ai[1] = (A[2] * A[7] - A[1] * A[8]) * id;
-    Ai[2] = (A[1] * A[5] - A[2] * A[4]) * id;
-    Ai[3] = c1 * id;
-    Ai[4] = (A[0] * A[8] - A[2] * A[6]) * id;
-    Ai[5] = (A[2] * A[3] - A[0] * A[5]) * id;
-    Ai[6] = c2 * id;
-    Ai[7] = (A[1] * A[6] - A[0] * A[7]) * id;
-    Ai[8] = (A[0] * A[4] - A[1] * A[3]) * id;
-    return 1;
-}
 
 static void normalize12(double *P)
 {
@@ -203,7 +185,7 @@ static int point_system(const tf_sys *c, int q, double mu, point_blocks *b, doub
         Dp[k] = mu * sfmi_lm_clamp_diag(V[k * 4]);
         V[k * 4] += Dp[k];
     }
-    return inv3(V, Vi);
+    return sfmi_mat3_inverse(V, Vi, 1e-300);
 }
 
 static int tf_solve(void *self, double mu, double *step2, double *x2, double *pred)

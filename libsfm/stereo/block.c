@@ -51,14 +51,7 @@ void sfm_stereo_block_default_options(sfm_stereo_block_options *opt)
 
 static int options_ok(int width, int height, const sfm_stereo_block_options *o)
 {
-    if (!o || width < 16 || height < 16 || width > SFM_STEREO_MAX_WIDTH || height > 32767)
-        return 0;
-    if (o->num_disparities < 8 || o->num_disparities > SFM_STEREO_MAX_DISPARITIES ||
-        o->num_disparities % 8 != 0)
-        return 0;
-    if (o->min_disparity <= -width || o->min_disparity >= width ||
-        o->num_disparities + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity) >
-            width)
+    if (!o || !sfmi_stereo_range_ok(width, height, o->min_disparity, o->num_disparities))
         return 0;
     if (o->radius < 1 || o->radius > 5 || 4 * o->radius + 1 > height)
         return 0;

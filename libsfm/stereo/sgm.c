@@ -58,14 +58,7 @@ void sfm_stereo_sgm_default_options(sfm_stereo_sgm_options *opt)
 
 static int options_ok(int width, int height, const sfm_stereo_sgm_options *o)
 {
-    if (!o || width < 16 || height < 16 || width > SFM_STEREO_MAX_WIDTH || height > 32767)
-        return 0;
-    if (o->num_disparities < 8 || o->num_disparities > SFM_STEREO_MAX_DISPARITIES ||
-        o->num_disparities % 8 != 0)
-        return 0;
-    if (o->min_disparity <= -width || o->min_disparity >= width ||
-        o->num_disparities + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity) >
-            width)
+    if (!o || !sfmi_stereo_range_ok(width, height, o->min_disparity, o->num_disparities))
         return 0;
     if (o->p1 < 1 || o->p2 <= o->p1 || o->p2 > 1000)
         return 0;
@@ -219,6 +212,24 @@ static void reset_vertical(sgm *s)
     }
 }
 
+/* The enabled vertical paths of column x appended to pred/out/mp from
+ * index n: column x lives at block x + 1, its predecessor at x + 1 + dx.
+ * Returns the new count. */
+static int vertical_paths(const sgm *s, int x, int vmask, const int16_t **pred, int16_t **out,
+                          int *mp, int n)
+{
+    for (int k = 0; k < 3; k++) {
+        if (!(vmask & (1 << k)))
+            continue;
+        int dx = k - 1;
+        pred[n] = s->vp[k] + (size_t)(x + 1 + dx) * s->Dp + PAD;
+        out[n] = s->vc[k] + (size_t)(x + 1) * s->Dp + PAD;
+        mp[n] = s->mp[k][x + 1 + dx];
+        n++;
+    }
+    return n;
+}
+
 /* Aggregate row y into Srow (w x D): horizontal paths when `horizontal`
  * (which initialises Srow; otherwise Srow is added to), and the vertical
  * paths whose dx in {-1, 0, 1} is set in vmask (bit dx + 1), coming from the
@@ -252,15 +263,7 @@ static void aggregate_row(sgm *s, int y, int horizontal, int vmask, int16_t *Sro
             pred[0] = prev + PAD;
             out[0] = cur + PAD;
             mp[0] = minp;
-            for (int k = 0; k < 3; k++) {
-                if (!(vmask & (1 << k)))
-                    continue;
-                int dx = k - 1;
-                pred[n] = s->vp[k] + (size_t)(x + 1 + dx) * Dp + PAD;
-                out[n] = s->vc[k] + (size_t)(x + 1) * Dp + PAD;
-                mp[n] = s->mp[k][x + 1 + dx];
-                n++;
-            }
+            n = vertical_paths(s, x, vmask, pred, out, mp, n);
             const int16_t *c = s->C + (size_t)x * D;
             int16_t *dst = Srow + (size_t)x * D;
             if (all3)
@@ -280,15 +283,7 @@ static void aggregate_row(sgm *s, int y, int horizontal, int vmask, int16_t *Sro
             const int16_t *pred[3];
             int16_t *out[3];
             int mp[3], mn[3], n = 0;
-            for (int k = 0; k < 3; k++) {
-                if (!(vmask & (1 << k)))
-                    continue;
-                int dx = k - 1;
-                pred[n] = s->vp[k] + (size_t)(x + 1 + dx) * Dp + PAD;
-                out[n] = s->vc[k] + (size_t)(x + 1) * Dp + PAD;
-                mp[n] = s->mp[k][x + 1 + dx];
-                n++;
-            }
+            n = vertical_paths(s, x, vmask, pred, out, mp, n);
             const int16_t *c = s->C + (size_t)x * D;
             int16_t *dst = Srow + (size_t)x * D;
             if (n == 3)

@@ -6,7 +6,9 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_common.h"
+#include "sfm/sfm_stereo.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -85,30 +87,25 @@ static inline sfmi_v16 sfmi_v16_popcount(sfmi_v16 v)
     return (sfmi_v16)x;
 }
 
-/* Inverse of a 3x3 by the adjugate; SFM_E_SINGULAR when the determinant is
- * not above 1e-14 of the product of the row norms. */
+/* Inverse of a 3x3; SFM_E_SINGULAR when the determinant is not above
+ * 1e-14 of the product of the row norms. */
 static inline int sfmi_stereo_inv3(const double *A, double *Ai)
 {
-    double c0 = A[4] * A[8] - A[5] * A[7];
-    double c1 = A[5] * A[6] - A[3] * A[8];
-    double c2 = A[3] * A[7] - A[4] * A[6];
-    double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
     double n0 = sqrt(A[0] * A[0] + A[1] * A[1] + A[2] * A[2]);
     double n1 = sqrt(A[3] * A[3] + A[4] * A[4] + A[5] * A[5]);
     double n2 = sqrt(A[6] * A[6] + A[7] * A[7] + A[8] * A[8]);
-    if (!(fabs(det) > 1e-14 * n0 * n1 * n2))
-        return SFM_E_SINGULAR;
-    double id = 1.0 / det;
-    Ai[0] = c0 * id;
-    Ai[1] = (A[2] * A[7] - A[1] * A[8]) * id;
-    Ai[2] = (A[1] * A[5] - A[2] * A[4]) * id;
-    Ai[3] = c1 * id;
-    Ai[4] = (A[0] * A[8] - A[2] * A[6]) * id;
-    Ai[5] = (A[2] * A[3] - A[0] * A[5]) * id;
-    Ai[6] = c2 * id;
-    Ai[7] = (A[1] * A[6] - A[0] * A[7]) * id;
-    Ai[8] = (A[0] * A[4] - A[1] * A[3]) * id;
-    return SFM_OK;
+    return sfmi_mat3_inverse(A, Ai, 1e-14 * n0 * n1 * n2) ? SFM_OK : SFM_E_SINGULAR;
+}
+
+/* Image size and disparity range the matchers accept: the range (of either
+ * sign) fits in the image. */
+static inline int sfmi_stereo_range_ok(int width, int height, int dmin, int D)
+{
+    if (width < 16 || height < 16 || width > SFM_STEREO_MAX_WIDTH || height > 32767)
+        return 0;
+    if (D < 8 || D > SFM_STEREO_MAX_DISPARITIES || D % 8 != 0)
+        return 0;
+    return dmin > -width && dmin < width && D + (dmin > 0 ? dmin : -dmin) <= width;
 }
 
 #endif
