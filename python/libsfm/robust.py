@@ -18,6 +18,19 @@ k1, k2, p1, p2, k3), and returns a plain dict:
   seed          the seed used
   stop_reason   "confidence", "max_iterations" or "time"
   flags         raw SFM_RANSAC_FLAG_* bits
+  degenerate    bool: the model is a partial answer (see degeneracy)
+  degeneracy    "" or "pure_rotation" (R without t), "low_parallax" (R
+                determined, the direction of t not), "planar" (a dominant
+                plane: a relative pose may be the twin of the true one, F
+                rests on the few points off the plane)
+  covariance    pose estimators: 6x6 covariance of (w, t), w the rotation
+                increment R <- exp([w]x) R in radians (see sfm_ransac.h);
+                None for F and H
+
+A support that does not determine the model (points on one line, one tight
+cluster, all points on one plane for F) raises SfmError with status
+SFM_E_DEGENERATE; a support no better than random matches raises SfmError
+with SFM_E_NO_MODEL.
 
 plus the model entries listed per function. Poses map the first camera (or
 the world) to the camera: x_cam2 = R x_cam1 + t, |t| = 1 for relative poses.
@@ -75,8 +88,27 @@ def _pairs(p1, p2, minimum):
     return p1, p2
 
 
+def degeneracy_name(flags):
+    """The degeneracy named by SFM_RANSAC_FLAG_* bits ("" when none)."""
+    for bit, name in ((lib.SFM_RANSAC_FLAG_PURE_ROTATION, "pure_rotation"),
+                      (lib.SFM_RANSAC_FLAG_LOW_PARALLAX, "low_parallax"),
+                      (lib.SFM_RANSAC_FLAG_PLANAR, "planar"),
+                      (lib.SFM_RANSAC_FLAG_DEGENSAC, "planar")):
+        if bit is not None and flags & bit:
+            return name
+    return ""
+
+
+def _degeneracy(st):
+    name = degeneracy_name(int(st.flags))
+    cov = None
+    if st.cov_dim == 6:
+        cov = np.array(list(st.covariance)).reshape(6, 6)
+    return dict(degenerate=bool(name), degeneracy=name, covariance=cov)
+
+
 def _stats_dict(st, mask):
-    return dict(inliers=mask.astype(bool), num_inliers=int(st.num_inliers),
+    return dict(**_degeneracy(st), inliers=mask.astype(bool), num_inliers=int(st.num_inliers),
                 iterations=int(st.iterations), models=int(st.models),
                 sprt_rejected=int(st.sprt_rejected), lo_runs=int(st.lo_runs),
                 polished=bool(st.polished),

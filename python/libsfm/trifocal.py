@@ -95,7 +95,8 @@ def _ransac_options(threshold_px, seed, confidence=None, max_iterations=None):
 
 
 def _stats_dict(stats):
-    return dict(iterations=stats.iterations, num_inliers=stats.num_inliers, score=stats.score,
+    from .robust import _degeneracy
+    return dict(**_degeneracy(stats), iterations=stats.iterations, num_inliers=stats.num_inliers, score=stats.score,
                 seed=int(stats.seed), stop_reason=stats.stop_reason, flags=stats.flags,
                 sprt_rejected=stats.sprt_rejected, lo_runs=stats.lo_runs)
 
