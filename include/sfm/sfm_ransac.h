@@ -237,7 +237,8 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  *    below that: SFM_E_NO_MODEL (random matches: 4-15 of 200 points).
  *  - spread: in each image the minor principal standard deviation of the
  *    inliers must exceed 3 tau and 2 % of the major one (else the points lie
- *    on one line), and the major one must exceed 2 deg of view angle
+ *    on one line; a homography, which may map a plane seen edge-on onto a
+ *    line, only when they lie on a line in both), and the major one must exceed 2 deg of view angle
  *    (calibrated estimators: the focal length converts) or 2 % of the
  *    diagonal of the input points' box (F, H, trifocal), else they form one
  *    cluster, within which a translation moves points as a rotation does:

@@ -12,6 +12,8 @@
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
+#include "robust/support_check.h"
+#include "robust/trifocal_ransac.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_triangulate.h"
@@ -291,8 +293,11 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     }
     double T[27], P[36];
     sfm_ransac_stats rs;
-    int cnt = sfm_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
-                                  w.ransac_ws, w.ransac_size);
+    /* spread checks only: a dominant plane can make RANSAC's tensor a
+     * plane-induced one, which the calibrated start (b) below recovers
+     * from; the support of the metric result is judged at the end */
+    int cnt = sfmi_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
+                                   w.ransac_ws, w.ransac_size, 0);
     if (cnt < 0)
         return cnt;
 
@@ -345,6 +350,14 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
      * it every translation are unobservable. */
     if (n12 > 0 && (s12.flags & SFM_RANSAC_FLAG_PURE_ROTATION))
         return SFM_E_SINGULAR;
+    /* the pair that fixes the scale gauge has a support that determines no
+     * pose (one cluster, a line): nor do the three views */
+    if (n12 == SFM_E_DEGENERATE)
+        return SFM_E_DEGENERATE;
+    /* the (1, 2) pair's support checks: translation direction undetermined
+     * (low parallax), or a dominant plane (the pose may be its twin) */
+    const int pair_flags = n12 > 0 ? s12.flags & (SFM_RANSAC_FLAG_LOW_PARALLAX |
+                                                  SFM_RANSAC_FLAG_PLANAR) : 0;
     if (n12 > 0 && sfm_ransac_relpose(w.ideal[0], w.ideal[2], n, &pin[0], &pin[2], &ro, &p13, NULL,
                                       w.m13, NULL, w.rel_ws, w.rel_size) > 0) {
         int mb = 0;
@@ -363,6 +376,9 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
 
     /* Final inliers under the chosen metric cameras, and one more polish. */
     int cnt2 = metric_inliers(&w, cams, n, tau, best, 1);
+    if (!sfmi_above_chance(n, SFM_TRIFOCAL_MIN_POINTS, cnt2,
+                           sfmi_trifocal_chance(w.ideal[1], w.ideal[2], n, tau)))
+        return SFM_E_NO_MODEL;
     m = gather(&w, cams, n, cnt2);
     memcpy(cand, best, sizeof cand);
     if (polish(&w, cams, m, cand, &cost) == SFM_OK)
@@ -371,7 +387,9 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     memcpy(poses, best, 3 * sizeof(sfm_pose));
     if (inlier_mask != NULL)
         memcpy(inlier_mask, w.mask, (size_t)n);
-    if (stats != NULL)
+    if (stats != NULL) {
         *stats = rs;
+        stats->flags |= pair_flags;
+    }
     return cnt;
 }

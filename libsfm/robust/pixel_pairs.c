@@ -104,13 +104,21 @@ int sfm_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p
     sfm_robust_gather(pp->p1, 2, pp->idx, m, pp->g1);
     sfm_robust_gather(pp->p2, 2, pp->idx, m, pp->g2);
     const double *img[2] = {pp->p1, pp->p2}, *sup[2] = {pp->g1, pp->g2};
+    /* a plane seen edge-on in one image still determines the (singular)
+     * homography onto that line, so H needs a line in both images; F,
+     * whose points on one image line lie on one plane through that camera
+     * centre, is undetermined by a line in either */
+    int lines = 0;
     for (int v = 0; v < 2; v++) {
         double diag, lo, hi;
         sfmi_bbox_area(img[v], 2, n, &diag);
         sfmi_spread(sup[v], 2, NULL, m, &lo, &hi);
-        if (sfmi_spread_collinear(lo, hi, tau) || hi < SFMI_CLUSTER_RATIO * diag)
+        lines += sfmi_spread_collinear(lo, hi, tau);
+        if (hi < SFMI_CLUSTER_RATIO * diag)
             return SFM_E_DEGENERATE;
     }
+    if (lines >= (homography ? 2 : 1))
+        return SFM_E_DEGENERATE;
     int st = sfmi_pairs_design_degenerate(pp->g1, pp->g2, m, homography, tau);
     if (st < 0)
         return st;

@@ -11,6 +11,7 @@
 #include "core/arena.h"
 #include "robust/estimator.h"
 #include "robust/support_check.h"
+#include "robust/trifocal_ransac.h"
 #include "robust/trifocal_refine.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
@@ -165,24 +166,32 @@ static int tf_design_degenerate(tf_support_ws *w, int m, double tau)
                                   NULL);
 }
 
+double sfmi_trifocal_chance(const double *x2, const double *x3, int n, double tau)
+{
+    /* a random triplet is an inlier when its view-2 point lands in an
+     * epipolar band and its view-3 point in a disc, each about sqrt(3) tau
+     * (the threshold bounds the mean over three views) */
+    double d2, d3;
+    double a2 = sfmi_bbox_area(x2, 2, n, &d2), a3 = sfmi_bbox_area(x3, 2, n, &d3);
+    return sfmi_chance_band(a2, d2, 2.0 * 1.7320508075688772 * tau) *
+           sfmi_chance_disc(a3, 1.7320508075688772 * tau);
+}
+
 /* The support checks of sfm_ransac.h on the inliers of model. */
-static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, double tau)
+static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, double tau,
+                      int checks)
 {
     const double tau2 = tau * tau;
     int m = 0;
     for (int i = 0; i < n; i++)
         if (tf_residual(c, model, i) < tau2)
             w->idx[m++] = i;
-    /* a random triplet is an inlier when its view-2 point lands in an
-     * epipolar band and its view-3 point in a disc, each about sqrt(3) tau
-     * (the threshold bounds the mean over three views) */
     const double *x[3] = {c->x1, c->x2, c->x3};
-    double diag[3], area[3];
+    double diag[3];
     for (int v = 0; v < 3; v++)
-        area[v] = sfmi_bbox_area(x[v], 2, n, &diag[v]);
-    double p = sfmi_chance_band(area[1], diag[1], 2.0 * 1.7320508075688772 * tau) *
-               sfmi_chance_disc(area[2], 1.7320508075688772 * tau);
-    if (!sfmi_above_chance(n, SAMPLE, m, p))
+        sfmi_bbox_area(x[v], 2, n, &diag[v]);
+    double p = sfmi_trifocal_chance(c->x2, c->x3, n, tau);
+    if ((checks & SFMI_TF_CHECK_CHANCE) && !sfmi_above_chance(n, SAMPLE, m, p))
         return SFM_E_NO_MODEL;
     for (int v = 0; v < 3; v++) {
         double *g = w->g + 2 * (size_t)m * v, lo, hi;
@@ -191,6 +200,8 @@ static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, d
         if (sfmi_spread_collinear(lo, hi, tau) || hi < SFMI_CLUSTER_RATIO * diag[v])
             return SFM_E_DEGENERATE;
     }
+    if (!(checks & SFMI_TF_CHECK_DESIGN))
+        return SFM_OK;
     int st = tf_design_degenerate(w, m, tau);
     if (st < 0)
         return st;
@@ -200,6 +211,15 @@ static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, d
 int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
                         const sfm_ransac_options *opt, double T[27], double *P,
                         uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    return sfmi_ransac_trifocal(x1, x2, x3, n, opt, T, P, inlier_mask, stats, ws, ws_size,
+                                SFMI_TF_CHECK_CHANCE | SFMI_TF_CHECK_DESIGN);
+}
+
+int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
+                         const sfm_ransac_options *opt, double T[27], double *P,
+                         uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size,
+                         int checks)
 {
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL || n < SAMPLE ||
         n > SFM_RANSAC_MAX_POINTS)
@@ -224,7 +244,7 @@ int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, in
     int cnt = sfm_ransac_run(&est, n, &o, model, NULL, &rs, lay.ransac_ws, lay.ransac_size);
     if (cnt < 0)
         return cnt;
-    int st = tf_support(&ctx, &lay.sup, n, model, o.threshold);
+    int st = tf_support(&ctx, &lay.sup, n, model, o.threshold, checks);
     if (st < 0)
         return st;
     /* outputs from here on: nothing can fail any more */
