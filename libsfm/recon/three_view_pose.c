@@ -298,6 +298,20 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
      * from; the support of the metric result is judged at the end */
     int cnt = sfmi_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
                                    w.ransac_ws, w.ransac_size, 0);
+    if (cnt == SFM_E_NO_CONVERGENCE || cnt == SFM_E_DEGENERATE) {
+        /* no tensor, or none determined: when a rotation alone explains
+         * views 1 and 2 the cause is the missing baseline, reported as such
+         * (the minimal samples of views related by one homography are all
+         * degenerate) */
+        sfm_camera pc1 = *cams[0], pc2 = *cams[1];
+        pc1.model = pc2.model = SFM_CAMERA_PINHOLE;
+        sfm_pose p;
+        sfm_ransac_stats s;
+        if (sfm_ransac_relpose(w.ideal[0], w.ideal[1], n, &pc1, &pc2, opt, &p, NULL, NULL, &s,
+                               w.rel_ws, w.rel_size) > 0 &&
+            (s.flags & SFM_RANSAC_FLAG_PURE_ROTATION))
+            return SFM_E_SINGULAR;
+    }
     if (cnt < 0)
         return cnt;
 

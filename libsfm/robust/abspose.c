@@ -154,6 +154,14 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     double model[SFM_RANSAC_ABSPOSE_MODEL];
     sfm_ransac_stats s;
     int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &s, eng, es);
+    if (ni == SFM_E_NO_CONVERGENCE) {
+        /* P3P has no solution for points on one line (their image is a
+         * line): name the degeneracy rather than the symptom */
+        double lo, hi;
+        sfmi_spread(px, 2, NULL, n, &lo, &hi);
+        if (sfmi_spread_collinear(lo, hi, eopt.threshold * f))
+            return SFM_E_DEGENERATE;
+    }
     if (ni < 0)
         return ni;
     double cov6[36];

@@ -82,15 +82,15 @@ def scene(rng, cls, n=200, views=2, sigma=0.3, outlier_share=0.2):
     a general scene seen by the same cameras)."""
     poses = cameras(rng, views, cls)
     share = 0.0 if cls == "collinear" else (1.0 if cls == "outliers" else outlier_share)
-    pts = []
-    while sum(len(p) for p in pts) < n:
-        X = structure(rng, 4 * n, cls)
+    while True:  # one line, cluster or plane per scene: redraw it whole
+        X = structure(rng, 20 * n, cls)
         ok = np.ones(len(X), dtype=bool)
         for R, t in poses:
             q, z = project(R, t, X)
             ok &= visible(q, z)
-        pts.append(X[ok])
-    X = np.vstack(pts)[:n]
+        if ok.sum() >= n:
+            break
+    X = X[ok][:n]
     x = [project(R, t, X)[0] + rng.normal(scale=sigma, size=(n, 2)) for R, t in poses]
     truth = rng.uniform(size=n) >= share
     for v in range(1, views):

@@ -119,14 +119,23 @@ def run_abspose(s, cls, seed):
     return "right"
 
 
-def run_fundamental(s, cls, seed):
-    r, err = call(lambda: libsfm.estimate_fundamental(s["x"][0], s["x"][1], seed=seed))
+def verdict_of_status(r, err, cls):
+    """The verdict a refusal, a flag or a class without a model decides;
+    None when the model itself has to be judged."""
     if r is None:
         return "refused" if err in REFUSALS else "error%d" % err
     if degeneracy(r):
         return "flagged"
     if cls in ("outliers", "pure_rotation"):
         return "wrong"
+    return None
+
+
+def run_fundamental(s, cls, seed):
+    r, err = call(lambda: libsfm.estimate_fundamental(s["x"][0], s["x"][1], seed=seed))
+    v = verdict_of_status(r, err, cls)
+    if v is not None:
+        return v
     # the truth's epipolar geometry: probe points must lie on the estimate's lines
     e = epipolar_px(r["F"], s["probe"][0], s["probe"][1])
     return "wrong" if np.median(e) > 5 else "right"
@@ -157,12 +166,9 @@ def run_homography(s, cls, seed):
 
 def run_trifocal(s, cls, seed):
     r, err = call(lambda: libsfm.estimate_trifocal(s["x"][0], s["x"][1], s["x"][2], seed=seed))
-    if r is None:
-        return "refused" if err in REFUSALS else "error%d" % err
-    if degeneracy(r):
-        return "flagged"
-    if cls in ("outliers", "pure_rotation"):
-        return "wrong"
+    v = verdict_of_status(r, err, cls)
+    if v is not None:
+        return v
     try:
         x3 = libsfm.trifocal_transfer(r["T"], s["probe"][0], s["probe"][1])
     except SfmError:
@@ -205,7 +211,7 @@ def run(est, cls, n_inst, seed0=0):
     views, fn = ESTIMATORS[est]
     out = Counter()
     for k in range(n_inst):
-        rng = np.random.default_rng([hash(est) % 1000, ds.CLASSES.index(cls), seed0 + k])
+        rng = np.random.default_rng([sum(est.encode()), ds.CLASSES.index(cls), seed0 + k])
         s = ds.scene(rng, cls, views=views)
         out[fn(s, cls, k)] += 1
     return out
@@ -237,3 +243,29 @@ if __name__ == "__main__":
         for cls in ds.CLASSES:
             if cls in APPLIES.get(est, ds.CLASSES):
                 print("%-12s %-14s %s" % (est, cls, dict(run(est, cls, n))), flush=True)
+
+
+def test_result_fields_and_refusals():
+    rng = np.random.default_rng(5)
+    s = ds.scene(rng, "general")
+    r = libsfm.estimate_relative_pose(s["x"][0], s["x"][1], ds.K, ds.K)
+    assert r["degenerate"] is False and r["degeneracy"] == ""
+    C = r["covariance"]
+    assert C.shape == (6, 6) and np.allclose(C, C.T, atol=1e-15)
+    w = np.linalg.eigvalsh(C)
+    assert w.min() > -1e-15 and np.sum(w > 1e-6 * w.max()) == 5  # rank 5 on the manifold
+    # the rotation error within a few of its standard deviations
+    err = np.radians(ds.rot_err(r["R"], s["poses"][1][0]))
+    assert err < 6 * np.sqrt(np.trace(C[:3, :3]))
+    assert libsfm.estimate_homography(s["x"][0], s["x"][1])["covariance"] is None
+    s = ds.scene(rng, "collinear")
+    with pytest.raises(SfmError) as e:
+        libsfm.estimate_relative_pose(s["x"][0], s["x"][1], ds.K, ds.K)
+    assert e.value.status == lib.SFM_E_DEGENERATE
+    s = ds.scene(rng, "outliers")
+    with pytest.raises(SfmError) as e:
+        libsfm.estimate_fundamental(s["x"][0], s["x"][1])
+    assert e.value.status == lib.SFM_E_NO_MODEL
+    s = ds.scene(rng, "pure_rotation")
+    r = libsfm.estimate_relative_pose(s["x"][0], s["x"][1], ds.K, ds.K)
+    assert r["degenerate"] and r["degeneracy"] in ("pure_rotation", "low_parallax")
