@@ -58,7 +58,12 @@ typedef enum sfm_status {
     SFM_E_UNSUPPORTED = -9,    /* valid request this build or device cannot do */
     SFM_E_DEVICE_LOST = -10,   /* a device disappeared while in use */
     SFM_E_NO_DEVICE = -11,     /* no such device */
-    SFM_E_FORMAT = -12         /* malformed input data (file, manifest, frame) */
+    SFM_E_FORMAT = -12,        /* malformed input data (file, manifest, frame) */
+    SFM_E_DEGENERATE = -13,    /* an estimator's support does not determine its
+                                  model (points on a line, one cluster, no
+                                  parallax, one plane for F or T) */
+    SFM_E_NO_MODEL = -14       /* an estimator's best model has no more support
+                                  than random matches would give */
 } sfm_status;
 
 /* A short constant English description of a status code; never NULL. */

@@ -97,6 +97,8 @@ typedef enum sfm_ransac_stop {
 #define SFM_RANSAC_FLAG_PLANAR 1          /* relative pose: inliers dominated by one plane */
 #define SFM_RANSAC_FLAG_PURE_ROTATION 2   /* relative pose: no measurable translation */
 #define SFM_RANSAC_FLAG_DEGENSAC 4        /* fundamental: inliers dominated by one plane */
+#define SFM_RANSAC_FLAG_LOW_PARALLAX 8    /* relative pose: R determined, t direction not
+                                             (its standard deviation above 3 deg) */
 
 /*
  * The estimator table. ctx is the estimator's own data (points, scratch); the
@@ -191,6 +193,16 @@ typedef struct sfm_ransac_stats {
     double samples_needed; /* samples the stopping rule asked for at
                               opt->confidence for that share, before the
                               min/max iteration caps (may be +inf) */
+    int cov_dim;          /* 6 when covariance holds the pose covariance, else 0 */
+    double covariance[36]; /* pose estimators: 6 x 6 row-major covariance of
+                              (w, t), w the rotation increment R <- exp([w]x) R
+                              (radians), t the translation (units of t; for a
+                              relative pose the tangent of the unit sphere, so
+                              rank 5, rank 3 upright). From the final refit's
+                              Gauss-Newton normal matrix on the inliers,
+                              scaled by their residual variance (normalised
+                              image units); a direction the inliers do not fix
+                              shows as an entry of 1e30. */
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
@@ -249,6 +261,46 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  * pixel cannot be undistorted). Nothing is written on failure.
  * ====================================================================== */
 
+/* ======================================================================
+ * Final support checks. Every estimator below tests the support set of the
+ * model it is about to return (its inliers at opt->threshold), not only its
+ * samples, and returns a model only when that support determines it:
+ *
+ *  - chance: a model of sample size k fits its own k points; each other
+ *    point of a wrong model lands in its inlier band with probability p,
+ *    the band's area over the area of the bounding box of the input points
+ *    (epipolar models: a band 2 sqrt(2) tau wide across the box diagonal;
+ *    homography: a disc of radius sqrt(2) tau; absolute pose: radius tau;
+ *    trifocal: an epipolar band in view 2 times a disc in view 3). With
+ *    mu = (n - k) p the support must reach k + 3 mu + 6 sqrt(mu) + 5;
+ *    below that: SFM_E_NO_MODEL (random matches: 4-15 of 200 points).
+ *  - spread: in each image the minor principal standard deviation of the
+ *    inliers must exceed 3 tau and 2 % of the major one (else the points lie
+ *    on one line; a homography, which may map a plane seen edge-on onto a
+ *    line, only when they lie on a line in both), and the major one must exceed 2 deg of view angle
+ *    (calibrated estimators: the focal length converts) or 2 % of the
+ *    diagonal of the input points' box (F, H, trifocal), else they form one
+ *    cluster, within which a translation moves points as a rotation does:
+ *    SFM_E_DEGENERATE.
+ *  - determination. Poses: the covariance of the refit (stats->covariance)
+ *    with a residual variance of at least (tau / 3)^2; a rotation standard
+ *    deviation above 1.5 deg: SFM_E_DEGENERATE (one tight cluster, a line in
+ *    space); relative pose with R determined and a translation-direction
+ *    deviation above 3 deg: the pose is returned with
+ *    SFM_RANSAC_FLAG_LOW_PARALLAX (R usable, t not); absolute pose with a
+ *    translation deviation above 5 % of the inliers' mean depth:
+ *    SFM_E_DEGENERATE. Fundamental, homography, trifocal: the normal matrix
+ *    of the inliers' Hartley-normalised design rows must have one null
+ *    direction: a second eigenvalue below 10 m sigma^2 (m inliers, sigma =
+ *    tau / 3 in normalised units) is SFM_E_DEGENERATE (all points on one
+ *    plane for F and T, on one line for H).
+ *  - dominant plane, pure rotation: SFM_RANSAC_FLAG_PLANAR (relative pose:
+ *    the pose may be the twin of the true one), SFM_RANSAC_FLAG_PURE_ROTATION
+ *    (R without t), SFM_RANSAC_FLAG_DEGENSAC (fundamental), as before.
+ * So each estimator below can also return SFM_E_DEGENERATE and
+ * SFM_E_NO_MODEL; nothing is written then.
+ * ====================================================================== */
+
 /* Model sizes (doubles) the estimators hand to the engine. */
 #define SFM_RANSAC_RELPOSE_MODEL 22
 #define SFM_RANSAC_ABSPOSE_MODEL 12
@@ -279,9 +331,10 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
     SFM_RANSAC_TWOVIEW_WS_SIZE(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS)
 #define SFM_RANSAC_RELPOSE_UPRIGHT_WS_SIZE(n)                                   \
     SFM_RANSAC_TWOVIEW_WS_SIZE(n, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS)
-/* absolute pose: bearings 3n */
+/* absolute pose: bearings 3n, one index list */
 #define SFM_RANSAC_ABSPOSE_WS_SIZE(n)                                           \
     (SFM_RANSAC_R16(sizeof(double) * 3u * (size_t)(n)) +                        \
+     SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) +                                \
      SFM_RANSAC_R16(SFM_RANSAC_WS_SIZE(n, 3, SFM_P3P_MAX_SOLUTIONS,             \
                                        SFM_RANSAC_ABSPOSE_MODEL)) + 15u)
 #define SFM_RANSAC_FUNDAMENTAL_WS_SIZE(n)                                       \

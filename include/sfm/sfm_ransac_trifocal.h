@@ -29,8 +29,11 @@ SFM_API size_t sfm_ransac_trifocal_workspace_size(int n);
  * be NULL), inlier_mask (n bytes, may be NULL) and stats (may be NULL).
  * opt may be NULL (defaults, threshold 1 px).
  * Statuses: SFM_E_ARGUMENT (NULL inputs or T, n < 7), SFM_E_NONFINITE,
- * SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no model found). Nothing is written
- * on failure.
+ * SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no model found), SFM_E_DEGENERATE
+ * and SFM_E_NO_MODEL (the support checks of sfm_ransac.h: the inliers on one
+ * line or in one cluster in a view, a normalised design with a second null
+ * direction -- all points on one plane, no baseline --, or a support no
+ * larger than random triplets give). Nothing is written on failure.
  */
 SFM_API int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
                                 const sfm_ransac_options *opt, double T[27], double *P,

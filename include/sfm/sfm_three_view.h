@@ -42,7 +42,15 @@ SFM_API size_t sfm_recon_three_view_pose_workspace_size(int n);
  * Statuses: SFM_E_ARGUMENT (NULL, n < 7, invalid camera), SFM_E_NONFINITE,
  * SFM_E_WORKSPACE, SFM_E_NO_CONVERGENCE (no tensor found, or a pixel that
  * cannot be undistorted), SFM_E_SINGULAR (the inliers do not determine the
- * poses: no translation between views 1 and 2, or all points at infinity).
+ * poses: no translation between views 1 and 2, or all points at infinity),
+ * SFM_E_DEGENERATE (the triplets lie on one line or in one cluster in a
+ * view, or the 5-point support of views 1 and 2 is degenerate: see the
+ * support checks of sfm_ransac.h), SFM_E_NO_MODEL (the metric inliers are
+ * no more than random triplets would give).
+ * Support checks: trifocal RANSAC runs with its spread checks only (a
+ * dominant plane may make its tensor plane-induced; the calibrated start
+ * recovers from that); stats->flags carries SFM_RANSAC_FLAG_PLANAR and
+ * SFM_RANSAC_FLAG_LOW_PARALLAX from the 5-point pose of views 1 and 2.
  * Nothing is written on failure. */
 SFM_API int sfm_recon_three_view_pose(const double *px1, const double *px2, const double *px3, int n,
                                       const sfm_camera *cam1, const sfm_camera *cam2,

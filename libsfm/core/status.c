@@ -17,6 +17,8 @@ const char *sfm_status_str(int status)
     case SFM_E_DEVICE_LOST: return "device lost";
     case SFM_E_NO_DEVICE: return "no such device";
     case SFM_E_FORMAT: return "malformed data";
+    case SFM_E_DEGENERATE: return "degenerate support: the inliers do not determine the model";
+    case SFM_E_NO_MODEL: return "no model: support no better than random matches";
     default: return "unknown status";
     }
 }

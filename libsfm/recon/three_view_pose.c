@@ -13,6 +13,8 @@
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
+#include "robust/support_check.h"
+#include "robust/trifocal_ransac.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_three_view.h"
 #include "sfm/sfm_triangulate.h"
@@ -279,8 +281,25 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     }
     double T[27], P[36];
     sfm_ransac_stats rs;
-    int cnt = sfm_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
-                                  w.ransac_ws, w.ransac_size);
+    /* spread checks only: a dominant plane can make RANSAC's tensor a
+     * plane-induced one, which the calibrated start (b) below recovers
+     * from; the support of the metric result is judged at the end */
+    int cnt = sfmi_ransac_trifocal(w.ideal[0], w.ideal[1], w.ideal[2], n, opt, T, P, w.mask, &rs,
+                                   w.ransac_ws, w.ransac_size, 0);
+    if (cnt == SFM_E_NO_CONVERGENCE || cnt == SFM_E_DEGENERATE) {
+        /* no tensor, or none determined: when a rotation alone explains
+         * views 1 and 2 the cause is the missing baseline, reported as such
+         * (the minimal samples of views related by one homography are all
+         * degenerate) */
+        sfm_camera pc1 = *cams[0], pc2 = *cams[1];
+        pc1.model = pc2.model = SFM_CAMERA_PINHOLE;
+        sfm_pose p;
+        sfm_ransac_stats s;
+        if (sfm_ransac_relpose(w.ideal[0], w.ideal[1], n, &pc1, &pc2, opt, &p, NULL, NULL, &s,
+                               w.rel_ws, w.rel_size) > 0 &&
+            (s.flags & SFM_RANSAC_FLAG_PURE_ROTATION))
+            return SFM_E_SINGULAR;
+    }
     if (cnt < 0)
         return cnt;
 
@@ -333,6 +352,14 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
      * it every translation are unobservable. */
     if (n12 > 0 && (s12.flags & SFM_RANSAC_FLAG_PURE_ROTATION))
         return SFM_E_SINGULAR;
+    /* the pair that fixes the scale gauge has a support that determines no
+     * pose (one cluster, a line): nor do the three views */
+    if (n12 == SFM_E_DEGENERATE)
+        return SFM_E_DEGENERATE;
+    /* the (1, 2) pair's support checks: translation direction undetermined
+     * (low parallax), or a dominant plane (the pose may be its twin) */
+    const int pair_flags = n12 > 0 ? s12.flags & (SFM_RANSAC_FLAG_LOW_PARALLAX |
+                                                  SFM_RANSAC_FLAG_PLANAR) : 0;
     if (n12 > 0 && sfm_ransac_relpose(w.ideal[0], w.ideal[2], n, &pin[0], &pin[2], &ro, &p13, NULL,
                                       w.m13, NULL, w.rel_ws, w.rel_size) > 0) {
         int mb = 0;
@@ -351,6 +378,9 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
 
     /* Final inliers under the chosen metric cameras, and one more polish. */
     int cnt2 = metric_inliers(&w, cams, n, tau, best, 1);
+    if (!sfmi_above_chance(n, SFM_TRIFOCAL_MIN_POINTS, cnt2,
+                           sfmi_trifocal_chance(w.ideal[1], w.ideal[2], n, tau)))
+        return SFM_E_NO_MODEL;
     m = gather(&w, cams, n, cnt2);
     memcpy(cand, best, sizeof cand);
     if (polish(&w, cams, m, cand, &cost) == SFM_OK)
@@ -364,6 +394,7 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
          * the metric cameras returned, as in the mask and the return value. */
         *stats = rs;
         stats->num_inliers = cnt;
+        stats->flags |= pair_flags;
     }
     return cnt;
 }

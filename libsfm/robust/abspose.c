@@ -11,6 +11,8 @@
 #include "robust/epipolar.h"
 #include "robust/estimator.h"
 #include "robust/reproj_lm.h"
+#include "robust/support_check.h"
+#include "robust/support_pose.h"
 #include "sfm/sfm_pose.h"
 #include "sfm/sfm_ransac.h"
 
@@ -53,9 +55,42 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     return sfm_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
 }
 
-static void layout(sfm_arena *a, int n, size_t es, double **b, void **eng)
+/* The support checks of sfm_ransac.h on the inliers of model (tau: the
+ * normalised threshold, f: the focal length in pixels). */
+static int support(const abs_ctx *c, const double *px, int n, const double *m, double tau,
+                   double f, int *idx, double *cov6)
+{
+    const double tau2 = tau * tau;
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        if (residual((void *)c, m, i) < tau2)
+            idx[k++] = i;
+    double diag;
+    double area = sfmi_bbox_area(px, 2, n, &diag);
+    if (!sfmi_above_chance(n, 3, k, sfmi_chance_disc(area, tau * f)))
+        return SFM_E_NO_MODEL;
+    double lo, hi;
+    sfmi_spread(px, 2, idx, k, &lo, &hi);
+    if (sfmi_spread_collinear(lo, hi, tau * f) || hi < SFMI_CLUSTER_ANGLE * f)
+        return SFM_E_DEGENERATE;
+    double JtJ[36], G[36], ssr, depth;
+    sfmi_abspose_normal(c->b, c->X, idx, k, m, m + 9, JtJ, G, &ssr, &depth);
+    double s2 = k > 6 ? ssr / (2 * k - 6) : ssr;
+    double s2_test = s2 > tau2 / 9.0 ? s2 : tau2 / 9.0;
+    double cov_test[36];
+    if (sfmi_pose_covariance(JtJ, 6, G, s2_test, cov_test) < 0)
+        return SFM_E_DEGENERATE;
+    if (sfmi_block_sd(cov_test, 0) > SFMI_ROT_SD_MAX ||
+        !(sfmi_block_sd(cov_test, 3) <= SFMI_TREL_SD_MAX * depth))
+        return SFM_E_DEGENERATE;
+    sfmi_pose_covariance(JtJ, 6, G, s2, cov6);
+    return SFM_OK;
+}
+
+static void layout(sfm_arena *a, int n, size_t es, double **b, int **idx, void **eng)
 {
     *b = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
+    *idx = SFM_ARENA_ARRAY(a, int, n);
     *eng = sfm_arena_alloc(a, es);
 }
 
@@ -70,9 +105,10 @@ size_t sfm_ransac_abspose_workspace_size(int n)
         return 0;
     sfm_arena a;
     double *b;
+    int *idx;
     void *eng;
     sfm_arena_measure(&a);
-    layout(&a, n, engine_size(n), &b, &eng);
+    layout(&a, n, engine_size(n), &b, &idx, &eng);
     return sfm_arena_required(&a);
 }
 
@@ -98,10 +134,11 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
         return SFM_E_WORKSPACE;
     sfm_arena a;
     double *b;
+    int *idx;
     void *eng;
     size_t es = engine_size(n);
     sfm_arena_init(&a, ws, ws_size);
-    layout(&a, n, es, &b, &eng);
+    layout(&a, n, es, &b, &idx, &eng);
     if (!sfm_arena_ok(&a))
         return SFM_E_WORKSPACE;
     st = sfm_camera_unproject_many(cam, px, n, b);
@@ -116,14 +153,32 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
                                 residual, refine, NULL, NULL, &c, NULL};
     double model[SFM_RANSAC_ABSPOSE_MODEL];
     sfm_ransac_stats s;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, &s, eng, es);
+    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &s, eng, es);
+    if (ni == SFM_E_NO_CONVERGENCE) {
+        /* P3P has no solution for points on one line (their image is a
+         * line): name the degeneracy rather than the symptom */
+        double lo, hi;
+        sfmi_spread(px, 2, NULL, n, &lo, &hi);
+        if (sfmi_spread_collinear(lo, hi, eopt.threshold * f))
+            return SFM_E_DEGENERATE;
+    }
     if (ni < 0)
         return ni;
+    double cov6[36];
+    st = support(&c, px, n, model, eopt.threshold, f, idx, cov6);
+    if (st < 0)
+        return st;
+    /* outputs from here on: nothing can fail any more */
     memcpy(pose->R, model, 9 * sizeof(double));
     memcpy(pose->t, model + 9, 3 * sizeof(double));
+    if (inlier_mask != NULL)
+        for (int i = 0; i < n; i++)
+            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < eopt.threshold * eopt.threshold);
     if (stats != NULL) {
         *stats = s;
         stats->score = s.score * f * f;
+        stats->cov_dim = 6;
+        memcpy(stats->covariance, cov6, sizeof cov6);
     }
     return ni;
 }

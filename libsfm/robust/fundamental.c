@@ -35,6 +35,7 @@
 #include "robust/estimator.h"
 #include "robust/fundamental_lm.h"
 #include "robust/pixel_pairs.h"
+#include "robust/support_check.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
@@ -321,9 +322,26 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
                                 refine, NULL, fix_best, &c, NULL};
     double model[FMODEL];
     sfm_ransac_stats s;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, &s, pp.eng, pp.eng_size);
+    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &s, pp.eng, pp.eng_size);
     if (ni < 0)
         return ni;
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (residual(&c, model, i) < c.tau2)
+            pp.idx[m++] = i;
+    /* a random pair is an inlier when it lands in a band of about
+     * 2 sqrt(2) tau across image 2 (the Sampson error splits the distance
+     * to the epipolar line over both images) */
+    double diag, area = sfmi_bbox_area(pp.p2, 2, n, &diag);
+    st = sfm_pixel_pairs_support(&pp, n, 7, m,
+                                 sfmi_chance_band(area, diag, 2.8284271247461903 * c.tau), 0,
+                                 c.tau);
+    if (st < 0)
+        return st;
+    /* outputs from here on: nothing can fail any more */
+    if (inlier_mask != NULL)
+        for (int i = 0; i < n; i++)
+            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < c.tau2);
     memcpy(F, model, 9 * sizeof(double));
     if (stats != NULL) {
         sfm_rng rng;

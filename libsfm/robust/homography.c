@@ -17,6 +17,7 @@
 #include "robust/estimator.h"
 #include "robust/homography_lm.h"
 #include "robust/pixel_pairs.h"
+#include "robust/support_check.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 
@@ -118,9 +119,31 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     sfm_ransac_estimator est = {4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, solve4,
                                 residual, refine, NULL, NULL, &c, NULL};
     double model[HMODEL];
-    int ni = sfm_ransac_run(&est, n, &eopt, model, inlier_mask, stats, pp.eng, pp.eng_size);
+    sfm_ransac_stats rs;
+    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &rs, pp.eng, pp.eng_size);
     if (ni < 0)
         return ni;
+    const double tau2 = eopt.threshold * eopt.threshold;
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (residual(&c, model, i) < tau2)
+            pp.idx[m++] = i;
+    /* a random pair is an inlier when it lands within about sqrt(2) tau of
+     * the transfer (the Sampson error splits the distance over both images) */
+    double diag, area = sfmi_bbox_area(pp.p2, 2, n, &diag);
+    st = sfm_pixel_pairs_support(&pp, n, 4, m,
+                                 sfmi_chance_disc(area, 1.4142135623730951 * eopt.threshold), 1,
+                                 eopt.threshold);
+    if (st < 0)
+        return st;
+    /* outputs from here on: nothing can fail any more */
     memcpy(H, model, 9 * sizeof(double));
+    if (inlier_mask != NULL)
+        for (int i = 0; i < n; i++)
+            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < tau2);
+    if (stats != NULL) {
+        *stats = rs;
+        stats->cov_dim = 0;
+    }
     return ni;
 }

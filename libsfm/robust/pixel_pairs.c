@@ -6,6 +6,7 @@
 
 #include "core/linalg_util.h"
 #include "robust/estimator.h"
+#include "robust/support_check.h"
 
 static void layout(sfm_arena *a, int n, size_t es, pixel_pairs *pp)
 {
@@ -93,4 +94,33 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
     if (st < 0)
         return st;
     return ideal(cam2, px2, n, pp->p2);
+}
+
+int sfm_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
+                            double tau)
+{
+    if (!sfmi_above_chance(n, k, m, p))
+        return SFM_E_NO_MODEL;
+    sfm_robust_gather(pp->p1, 2, pp->idx, m, pp->g1);
+    sfm_robust_gather(pp->p2, 2, pp->idx, m, pp->g2);
+    const double *img[2] = {pp->p1, pp->p2}, *sup[2] = {pp->g1, pp->g2};
+    /* a plane seen edge-on in one image still determines the (singular)
+     * homography onto that line, so H needs a line in both images; F,
+     * whose points on one image line lie on one plane through that camera
+     * centre, is undetermined by a line in either */
+    int lines = 0;
+    for (int v = 0; v < 2; v++) {
+        double diag, lo, hi;
+        sfmi_bbox_area(img[v], 2, n, &diag);
+        sfmi_spread(sup[v], 2, NULL, m, &lo, &hi);
+        lines += sfmi_spread_collinear(lo, hi, tau);
+        if (hi < SFMI_CLUSTER_RATIO * diag)
+            return SFM_E_DEGENERATE;
+    }
+    if (lines >= (homography ? 2 : 1))
+        return SFM_E_DEGENERATE;
+    int st = sfmi_pairs_design_degenerate(pp->g1, pp->g2, m, homography, tau);
+    if (st < 0)
+        return st;
+    return st ? SFM_E_DEGENERATE : SFM_OK;
 }

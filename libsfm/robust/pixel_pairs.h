@@ -23,4 +23,13 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
                           int max_models, int model_size, void *ws, size_t ws_size,
                           pixel_pairs *pp, sfm_ransac_options *eopt);
 
+/* The support checks of sfm_ransac.h on the inliers pp->idx[0..m) of a
+ * model of sample size k over n pairs: chance (p: the probability that a
+ * random pair lands in the model's inlier band), spread in each image
+ * (collinear, clustered against the input box) and the design test
+ * (homography or fundamental rows). Overwrites pp->g1, pp->g2. Returns
+ * SFM_OK, SFM_E_NO_MODEL or SFM_E_DEGENERATE. */
+int sfm_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
+                            double tau);
+
 #endif

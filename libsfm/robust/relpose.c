@@ -27,9 +27,10 @@ static int solve5(void *ctx, const int *s, double *models)
     for (int k = 0; k < ns; k++) {
         if (!sfm_oriented_epipolar(E[k].m, x1, x2, 5))
             continue;
-        double *m = models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL;
-        memcpy(m + TV_E, E[k].m, sizeof E[k].m);
-        memset(m + TV_R, 0, 13 * sizeof(double));
+        twoview_model m;
+        memset(&m, 0, sizeof m);
+        memcpy(m.E, E[k].m, sizeof E[k].m);
+        memcpy(models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL, &m, sizeof m);
         kept++;
     }
     return kept;
@@ -47,14 +48,14 @@ int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_ca
 {
     if (pose == NULL)
         return SFM_E_ARGUMENT;
+    twoview_call call = {px1, px2, n, cam1, cam2, opt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, solve5,
+                         ws, ws_size, pose, E, inlier_mask, stats};
     twoview_ws w;
     sfm_ransac_options eopt;
     double focal;
-    int st = sfm_twoview_setup(px1, px2, n, cam1, cam2, opt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, ws,
-                               ws_size, &w, &eopt, &focal);
+    int st = sfm_twoview_setup(&call, &w, &eopt, &focal);
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, NULL, NULL, eopt.threshold};
-    return sfm_twoview_run(&c, &w, &eopt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, solve5, focal, pose,
-                           E, inlier_mask, stats);
+    return sfm_twoview_run(&call, &c, &w, &eopt, focal);
 }

@@ -23,10 +23,10 @@ static int solve3(void *ctx, const int *s, double *models)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     int kept = 0;
     for (int k = 0; k < ns; k++) {
-        double *m = models + (size_t)kept * SFM_RANSAC_RELPOSE_MODEL;
-        sfm_twoview_set_pose(m, P[k].R, P[k].t);
-        if (sfm_oriented_epipolar(m + TV_E, x1, x2, 3))
-            kept++;
+        twoview_model m;
+        sfm_twoview_set_pose(&m, P[k].R, P[k].t);
+        if (sfm_oriented_epipolar(m.E, x1, x2, 3))
+            memcpy(models + (size_t)kept++ * SFM_RANSAC_RELPOSE_MODEL, &m, sizeof m);
     }
     return kept;
 }
@@ -64,14 +64,14 @@ int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
     st = unit(d2, u2);
     if (st < 0)
         return st;
+    twoview_call call = {px1, px2, n, cam1, cam2, opt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, solve3,
+                         ws, ws_size, pose, E, inlier_mask, stats};
     twoview_ws w;
     sfm_ransac_options eopt;
     double focal;
-    st = sfm_twoview_setup(px1, px2, n, cam1, cam2, opt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, ws,
-                           ws_size, &w, &eopt, &focal);
+    st = sfm_twoview_setup(&call, &w, &eopt, &focal);
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, u1, u2, eopt.threshold};
-    return sfm_twoview_run(&c, &w, &eopt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, solve3, focal, pose,
-                           E, inlier_mask, stats);
+    return sfm_twoview_run(&call, &c, &w, &eopt, focal);
 }

@@ -9,7 +9,13 @@
 
 #include "core/linalg_util.h"
 #include "core/arena.h"
+#include "robust/estimator.h"
+#include "robust/support_check.h"
+#include "robust/trifocal_ransac.h"
 #include "robust/trifocal_refine.h"
+#include "sfm/sfm_linalg.h"
+#include "sfm/sfm_rotation.h"
+#include "solvers/normalize.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_trifocal.h"
 
@@ -22,7 +28,18 @@ typedef struct tf_ctx {
     sfm_tf_refine_ws refine;
 } tf_ctx;
 
+/* Scratch of the final support checks. */
+typedef struct tf_support_ws {
+    int *idx;        /* n */
+    double *g;       /* 3 x 2n: the inliers of each view, gathered */
+    double *AtA, *V; /* 27 x 27 */
+    double *w;       /* 27 */
+    void *eig;
+    size_t eig_size;
+} tf_support_ws;
+
 typedef struct tf_layout_out {
+    tf_support_ws sup;
     void *ransac_ws;
     size_t ransac_size;
     void *solver_ws;
@@ -38,6 +55,13 @@ static void layout(sfm_arena *a, int n, tf_layout_out *o)
     o->solver_size = sfm_trifocal_7pt_workspace_size();
     o->solver_ws = sfm_arena_alloc(a, o->solver_size);
     sfm_tf_refine_layout(a, n, &o->refine);
+    o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
+    o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
+    o->sup.AtA = SFM_ARENA_ARRAY(a, double, 27 * 27);
+    o->sup.V = SFM_ARENA_ARRAY(a, double, 27 * 27);
+    o->sup.w = SFM_ARENA_ARRAY(a, double, 27);
+    o->sup.eig_size = sfm_sym_eig_workspace_size(27);
+    o->sup.eig = sfm_arena_alloc(a, o->sup.eig_size);
 }
 
 size_t sfm_ransac_trifocal_workspace_size(int n)
@@ -104,9 +128,98 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
     return 0;
 }
 
+/* The design test of support_check.h on the trifocal point constraints
+ * (the rows of sfm_trifocal_7pt: four per triplet, s, t in {0, 1}:
+ * sum x^i [x']x[s][q] [x'']x[r][t] T_i^{qr}), Hartley-normalised per view. */
+static int tf_design_degenerate(tf_support_ws *w, int m, double tau)
+{
+    double h[3][3];
+    double *g[3] = {w->g, w->g + 2 * (size_t)m, w->g + 4 * (size_t)m};
+    for (int v = 0; v < 3; v++)
+        if (sfm__hartley_2d(g[v], m, h[v]) != 0)
+            return 1;
+    memset(w->AtA, 0, 27 * 27 * sizeof(double));
+    for (int j = 0; j < m; j++) {
+        double x[3][3];
+        for (int v = 0; v < 3; v++) {
+            x[v][0] = h[v][0] * g[v][2 * j] + h[v][1];
+            x[v][1] = h[v][0] * g[v][2 * j + 1] + h[v][2];
+            x[v][2] = 1.0;
+        }
+        double S2[9], S3[9];
+        sfm_skew(x[1], S2);
+        sfm_skew(x[2], S3);
+        for (int sr = 0; sr < 2; sr++)
+            for (int tc = 0; tc < 2; tc++) {
+                double row[27];
+                for (int i = 0; i < 3; i++)
+                    for (int q = 0; q < 3; q++)
+                        for (int r = 0; r < 3; r++)
+                            row[9 * i + 3 * q + r] = x[0][i] * S2[3 * sr + q] * S3[3 * r + tc];
+                for (int a = 0; a < 27; a++)
+                    for (int b = 0; b <= a; b++)
+                        w->AtA[27 * a + b] += row[a] * row[b];
+            }
+    }
+    const double s = (h[0][0] + h[1][0] + h[2][0]) / 3.0 * tau / 3.0;
+    return sfmi_design_degenerate(w->AtA, 27, 4 * m, s * s, w->V, w->w, w->eig, w->eig_size,
+                                  NULL);
+}
+
+double sfmi_trifocal_chance(const double *x2, const double *x3, int n, double tau)
+{
+    /* a random triplet is an inlier when its view-2 point lands in an
+     * epipolar band and its view-3 point in a disc, each about sqrt(3) tau
+     * (the threshold bounds the mean over three views) */
+    double d2, d3;
+    double a2 = sfmi_bbox_area(x2, 2, n, &d2), a3 = sfmi_bbox_area(x3, 2, n, &d3);
+    return sfmi_chance_band(a2, d2, 2.0 * 1.7320508075688772 * tau) *
+           sfmi_chance_disc(a3, 1.7320508075688772 * tau);
+}
+
+/* The support checks of sfm_ransac.h on the inliers of model. */
+static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, double tau,
+                      int checks)
+{
+    const double tau2 = tau * tau;
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (tf_residual(c, model, i) < tau2)
+            w->idx[m++] = i;
+    const double *x[3] = {c->x1, c->x2, c->x3};
+    double diag[3];
+    for (int v = 0; v < 3; v++)
+        sfmi_bbox_area(x[v], 2, n, &diag[v]);
+    double p = sfmi_trifocal_chance(c->x2, c->x3, n, tau);
+    if ((checks & SFMI_TF_CHECK_CHANCE) && !sfmi_above_chance(n, SAMPLE, m, p))
+        return SFM_E_NO_MODEL;
+    for (int v = 0; v < 3; v++) {
+        double *g = w->g + 2 * (size_t)m * v, lo, hi;
+        sfm_robust_gather(x[v], 2, w->idx, m, g);
+        sfmi_spread(g, 2, NULL, m, &lo, &hi);
+        if (sfmi_spread_collinear(lo, hi, tau) || hi < SFMI_CLUSTER_RATIO * diag[v])
+            return SFM_E_DEGENERATE;
+    }
+    if (!(checks & SFMI_TF_CHECK_DESIGN))
+        return SFM_OK;
+    int st = tf_design_degenerate(w, m, tau);
+    if (st < 0)
+        return st;
+    return st ? SFM_E_DEGENERATE : SFM_OK;
+}
+
 int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
                         const sfm_ransac_options *opt, double T[27], double *P,
                         uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
+{
+    return sfmi_ransac_trifocal(x1, x2, x3, n, opt, T, P, inlier_mask, stats, ws, ws_size,
+                                SFMI_TF_CHECK_CHANCE | SFMI_TF_CHECK_DESIGN);
+}
+
+int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
+                         const sfm_ransac_options *opt, double T[27], double *P,
+                         uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size,
+                         int checks)
 {
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL || n < SAMPLE ||
         n > SFM_RANSAC_MAX_POINTS)
@@ -127,9 +240,19 @@ int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, in
     tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine};
     sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};
     double model[MODEL];
-    int cnt = sfm_ransac_run(&est, n, &o, model, inlier_mask, stats, lay.ransac_ws, lay.ransac_size);
+    sfm_ransac_stats rs;
+    int cnt = sfm_ransac_run(&est, n, &o, model, NULL, &rs, lay.ransac_ws, lay.ransac_size);
     if (cnt < 0)
         return cnt;
+    int st = tf_support(&ctx, &lay.sup, n, model, o.threshold, checks);
+    if (st < 0)
+        return st;
+    /* outputs from here on: nothing can fail any more */
+    if (inlier_mask != NULL)
+        for (int i = 0; i < n; i++)
+            inlier_mask[i] = (uint8_t)(tf_residual(&ctx, model, i) < o.threshold * o.threshold);
+    if (stats != NULL)
+        *stats = rs;
     memcpy(T, model, 27 * sizeof(double));
     if (P != NULL) {
         memcpy(P, P1, sizeof P1);

@@ -9,6 +9,8 @@
 #include "robust/estimator.h"
 #include "robust/epipolar.h"
 #include "robust/sampson_lm.h"
+#include "robust/support_check.h"
+#include "robust/support_pose.h"
 #include "robust/twoview_degeneracy.h"
 #include "solvers/normalize.h"
 
@@ -43,16 +45,19 @@ size_t sfm_twoview_workspace_size(int n, int sample, int max_models)
     return sfm_arena_required(&a);
 }
 
-int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
-                      const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
-                      int max_models, void *ws, size_t ws_size, twoview_ws *w,
-                      sfm_ransac_options *eopt, double *focal)
+int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_options *eopt,
+                      double *focal)
 {
+    const double *px1 = call->px1, *px2 = call->px2;
+    const sfm_camera *cam1 = call->cam1, *cam2 = call->cam2;
+    const int n = call->n, sample = call->sample, max_models = call->max_models;
+    void *ws = call->ws;
+    const size_t ws_size = call->ws_size;
     if (px1 == NULL || px2 == NULL || cam1 == NULL || cam2 == NULL || ws == NULL)
         return SFM_E_ARGUMENT;
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    int st = sfm_robust_options(opt, eopt);
+    int st = sfm_robust_options(call->opt, eopt);
     if (st < 0)
         return st;
     st = sfm_camera_validate(cam1);
@@ -90,16 +95,18 @@ int sfm_twoview_setup(const double *px1, const double *px2, int n, const sfm_cam
 double sfm_twoview_residual(void *ctx, const double *model, int i)
 {
     const twoview_ctx *c = ctx;
-    return sfm_sampson_bearing2(model + TV_E, c->b1 + 3 * i, c->b2 + 3 * i);
+    const twoview_model *m = (const twoview_model *)model;
+    return sfm_sampson_bearing2(m->E, c->b1 + 3 * i, c->b2 + 3 * i);
 }
 
-void sfm_twoview_set_pose(double *model, const double R[9], const double t[3])
+void sfm_twoview_set_pose(twoview_model *m, const double R[9], const double t[3])
 {
-    sfm_essential_from_pose(R, t, model + TV_E);
-    sfm__normalize9(model + TV_E);
-    memmove(model + TV_R, R, 9 * sizeof(double));
-    memmove(model + TV_T, t, 3 * sizeof(double));
-    model[TV_VALID] = 1.0;
+    sfm_essential_from_pose(R, t, m->E);
+    sfm__normalize9(m->E);
+    memmove(m->R, R, 9 * sizeof(double));
+    memmove(m->t, t, 3 * sizeof(double));
+    m->pose_valid = 1;
+    m->unused = 0;
 }
 
 /* Upright: keep R, pick the sign of t with most points in front. */
@@ -127,13 +134,14 @@ void sfm_twoview_set_scale(void *ctx, double scale)
 int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model)
 {
     const twoview_ctx *c = ctx;
+    twoview_model *m = (twoview_model *)model;
     double R[9], t[3];
-    if (model[TV_VALID] == 0.0) {
-        if (sfm_robust_pose_from_essential(model + TV_E, c->b1, c->b2, inliers, n_inliers, R, t) < 0)
+    if (!m->pose_valid) {
+        if (sfm_robust_pose_from_essential(m->E, c->b1, c->b2, inliers, n_inliers, R, t) < 0)
             return -1;
     } else {
-        memcpy(R, model + TV_R, sizeof R);
-        memcpy(t, model + TV_T, sizeof t);
+        memcpy(R, m->R, sizeof R);
+        memcpy(t, m->t, sizeof t);
         if (c->d2 != NULL)
             upright_sign(c, inliers, n_inliers, R, t);
     }
@@ -141,67 +149,155 @@ int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *mod
                                    SFM_TWOVIEW_LM_STEPS, R, t);
     if (st < 0)
         return -1;
-    sfm_twoview_set_pose(model, R, t);
+    sfm_twoview_set_pose(m, R, t);
     return 0;
 }
 
-int sfm_twoview_finish(const twoview_ctx *c, twoview_ws *w, const double *model, double tau,
-                       double focal, int upright, int n_inl, const sfm_ransac_stats *est,
-                       sfm_pose *pose, double E[9], uint8_t *mask, sfm_ransac_stats *stats)
+/* z = 1 projections of all bearings scaled by the focal length (pixels of
+ * an ideal camera); a bearing at or behind the image plane gets a far
+ * sentinel the box and the spread tests skip. */
+static void ideal_pixels(const double *b, int n, double f, double *p)
+{
+    for (int i = 0; i < n; i++) {
+        const double *x = b + 3 * i;
+        if (x[2] > 1e-3) {
+            p[2 * i] = f * x[0] / x[2];
+            p[2 * i + 1] = f * x[1] / x[2];
+        } else {
+            p[2 * i] = 1e9;
+            p[2 * i + 1] = 1e9;
+        }
+    }
+}
+
+/* Inliers of idx[0..m) in front of both image planes, compacted into sel. */
+static int in_view(const double *p1, const double *p2, const int *idx, int m, int *sel)
+{
+    int k = 0;
+    for (int j = 0; j < m; j++)
+        if (p1[2 * idx[j]] < 1e8 && p2[2 * idx[j]] < 1e8)
+            sel[k++] = idx[j];
+    return k;
+}
+
+/* The support checks of sfm_ransac.h on the inliers idx[0..m) of (R, t):
+ * SFM_OK with *flags updated (LOW_PARALLAX) and cov6 filled, or
+ * SFM_E_NO_MODEL / SFM_E_DEGENERATE. tau: angular threshold. */
+static int support(const twoview_ctx *c, twoview_ws *w, int sample, int m, const double *R,
+                   const double *t, double tau, double focal, int *flags, double *cov6)
+{
+    const double tau_px = tau * focal;
+    ideal_pixels(c->b1, c->n, focal, w->p1);
+    ideal_pixels(c->b2, c->n, focal, w->p2);
+    double diag;
+    double area = sfmi_bbox_area(w->p2, 2, c->n, &diag);
+    if (!sfmi_above_chance(c->n, sample, m, sfmi_chance_band(area, diag, 2.0 * 1.4142135623730951 * tau_px)))
+        return SFM_E_NO_MODEL;
+    int k = in_view(w->p1, w->p2, w->idx, m, w->sel);
+    if (k >= sample) {
+        double lo1, hi1, lo2, hi2;
+        sfmi_spread(w->p1, 2, w->sel, k, &lo1, &hi1);
+        sfmi_spread(w->p2, 2, w->sel, k, &lo2, &hi2);
+        if (sfmi_spread_collinear(lo1, hi1, tau_px) || sfmi_spread_collinear(lo2, hi2, tau_px))
+            return SFM_E_DEGENERATE;
+        if (hi1 < SFMI_CLUSTER_ANGLE * focal || hi2 < SFMI_CLUSTER_ANGLE * focal)
+            return SFM_E_DEGENERATE;
+    }
+    double JtJ[25], G[30], ssr;
+    const double *axis = c->d2;
+    int np = sfmi_relpose_normal(c->b1, c->b2, w->idx, m, R, t, axis, JtJ, G, &ssr);
+    const int nr = axis ? 1 : 3;
+    double s2 = m > np ? ssr / (m - np) : ssr;
+    double s2_test = s2 > tau * tau / 9.0 ? s2 : tau * tau / 9.0;
+    double cov_test[36];
+    if (sfmi_pose_covariance(JtJ, np, G, s2_test, cov_test) < 0) {
+        /* t undetermined (no parallax): R alone, t held fixed */
+        double Gr[18], Jr[9];
+        for (int r = 0; r < 6; r++)
+            for (int q = 0; q < nr; q++)
+                Gr[r * nr + q] = G[r * np + q];
+        for (int p = 0; p < nr; p++)
+            for (int q = 0; q < nr; q++)
+                Jr[p * nr + q] = JtJ[p * np + q];
+        if (sfmi_pose_covariance(Jr, nr, Gr, s2_test, cov_test) < 0)
+            return SFM_E_DEGENERATE;
+        for (int r = 3; r < 6; r++)
+            cov_test[7 * r] = 1e30;
+        sfmi_pose_covariance(Jr, nr, Gr, s2, cov6);
+        for (int r = 3; r < 6; r++)
+            cov6[7 * r] = 1e30;
+    } else {
+        sfmi_pose_covariance(JtJ, np, G, s2, cov6);
+    }
+    if (sfmi_block_sd(cov_test, 0) > SFMI_ROT_SD_MAX)
+        return SFM_E_DEGENERATE;
+    if (sfmi_block_sd(cov_test, 3) > SFMI_TDIR_SD_MAX)
+        *flags |= SFM_RANSAC_FLAG_LOW_PARALLAX;
+    return SFM_OK;
+}
+
+static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
+                  const twoview_model *model, double tau, double focal, int n_inl,
+                  const sfm_ransac_stats *est)
 {
     const double tau2 = tau * tau;
+    const int upright = c->d2 != NULL;
     int m = 0;
     for (int i = 0; i < c->n; i++)
-        if (sfm_sampson_bearing2(model + TV_E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2)
+        if (sfm_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2)
             w->idx[m++] = i;
     double R[9], t[3];
     if (upright) {
-        memcpy(R, model + TV_R, sizeof R);
-        memcpy(t, model + TV_T, sizeof t);
+        memcpy(R, model->R, sizeof R);
+        memcpy(t, model->t, sizeof t);
         upright_sign(c, w->idx, m, R, t);
-    } else if (sfm_robust_pose_from_essential(model + TV_E, c->b1, c->b2, w->idx, m, R, t) < 0) {
+    } else if (sfm_robust_pose_from_essential(model->E, c->b1, c->b2, w->idx, m, R, t) < 0) {
         return SFM_E_NO_CONVERGENCE;
     }
     int flags = sfm_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
                                               w->p2, w->sel);
+    double cov6[36];
+    int st = support(c, w, call->sample, m, R, t, tau, focal, &flags, cov6);
+    if (st < 0)
+        return st;
     /* outputs from here on: nothing can fail any more */
-    memcpy(pose->R, R, sizeof R);
-    memcpy(pose->t, t, sizeof t);
-    if (E != NULL) {
-        sfm_essential_from_pose(R, t, E);
-        sfm__normalize9(E);
+    memcpy(call->pose->R, R, sizeof R);
+    memcpy(call->pose->t, t, sizeof t);
+    if (call->E != NULL) {
+        sfm_essential_from_pose(R, t, call->E);
+        sfm__normalize9(call->E);
     }
-    if (mask != NULL)
+    if (call->mask != NULL)
         for (int i = 0; i < c->n; i++)
-            mask[i] = (uint8_t)(sfm_sampson_bearing2(model + TV_E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2);
-    if (stats != NULL) {
-        *stats = *est;
-        stats->score = est->score * focal * focal;
-        stats->flags = flags;
+            call->mask[i] =
+                (uint8_t)(sfm_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2);
+    if (call->stats != NULL) {
+        *call->stats = *est;
+        call->stats->score = est->score * focal * focal;
+        call->stats->flags = flags;
+        call->stats->cov_dim = 6;
+        memcpy(call->stats->covariance, cov6, sizeof cov6);
     }
     return n_inl;
 }
 
-int sfm_twoview_run(twoview_ctx *c, twoview_ws *w, const sfm_ransac_options *eopt, int sample,
-                    int max_models, int (*solve)(void *ctx, const int *s, double *models),
-                    double focal, sfm_pose *pose, double E[9], uint8_t *mask,
-                    sfm_ransac_stats *stats)
+int sfm_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
+                    const sfm_ransac_options *eopt, double focal)
 {
-    sfm_ransac_estimator est = {sample,
-                                max_models,
+    sfm_ransac_estimator est = {call->sample,
+                                call->max_models,
                                 SFM_RANSAC_RELPOSE_MODEL,
-                                solve,
+                                call->solve,
                                 sfm_twoview_residual,
                                 sfm_twoview_refine,
                                 NULL,
                                 NULL,
                                 c,
                                 sfm_twoview_set_scale};
-    double model[SFM_RANSAC_RELPOSE_MODEL];
+    twoview_model model;
     sfm_ransac_stats es;
-    int ni = sfm_ransac_run(&est, c->n, eopt, model, NULL, &es, w->eng, w->eng_size);
+    int ni = sfm_ransac_run(&est, c->n, eopt, (double *)&model, NULL, &es, w->eng, w->eng_size);
     if (ni < 0)
         return ni;
-    return sfm_twoview_finish(c, w, model, eopt->threshold, focal, c->d2 != NULL, ni, &es, pose,
-                              E, mask, stats);
+    return finish(call, c, w, &model, eopt->threshold, focal, ni, &es);
 }

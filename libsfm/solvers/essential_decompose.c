@@ -135,8 +135,11 @@ int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2
         i0 = i1;
         i1 = tmp;
     }
-    /* rank below 2: no decomposition (sigma2^2 against sigma1^2) */
-    if (!(w[i1] > 1e-20 * w[i0]))
+    /* rank below 2: no decomposition (sigma2^2 against sigma1^2; the
+     * eigenvalues of E^T E carry an absolute error of a few eps of the
+     * largest, so a rank-1 E shows sigma2^2 near 1e-16, and the bound sits
+     * above that: sigma2 / sigma1 > 1e-7) */
+    if (!(w[i1] > 1e-14 * w[i0]))
         return 0;
     double v1[3] = {V[i0], V[3 + i0], V[6 + i0]}, v2[3] = {V[i1], V[3 + i1], V[6 + i1]}, v3[3];
     sfm_cross3(v1, v2, v3);

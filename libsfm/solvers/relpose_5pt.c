@@ -668,6 +668,28 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         return SFM_E_ARGUMENT;
     if (!sfm_la_all_finite(x1, 15) || !sfm_la_all_finite(x2, 15))
         return SFM_E_NONFINITE;
+    /* only directions matter: unit bearings, scaled by a power of two
+     * first so that lengths near 1e+-150 neither overflow nor underflow */
+    double u1[15], u2[15];
+    for (int i = 0; i < 10; i++) {
+        const double *src = i < 5 ? &x1[3 * i] : &x2[3 * (i - 5)];
+        double *dst = i < 5 ? &u1[3 * i] : &u2[3 * (i - 5)];
+        double m = fmax(fabs(src[0]), fmax(fabs(src[1]), fabs(src[2])));
+        if (!(m > 0.0))
+            return 0; /* a zero bearing: no direction */
+        int e;
+        frexp(m, &e);
+        double l = 0.0;
+        for (int k = 0; k < 3; k++) {
+            dst[k] = ldexp(src[k], -e);
+            l += dst[k] * dst[k];
+        }
+        l = sqrt(l);
+        for (int k = 0; k < 3; k++)
+            dst[k] /= l;
+    }
+    x1 = u1;
+    x2 = u2;
 
     /* 1. Null space. */
     double A[45], N[36];

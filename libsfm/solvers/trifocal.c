@@ -51,6 +51,36 @@ int sfm_trifocal_normalize(double *v, int n)
     return SFM_OK;
 }
 
+/* det of the 3x3 matrix of columns a, b, c of the 3x4 P. */
+static double det3_cols(const double *P, int a, int b, int c)
+{
+    return P[a] * (P[4 + b] * P[8 + c] - P[8 + b] * P[4 + c]) -
+           P[b] * (P[4 + a] * P[8 + c] - P[8 + a] * P[4 + c]) +
+           P[c] * (P[4 + a] * P[8 + b] - P[8 + a] * P[4 + b]);
+}
+
+/* Unit homogeneous centre of a camera (its null vector, by cofactors);
+ * 0 when P has rank below 3. */
+static int centre(const double *P, double C[4])
+{
+    C[0] = det3_cols(P, 1, 2, 3);
+    C[1] = -det3_cols(P, 0, 2, 3);
+    C[2] = det3_cols(P, 0, 1, 3);
+    C[3] = -det3_cols(P, 0, 1, 2);
+    return sfm_trifocal_normalize(C, 4) == SFM_OK;
+}
+
+/* Two unit 4-vectors equal up to sign, to 1e-10 (coincident centres). */
+static int same_point(const double *a, const double *b)
+{
+    double dp = 0, dm = 0;
+    for (int k = 0; k < 4; k++) {
+        dp += (a[k] - b[k]) * (a[k] - b[k]);
+        dm += (a[k] + b[k]) * (a[k] + b[k]);
+    }
+    return (dp < dm ? dp : dm) < 1e-20;
+}
+
 int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const double P3[12],
                               double T[27])
 {
@@ -58,6 +88,12 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
         return SFM_E_ARGUMENT;
     if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12) || !sfm_la_all_finite(P3, 12))
         return SFM_E_NONFINITE;
+    /* the tensor of cameras with coincident centres is not zero but
+     * carries no three-view geometry (H&Z 15.1: the centres must differ) */
+    double C1[4], C2[4], C3[4];
+    if (!centre(P1, C1) || !centre(P2, C2) || !centre(P3, C3) || same_point(C1, C2) ||
+        same_point(C1, C3) || same_point(C2, C3))
+        return SFM_E_SINGULAR;
     double out[27];
     for (int i = 0; i < 3; i++) {
         /* ~a^i: P1 without row i; the sign (-1)^(i+1) in 1-based indexing. */
@@ -111,6 +147,11 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
         return SFM_E_ARGUMENT;
     if (!sfm_la_all_finite(T, 27))
         return SFM_E_NONFINITE;
+    double tn = 0;
+    for (int k = 0; k < 27; k++)
+        tn += T[k] * T[k];
+    if (!(tn > 1e-300)) /* the zero tensor has no epipoles */
+        return SFM_E_SINGULAR;
     double U[9], V[9], a[3], b[3];
     for (int i = 0; i < 3; i++) {
         /* u_i^T T_i = 0 and T_i v_i = 0; e' is orthogonal to every u_i, e''

@@ -20,6 +20,7 @@
 #include "core/tri_null.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
@@ -196,6 +197,51 @@ static int algebraic_step(tf_ws *w, double t[NU])
     return sfm_trifocal_normalize(t, NU);
 }
 
+/* Transfer error of x2 ~ H x1, squared. */
+static double transfer2(const double H[9], const double *a, const double *b)
+{
+    double w = H[6] * a[0] + H[7] * a[1] + H[8];
+    double u = (H[0] * a[0] + H[1] * a[1] + H[2]) / w - b[0];
+    double v = (H[3] * a[0] + H[4] * a[1] + H[5]) / w - b[1];
+    return u * u + v * v;
+}
+
+/* An exactly degenerate configuration: every point on one image line in a
+ * view (3D points on one line), or views 1 -> 2 and 1 -> 3 each related by
+ * one homography (3D points on one plane): the linear system then has more
+ * than one null vector and no tensor is determined. The test is to rounding
+ * (1e-9 of the points' spread); near-degenerate supports are what the
+ * robust estimators' support checks judge. H1, H2, H3: the views'
+ * normalisers (Hartley). */
+static int degenerate_points(const double *x1, const double *x2, const double *x3, int n,
+                             const double *H1, const double *H2, const double *H3)
+{
+    const double *x[3] = {x1, x2, x3}, *H[3] = {H1, H2, H3};
+    for (int v = 0; v < 3; v++) {
+        double sxx = 0, sxy = 0, syy = 0;
+        for (int p = 0; p < n; p++) {
+            double q[3];
+            apply(H[v], &x[v][2 * p], q);
+            sxx += q[0] * q[0];
+            sxy += q[0] * q[1];
+            syy += q[1] * q[1];
+        }
+        /* centred already; the smaller eigenvalue of the scatter per point */
+        double tr = 0.5 * (sxx + syy), d = sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+        if (!((tr - d) / n > 1e-18))
+            return 1;
+    }
+    sfm_mat3 G2, G3;
+    if (sfm_homography_4pt(x1, x2, &G2) != 1 || sfm_homography_4pt(x1, x3, &G3) != 1)
+        return 0; /* three of the first four collinear: no plane test, not needed */
+    const double s2 = 1.0 / (H2[0] * H2[0]), s3 = 1.0 / (H3[0] * H3[0]);
+    for (int p = 4; p < n; p++)
+        if (!(transfer2(G2.m, &x1[2 * p], &x2[2 * p]) < 1e-18 * s2) ||
+            !(transfer2(G3.m, &x1[2 * p], &x3[2 * p]) < 1e-18 * s3))
+            return 0;
+    return 1;
+}
+
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
                      void *ws, size_t ws_size)
 {
@@ -213,6 +259,8 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
 
     double H1[9], H2[9], H3[9];
     if (normalizer(x1, n, H1) < 0 || normalizer(x2, n, H2) < 0 || normalizer(x3, n, H3) < 0)
+        return SFM_E_SINGULAR;
+    if (degenerate_points(x1, x2, x3, n, H1, H2, H3))
         return SFM_E_SINGULAR;
 
     int rows = 0;

@@ -429,7 +429,13 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
         inl = sfm_ransac_relpose(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole, &o, &rel, E,
                                  vo->mask, &rs, vo->ransac_ws, vo->ransac_ws_size);
     if (inl < 0) {
-        if (inl == SFM_E_NO_CONVERGENCE || inl == SFM_E_SINGULAR)
+        /* The estimator's refusals are states of this frame, not errors:
+         * too little of a baseline yet (degenerate support), or matches no
+         * better than chance. */
+        if (inl == SFM_E_DEGENERATE)
+            r->state = SFM_VO_INSUFFICIENT_PARALLAX;
+        if (inl == SFM_E_NO_CONVERGENCE || inl == SFM_E_SINGULAR || inl == SFM_E_DEGENERATE ||
+            inl == SFM_E_NO_MODEL)
             return SFM_OK;
         return inl;
     }
@@ -438,6 +444,8 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
         r->state = SFM_VO_PURE_ROTATION;
         return SFM_OK;
     }
+    /* SFM_RANSAC_FLAG_LOW_PARALLAX is left to the parallax test below,
+     * which holds the first baseline to the pipeline's own bound. */
     /* Parallax of each inlier: angle between its two rays once the rotation
      * is taken out. */
     double *par = vo->m_a;
@@ -619,7 +627,8 @@ static int track(sfm_vo *vo, const double *gravity, int want_cov, double t0,
         sfm_ransac_stats rs;
         inl = sfm_ransac_abspose(vo->m_b, vo->m_a, nm, &vo->pinhole, &o, &pose, vo->mask, &rs,
                                  vo->ransac_ws, vo->ransac_ws_size);
-        if (inl < 0 && inl != SFM_E_NO_CONVERGENCE)
+        if (inl < 0 && inl != SFM_E_NO_CONVERGENCE && inl != SFM_E_DEGENERATE &&
+            inl != SFM_E_NO_MODEL)
             return inl;
         if (inl >= vo->p.min_inliers && inl >= vo->p.min_inlier_ratio * nm)
             break;
@@ -688,7 +697,8 @@ static int track(sfm_vo *vo, const double *gravity, int want_cov, double t0,
             r->degraded |= SFM_VO_DEGRADED_TRIFOCAL_SKIPPED;
         } else {
             int st = sfmi_vo_trifocal_check(vo);
-            if (st < 0 && st != SFM_E_NO_CONVERGENCE)
+            if (st < 0 && st != SFM_E_NO_CONVERGENCE && st != SFM_E_DEGENERATE &&
+                st != SFM_E_NO_MODEL && st != SFM_E_SINGULAR)
                 return st;
         }
     }

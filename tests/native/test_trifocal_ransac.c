@@ -53,8 +53,28 @@ typedef struct scene {
 
 static void make_scene(sfm_test_ctx *t, scene *s, double outlier_ratio, double sigma)
 {
-    for (int v = 0; v < 3; v++)
-        camera(t, s->P[v]);
+    /* distinct centres (at least 0.3 apart at depths 5 to 10): two nearly
+     * coincident ones leave the tensor undetermined, which the estimator
+     * rightly reports as SFM_E_DEGENERATE; this test is about outliers */
+    for (int again = 1; again;) {
+        double C[3][3];
+        for (int v = 0; v < 3; v++) {
+            camera(t, s->P[v]);
+            /* K^-1 P = [R | t], C = -R^T t (K = [600 0 320; 0 600 240; 0 0 1]) */
+            double Rt[12];
+            for (int c = 0; c < 4; c++) {
+                Rt[8 + c] = s->P[v][8 + c];
+                Rt[c] = (s->P[v][c] - 320 * Rt[8 + c]) / 600;
+                Rt[4 + c] = (s->P[v][4 + c] - 240 * Rt[8 + c]) / 600;
+            }
+            for (int k = 0; k < 3; k++)
+                C[v][k] = -(Rt[k] * Rt[3] + Rt[4 + k] * Rt[7] + Rt[8 + k] * Rt[11]);
+        }
+        again = 0;
+        for (int a = 0; a < 3; a++)
+            for (int b = a + 1; b < 3; b++)
+                again |= hypot(hypot(C[a][0] - C[b][0], C[a][1] - C[b][1]), C[a][2] - C[b][2]) < 0.3;
+    }
     int got = 0;
     while (got < N) {
         double X[3] = {sfm_test_uniform(t, -3, 3), sfm_test_uniform(t, -2, 2), sfm_test_uniform(t, 5, 10)};
