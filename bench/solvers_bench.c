@@ -171,7 +171,7 @@ static double dist_proj(const double *A, const double *B)
 enum { S_5PT, S_7PT, S_8PT, S_F8PT, S_H4PT, S_HDLT, S_COUNT };
 static const char *const NAMES[S_COUNT] = {"5pt", "7pt", "8pt", "f8pt", "h4pt", "hdlt"};
 static const char *const LABELS[S_COUNT] = {
-    "sfm_relpose_5pt", "sfm_relpose_7pt", "sfm_relpose_8pt (n=8)", "sfm_fundamental_8pt (n=8)",
+    "sfm_relpose_5pt", "sfm_fundamental_7pt", "sfm_relpose_8pt (n=8)", "sfm_fundamental_8pt (n=8)",
     "sfm_homography_4pt", "sfm_homography_dlt (n=20)"};
 
 /* One call of solver s on problem P; returns the count and whether the truth
@@ -180,7 +180,7 @@ static int call(int s, const problem *P, sfm_mat3 *out)
 {
     switch (s) {
     case S_5PT: return sfm_relpose_5pt(P->x1, P->x2, out);
-    case S_7PT: return sfm_relpose_7pt(P->p1, P->p2, out);
+    case S_7PT: return sfm_fundamental_7pt(P->p1, P->p2, out);
     case S_8PT: return sfm_relpose_8pt(P->x1, P->x2, NPTS, out);
     case S_F8PT: return sfm_fundamental_8pt(P->p1, P->p2, NPTS, out);
     case S_H4PT: return sfm_homography_4pt(P->q1, P->q2, out);

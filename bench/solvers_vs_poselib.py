@@ -93,7 +93,7 @@ def main():
     row("relpose_8pt (n=8)", (libsfm.essential_8pt, b8), (raw(lib.sfm_relpose_8pt, 1, True), b8),
         "poselib.essential_matrix_8pt", (poselib.essential_matrix_8pt, b8))
     c7 = [(p1, p2) for _, _, p1, p2 in P7]
-    row("relpose_7pt", (libsfm.fundamental_7pt, c7), (raw(lib.sfm_relpose_7pt, 3, False), c7),
+    row("relpose_7pt", (libsfm.fundamental_7pt, c7), (raw(lib.sfm_fundamental_7pt, 3, False), c7),
         "cv2.findFundamentalMat 7POINT", (lambda a, b: cv2.findFundamentalMat(a, b, cv2.FM_7POINT), c7))
     c8 = [(p1, p2) for _, _, p1, p2 in P8]
     row("fundamental_8pt (n=8)", (libsfm.fundamental_8pt, c8), (raw(lib.sfm_fundamental_8pt, 1, True), c8),

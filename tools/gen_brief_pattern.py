@@ -70,7 +70,7 @@ def main():
     out.write("/* 256 point pairs i: (x1, y1) = (p[0][i], p[1][i]), (x2, y2) = (p[2][i], p[3][i]),\n")
     out.write(" * level pixels, inside the disc of radius %d. */\n" % RADIUS)
     out.write('#include "features/brief_pattern.h"\n\n')
-    out.write("const signed char sfm_brief_pattern[4][SFM_BRIEF_PAIRS] = {\n")
+    out.write("const signed char sfmi_brief_pattern[4][SFM_BRIEF_PAIRS] = {\n")
     pairs = pattern()
     for c in range(4):
         vals = [str(p[c]) for p in pairs]

@@ -71,7 +71,7 @@ SFM_API const char *sfm_status_str(int status);
 
 /* Library version as MAJOR*10000 + MINOR*100 + PATCH. */
 #define SFM_VERSION_MAJOR 0
-#define SFM_VERSION_MINOR 1
+#define SFM_VERSION_MINOR 2
 #define SFM_VERSION_PATCH 0
 SFM_API int sfm_version(void);
 

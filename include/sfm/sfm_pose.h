@@ -29,7 +29,7 @@ extern "C" {
 
 /* Capacities: the most solutions each solver can write. */
 #define SFM_P3P_MAX_SOLUTIONS 4
-#define SFM_UPRIGHT_3PT_MAX_SOLUTIONS 4
+#define SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS 4
 #define SFM_ESSENTIAL_POSES 4
 
 /* ---- P3P ----------------------------------------------------------------
@@ -62,7 +62,7 @@ SFM_API int sfm_p3p(const double x[9], const double X[9],
  * Returns: 0..4, SFM_E_ARGUMENT (NULL, zero direction), SFM_E_NONFINITE. */
 SFM_API int sfm_relpose_upright_3pt(const double x1[9], const double x2[9],
                                     const double d1[3], const double d2[3],
-                                    sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS]);
+                                    sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS]);
 
 /* ---- Essential matrix to poses ------------------------------------------
  * E = [t]x R (x2^T E x1 = 0 for bearings x1, x2 of one point), any scale and

@@ -330,7 +330,7 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
 #define SFM_RANSAC_RELPOSE_WS_SIZE(n)                                           \
     SFM_RANSAC_TWOVIEW_WS_SIZE(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS)
 #define SFM_RANSAC_RELPOSE_UPRIGHT_WS_SIZE(n)                                   \
-    SFM_RANSAC_TWOVIEW_WS_SIZE(n, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS)
+    SFM_RANSAC_TWOVIEW_WS_SIZE(n, 3, SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS)
 /* absolute pose: bearings 3n, one index list */
 #define SFM_RANSAC_ABSPOSE_WS_SIZE(n)                                           \
     (SFM_RANSAC_R16(sizeof(double) * 3u * (size_t)(n)) +                        \
@@ -338,7 +338,7 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
      SFM_RANSAC_R16(SFM_RANSAC_WS_SIZE(n, 3, SFM_P3P_MAX_SOLUTIONS,             \
                                        SFM_RANSAC_ABSPOSE_MODEL)) + 15u)
 #define SFM_RANSAC_FUNDAMENTAL_WS_SIZE(n)                                       \
-    SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, 7, SFM_RELPOSE_7PT_MAX_SOLUTIONS,         \
+    SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, 7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS,         \
                                    SFM_RANSAC_FUNDAMENTAL_MODEL)
 #define SFM_RANSAC_HOMOGRAPHY_WS_SIZE(n)                                        \
     SFM_RANSAC_PIXEL_PAIRS_WS_SIZE(n, 4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS,      \

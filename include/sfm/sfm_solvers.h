@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 #define SFM_RELPOSE_5PT_MAX_SOLUTIONS 10
-#define SFM_RELPOSE_7PT_MAX_SOLUTIONS 3
+#define SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS 3
 #define SFM_RELPOSE_8PT_MAX_SOLUTIONS 1
 #define SFM_FUNDAMENTAL_8PT_MAX_SOLUTIONS 1
 #define SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS 1
@@ -54,9 +54,9 @@ extern "C" {
 SFM_API int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E);
 
 /* Fundamental matrices from 7 pixel pairs (rank-2 constraint, a cubic).
- * p1, p2: (7,2). F: room for SFM_RELPOSE_7PT_MAX_SOLUTIONS. Returns 0..3.
+ * p1, p2: (7,2). F: room for SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS. Returns 0..3.
  * Stack: under 2 KB. Statuses: count, SFM_E_ARGUMENT, SFM_E_NONFINITE. */
-SFM_API int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F);
+SFM_API int sfm_fundamental_7pt(const double *p1, const double *p2, sfm_mat3 *F);
 
 /* Essential matrix from n >= 8 bearing pairs: least-squares solution of the
  * epipolar constraints, projected to the nearest essential matrix (singular

@@ -9,7 +9,7 @@ static size_t round_up(size_t n)
     return (n + (SFM_WS_ALIGN - 1)) & ~(size_t)(SFM_WS_ALIGN - 1);
 }
 
-void sfm_arena_measure(sfm_arena *a)
+void sfmi_arena_measure(sfmi_arena *a)
 {
     a->base = NULL;
     a->cap = SIZE_MAX;
@@ -17,7 +17,7 @@ void sfm_arena_measure(sfm_arena *a)
     a->failed = 0;
 }
 
-void sfm_arena_init(sfm_arena *a, void *buf, size_t size)
+void sfmi_arena_init(sfmi_arena *a, void *buf, size_t size)
 {
     uintptr_t p = (uintptr_t)buf;
     size_t pad = (size_t)((SFM_WS_ALIGN - (p & (SFM_WS_ALIGN - 1))) & (SFM_WS_ALIGN - 1));
@@ -36,7 +36,7 @@ void sfm_arena_init(sfm_arena *a, void *buf, size_t size)
     a->cap = size - (SFM_WS_ALIGN - 1);
 }
 
-void *sfm_arena_alloc(sfm_arena *a, size_t bytes)
+void *sfmi_arena_alloc(sfmi_arena *a, size_t bytes)
 {
     size_t n = round_up(bytes);
     if (n < bytes || a->failed) {
@@ -60,14 +60,14 @@ void *sfm_arena_alloc(sfm_arena *a, size_t bytes)
     return p;
 }
 
-size_t sfm_arena_required(const sfm_arena *a)
+size_t sfmi_arena_required(const sfmi_arena *a)
 {
     if (a->failed)
         return 0;
     return a->used + (SFM_WS_ALIGN - 1);
 }
 
-int sfm_arena_ok(const sfm_arena *a)
+int sfmi_arena_ok(const sfmi_arena *a)
 {
     return a->base != NULL && !a->failed;
 }

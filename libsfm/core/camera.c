@@ -40,9 +40,9 @@ static int project_one(const sfm_camera *cam, const double X[3], double px[2], d
     double xd[2], D[6];
     int st;
     if (cam->model == SFM_CAMERA_FISHEYE)
-        st = sfm_cam__fisheye_project(cam->dist, X, xd, J ? D : NULL);
+        st = sfmi_cam_fisheye_project(cam->dist, X, xd, J ? D : NULL);
     else
-        st = sfm_cam__brown_project(cam->model == SFM_CAMERA_BROWN ? cam->dist : zero_dist, X,
+        st = sfmi_cam_brown_project(cam->model == SFM_CAMERA_BROWN ? cam->dist : zero_dist, X,
                                     xd, J ? D : NULL);
     if (st < 0)
         return st;
@@ -73,9 +73,9 @@ static int unproject_one(const sfm_camera *cam, const double px[2], double beari
     double b[3];
     int st;
     if (cam->model == SFM_CAMERA_FISHEYE)
-        st = sfm_cam__fisheye_unproject(cam->dist, xd, b);
+        st = sfmi_cam_fisheye_unproject(cam->dist, xd, b);
     else
-        st = sfm_cam__brown_unproject(cam->model == SFM_CAMERA_BROWN ? cam->dist : zero_dist, xd,
+        st = sfmi_cam_brown_unproject(cam->model == SFM_CAMERA_BROWN ? cam->dist : zero_dist, xd,
                                       b);
     if (st < 0)
         return st;

@@ -38,7 +38,7 @@ static void distort(const double *k, double x, double y, double out[2], double *
     }
 }
 
-int sfm_cam__brown_project(const double *k, const double X[3], double xd[2], double *D)
+int sfmi_cam_brown_project(const double *k, const double X[3], double xd[2], double *D)
 {
     const double Z = X[2];
     if (!(Z > 0.0))
@@ -71,7 +71,7 @@ static double fold_r2(const double *k)
     return HUGE_VAL;
 }
 
-int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3])
+int sfmi_cam_brown_unproject(const double *k, const double xd[2], double b[3])
 {
     double x = xd[0], y = xd[1];
     if (k[0] != 0.0 || k[1] != 0.0 || k[2] != 0.0 || k[3] != 0.0 || k[4] != 0.0) {

@@ -33,7 +33,7 @@ static double theta_d(const double *k, double th, double *dth)
     return th * g;
 }
 
-int sfm_cam__fisheye_project(const double *k, const double X[3], double xd[2], double *D)
+int sfmi_cam_fisheye_project(const double *k, const double X[3], double xd[2], double *D)
 {
     /* m(X) = theta_d / rho is homogeneous of degree -1: work on X / s */
     const double s = fmax(fmax(fabs(X[0]), fabs(X[1])), fabs(X[2]));
@@ -87,7 +87,7 @@ static double theta_max(const double *k)
     return PI;
 }
 
-int sfm_cam__fisheye_unproject(const double *k, const double xd[2], double b[3])
+int sfmi_cam_fisheye_unproject(const double *k, const double xd[2], double b[3])
 {
     const double r = sfmi_hypot(xd[0], xd[1]);
     if (r == 0.0) {

@@ -11,12 +11,12 @@
 
 /* Distorted normalised point of X and, when D is not NULL, its 2x3 Jacobian
  * d(xd)/dX. Pinhole is Brown with all coefficients zero. */
-int sfm_cam__brown_project(const double *k, const double X[3], double xd[2], double *D);
-int sfm_cam__fisheye_project(const double *k, const double X[3], double xd[2], double *D);
+int sfmi_cam_brown_project(const double *k, const double X[3], double xd[2], double *D);
+int sfmi_cam_fisheye_project(const double *k, const double X[3], double xd[2], double *D);
 
 /* Unit bearing of a distorted normalised point. */
-int sfm_cam__brown_unproject(const double *k, const double xd[2], double b[3]);
-int sfm_cam__fisheye_unproject(const double *k, const double xd[2], double b[3]);
+int sfmi_cam_brown_unproject(const double *k, const double xd[2], double b[3]);
+int sfmi_cam_fisheye_unproject(const double *k, const double xd[2], double b[3]);
 
 /* Residual the iterative undistortion must reach, normalised units. */
 #define SFM_CAM_UNDISTORT_TOL 1e-10

@@ -8,7 +8,7 @@
 
 int sfm_cholesky_factor(double *A, int n)
 {
-    if (A == NULL || !sfm_la_dim_ok(n))
+    if (A == NULL || !sfmi_la_dim_ok(n))
         return SFM_E_ARGUMENT;
     for (int i = 0; i < n; i++)
         for (int j = 0; j <= i; j++)
@@ -40,7 +40,7 @@ int sfm_cholesky_factor(double *A, int n)
 
 int sfm_cholesky_solve(const double *L, int n, double *B, int nrhs)
 {
-    if (L == NULL || B == NULL || !sfm_la_dim_ok(n) || !sfm_la_dim_ok(nrhs))
+    if (L == NULL || B == NULL || !sfmi_la_dim_ok(n) || !sfmi_la_dim_ok(nrhs))
         return SFM_E_ARGUMENT;
     for (int i = 0; i < n; i++)
         if (!(L[(size_t)i * n + i] != 0.0))

@@ -41,7 +41,7 @@ typedef struct eig_ws {
     int *unit;   /* n: start index of each eigenvalue unit, sorted */
 } eig_ws;
 
-static void eig_layout(sfm_arena *a, int n, eig_ws *w)
+static void eig_layout(sfmi_arena *a, int n, eig_ws *w)
 {
     w->H = SFM_ARENA_ARRAY(a, double, (size_t)n * n);
     w->Z = SFM_ARENA_ARRAY(a, double, (size_t)n * n);
@@ -54,13 +54,13 @@ static void eig_layout(sfm_arena *a, int n, eig_ws *w)
 
 size_t sfm_eig_workspace_size(int n)
 {
-    if (!sfm_la_dim_ok(n))
+    if (!sfmi_la_dim_ok(n))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     eig_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     eig_layout(&a, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 #define AT(M, i, j) (M)[(size_t)(i) * (size_t)n + (size_t)(j)]
@@ -536,21 +536,21 @@ static void normalize_vectors(double *V, const double *wi, int n)
 int sfm_eig(const double *A, int n, double *wr_out, double *wi_out, double *V, void *ws,
             size_t ws_size)
 {
-    if (A == NULL || wr_out == NULL || wi_out == NULL || ws == NULL || !sfm_la_dim_ok(n))
+    if (A == NULL || wr_out == NULL || wi_out == NULL || ws == NULL || !sfmi_la_dim_ok(n))
         return SFM_E_ARGUMENT;
     const size_t nn = (size_t)n * (size_t)n;
-    if (!sfm_la_all_finite(A, nn))
+    if (!sfmi_la_all_finite(A, nn))
         return SFM_E_NONFINITE;
-    sfm_arena ar;
+    sfmi_arena ar;
     eig_ws w;
     if (ws_size < sfm_eig_workspace_size(n))
         return SFM_E_WORKSPACE;
-    sfm_arena_init(&ar, ws, ws_size);
+    sfmi_arena_init(&ar, ws, ws_size);
     eig_layout(&ar, n, &w);
-    if (!sfm_arena_ok(&ar))
+    if (!sfmi_arena_ok(&ar))
         return SFM_E_WORKSPACE;
 
-    const double f = sfm_la_pow2_scale(sfm_la_max_abs(A, nn));
+    const double f = sfmi_la_pow2_scale(sfmi_la_max_abs(A, nn));
     for (size_t i = 0; i < nn; i++)
         w.H[i] = A[i] * f;
     double *Z = V != NULL ? w.Z : NULL;

@@ -11,12 +11,12 @@
 
 #include "sfm/sfm_linalg.h"
 
-static inline int sfm_la_dim_ok(int n)
+static inline int sfmi_la_dim_ok(int n)
 {
     return n >= 1 && n <= SFM_LINALG_MAX_DIM;
 }
 
-static inline int sfm_la_all_finite(const double *a, size_t n)
+static inline int sfmi_la_all_finite(const double *a, size_t n)
 {
     for (size_t i = 0; i < n; i++)
         if (!isfinite(a[i]))
@@ -24,7 +24,7 @@ static inline int sfm_la_all_finite(const double *a, size_t n)
     return 1;
 }
 
-static inline double sfm_la_max_abs(const double *a, size_t n)
+static inline double sfmi_la_max_abs(const double *a, size_t n)
 {
     double m = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -37,7 +37,7 @@ static inline double sfm_la_max_abs(const double *a, size_t n)
 
 /* A power of two f such that maxabs * f lies in [0.5, 1); 1 for zero. The
  * scaling is exact, so results unscale without rounding. */
-static inline double sfm_la_pow2_scale(double maxabs)
+static inline double sfmi_la_pow2_scale(double maxabs)
 {
     if (!(maxabs > 0.0))
         return 1.0;
@@ -49,7 +49,7 @@ static inline double sfm_la_pow2_scale(double maxabs)
 /* One step of cyclic Jacobi (the 2x2 symmetric Schur rotation): for
  * zeta = (a_qq - a_pp) / (2 a_pq), the tangent t of the smaller angle that
  * zeroes a_pq, with c = 1 / sqrt(1 + t^2), s = t c. Returns t. */
-static inline double sfm_la_jacobi_angle(double zeta, double *c, double *s)
+static inline double sfmi_la_jacobi_angle(double zeta, double *c, double *s)
 {
     double t;
     if (fabs(zeta) > 1e150)
@@ -63,7 +63,7 @@ static inline double sfm_la_jacobi_angle(double zeta, double *c, double *s)
 
 /* The plane rotation (x, y) <- (c x - s y, s x + c y) of n pairs, x[k inc]
  * and y[k inc]. */
-static inline void sfm_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
+static inline void sfmi_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
 {
     for (int k = 0; k < n; k++) {
         double a = x[(size_t)k * inc], b = y[(size_t)k * inc];

@@ -293,7 +293,7 @@ typedef struct dense_ctx {
     int voff[SFMI_LM_DENSE_MAX_BLOCKS], toff[SFMI_LM_DENSE_MAX_BLOCKS];
 } dense_ctx;
 
-static void dense_layout(sfm_arena *a, int nv, int nt, int rs, dense_ws *w)
+static void dense_layout(sfmi_arena *a, int nv, int nt, int rs, dense_ws *w)
 {
     w->cur = SFM_ARENA_ARRAY(a, double, nv);
     w->trial = SFM_ARENA_ARRAY(a, double, nv);
@@ -311,11 +311,11 @@ size_t sfmi_lm_dense_workspace_size(int n_values, int n_tangent, int residual_si
     if (n_values < 1 || n_tangent < 0 || n_tangent > SFMI_LM_DENSE_MAX_TANGENT ||
         residual_size < 1 || residual_size > SFMI_LM_DENSE_MAX_RESIDUAL || n_values > (1 << 20))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     dense_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     dense_layout(&a, n_values, n_tangent, residual_size, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* Cost at the values v (+Inf when undefined); with lin, also H and g. */
@@ -462,10 +462,10 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
         return SFM_E_ARGUMENT;
     if (ws == NULL || ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena ar;
-    sfm_arena_init(&ar, ws, ws_size);
+    sfmi_arena ar;
+    sfmi_arena_init(&ar, ws, ws_size);
     dense_layout(&ar, c.nv, nt, prob->residual_size, &c.w);
-    if (!sfm_arena_ok(&ar))
+    if (!sfmi_arena_ok(&ar))
         return SFM_E_WORKSPACE;
     for (int b = 0; b < prob->n_blocks; b++) {
         const sfmi_lm_block *B = &prob->blocks[b];

@@ -8,9 +8,9 @@
 
 int sfm_lu_factor(double *A, int n, int *piv)
 {
-    if (A == NULL || piv == NULL || !sfm_la_dim_ok(n))
+    if (A == NULL || piv == NULL || !sfmi_la_dim_ok(n))
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(A, (size_t)n * (size_t)n))
+    if (!sfmi_la_all_finite(A, (size_t)n * (size_t)n))
         return SFM_E_NONFINITE;
     for (int k = 0; k < n; k++) {
         int p = k;
@@ -49,13 +49,13 @@ int sfm_lu_factor(double *A, int n, int *piv)
 
 int sfm_lu_solve(const double *LU, const int *piv, int n, double *B, int nrhs)
 {
-    if (LU == NULL || piv == NULL || B == NULL || !sfm_la_dim_ok(n) || !sfm_la_dim_ok(nrhs))
+    if (LU == NULL || piv == NULL || B == NULL || !sfmi_la_dim_ok(n) || !sfmi_la_dim_ok(nrhs))
         return SFM_E_ARGUMENT;
     for (int i = 0; i < n; i++)
         if (piv[i] < i || piv[i] >= n)
             return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(LU, (size_t)n * (size_t)n) ||
-        !sfm_la_all_finite(B, (size_t)n * (size_t)nrhs))
+    if (!sfmi_la_all_finite(LU, (size_t)n * (size_t)n) ||
+        !sfmi_la_all_finite(B, (size_t)n * (size_t)nrhs))
         return SFM_E_NONFINITE;
     for (int i = 0; i < n; i++)
         if (LU[(size_t)i * n + i] == 0.0)

@@ -14,42 +14,42 @@ typedef struct ns_ws {
     size_t svd_size;
 } ns_ws;
 
-static void ns_layout(sfm_arena *a, int m, int n, ns_ws *w)
+static void ns_layout(sfmi_arena *a, int m, int n, ns_ws *w)
 {
     w->V = SFM_ARENA_ARRAY(a, double, (size_t)n * n);
     w->S = SFM_ARENA_ARRAY(a, double, m < n ? m : n);
     w->svd_size = sfm_svd_workspace_size(m, n);
-    w->svd_ws = sfm_arena_alloc(a, w->svd_size);
+    w->svd_ws = sfmi_arena_alloc(a, w->svd_size);
 }
 
 size_t sfm_nullspace_workspace_size(int m, int n)
 {
-    if (!sfm_la_dim_ok(m) || !sfm_la_dim_ok(n))
+    if (!sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     ns_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     ns_layout(&a, m, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_nullspace(const double *A, int m, int n, int k, double *N, double *S, void *ws,
                   size_t ws_size)
 {
-    if (A == NULL || N == NULL || ws == NULL || !sfm_la_dim_ok(m) || !sfm_la_dim_ok(n) ||
+    if (A == NULL || N == NULL || ws == NULL || !sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n) ||
         k < 1 || k > n)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(A, (size_t)m * (size_t)n))
+    if (!sfmi_la_all_finite(A, (size_t)m * (size_t)n))
         return SFM_E_NONFINITE;
-    sfm_arena a;
+    sfmi_arena a;
     ns_ws w;
     if (ws_size < sfm_nullspace_workspace_size(m, n))
         return SFM_E_WORKSPACE;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     ns_layout(&a, m, n, &w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
-    int st = sfm_svd_core(A, m, n, NULL, w.S, w.V, w.svd_ws, w.svd_size);
+    int st = sfmi_svd_core(A, m, n, NULL, w.S, w.V, w.svd_ws, w.svd_size);
     if (st != SFM_OK)
         return st;
     const int p = m < n ? m : n;

@@ -38,7 +38,7 @@ double sfm_poly_eval(const double *c, int degree, double x)
     return v;
 }
 
-void sfm_poly__eval_d(const double *c, int d, double x, double *p, double *dp, double *err)
+void sfmi_poly_eval_d(const double *c, int d, double x, double *p, double *dp, double *err)
 {
     double v = c[0], dv = 0.0, a = fabs(c[0]), ax = fabs(x);
     for (int i = 1; i <= d; i++) {
@@ -51,7 +51,7 @@ void sfm_poly__eval_d(const double *c, int d, double x, double *p, double *dp, d
     *err = 2.0 * (double)(d + 1) * DBL_EPSILON * a;
 }
 
-int sfm_poly__normalize(const double *c, int d, double *out)
+int sfmi_poly_normalize(const double *c, int d, double *out)
 {
     int s = 0;
     while (s <= d && c[s] == 0.0)
@@ -68,16 +68,16 @@ int sfm_poly__normalize(const double *c, int d, double *out)
     return d - s;
 }
 
-double sfm_poly__polish(const double *c, int d, double x, int max_steps)
+double sfmi_poly_polish(const double *c, int d, double x, int max_steps)
 {
     double p, dp, err;
-    sfm_poly__eval_d(c, d, x, &p, &dp, &err);
+    sfmi_poly_eval_d(c, d, x, &p, &dp, &err);
     for (int k = 0; k < max_steps && p != 0.0 && dp != 0.0; k++) {
         double xn = x - p / dp;
         if (!isfinite(xn) || xn == x)
             break;
         double pn, dpn, errn;
-        sfm_poly__eval_d(c, d, xn, &pn, &dpn, &errn);
+        sfmi_poly_eval_d(c, d, xn, &pn, &dpn, &errn);
         if (!(fabs(pn) < fabs(p)))
             break;
         x = xn;
@@ -87,7 +87,7 @@ double sfm_poly__polish(const double *c, int d, double x, int max_steps)
     return x;
 }
 
-int sfm_poly__finish(const double *c, int d, double *r, int n, double value_tol)
+int sfmi_poly_finish(const double *c, int d, double *r, int n, double value_tol)
 {
     int m = 0;
     for (int i = 0; i < n; i++)
@@ -107,13 +107,13 @@ int sfm_poly__finish(const double *c, int d, double *r, int n, double value_tol)
         if (k > 0) {
             double a = r[k - 1], b = r[i];
             double mid = a + 0.5 * (b - a), p, dp, err;
-            sfm_poly__eval_d(c, d, mid, &p, &dp, &err);
+            sfmi_poly_eval_d(c, d, mid, &p, &dp, &err);
             int same = b - a <= 8.0 * DBL_EPSILON * fmax(fabs(a), fabs(b));
             if (same || fabs(p) <= value_tol * err) {
                 /* one root seen twice: keep the end where |p| is smaller */
                 double pa, pb, ea, eb;
-                sfm_poly__eval_d(c, d, a, &pa, &dp, &ea);
-                sfm_poly__eval_d(c, d, b, &pb, &dp, &eb);
+                sfmi_poly_eval_d(c, d, a, &pa, &dp, &ea);
+                sfmi_poly_eval_d(c, d, b, &pb, &dp, &eb);
                 double best = fabs(pa) <= fabs(pb) ? a : b;
                 double pbest = fmin(fabs(pa), fabs(pb));
                 r[k - 1] = fabs(p) < pbest ? mid : best;
@@ -191,16 +191,16 @@ static int settle(const double *c, int d, cand *cs, double *out)
     double r[4];
     int n = 0;
     for (int i = 0; i < cs->n; i++) {
-        double x = sfm_poly__polish(c, d, cs->x[i], POLISH_STEPS);
+        double x = sfmi_poly_polish(c, d, cs->x[i], POLISH_STEPS);
         if (cs->maybe[i]) {
             double p, dp, err;
-            sfm_poly__eval_d(c, d, x, &p, &dp, &err);
+            sfmi_poly_eval_d(c, d, x, &p, &dp, &err);
             if (!(fabs(p) <= 4.0 * err))
                 continue;
         }
         r[n++] = x;
     }
-    n = sfm_poly__finish(c, d, r, n, 1.0);
+    n = sfmi_poly_finish(c, d, r, n, 1.0);
     for (int i = 0; i < n; i++)
         out[i] = r[i];
     return n;
@@ -276,7 +276,7 @@ static int roots_closed(const double *c, int d, double *roots)
     if (st < 0)
         return st;
     double s[5], r[4];
-    int ds = sfm_poly__normalize(c, d, s);
+    int ds = sfmi_poly_normalize(c, d, s);
     if (ds <= 0)
         return 0; /* a constant (or zero) polynomial has no isolated roots */
     int n = roots_upto4(s, ds, r);

@@ -28,9 +28,9 @@ static double col_norm(const double *A, int m, int n, int r0, int c)
 
 int sfm_qr_factor(double *A, int m, int n, double *tau)
 {
-    if (A == NULL || tau == NULL || !sfm_la_dim_ok(m) || !sfm_la_dim_ok(n) || m < n)
+    if (A == NULL || tau == NULL || !sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n) || m < n)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(A, (size_t)m * (size_t)n))
+    if (!sfmi_la_all_finite(A, (size_t)m * (size_t)n))
         return SFM_E_NONFINITE;
     for (int k = 0; k < n; k++) {
         double alpha = A[(size_t)k * n + k];
@@ -75,7 +75,7 @@ int sfm_qr_factor(double *A, int m, int n, double *tau)
 
 int sfm_qr_form_q(const double *QR, const double *tau, int m, int n, double *Q)
 {
-    if (QR == NULL || tau == NULL || Q == NULL || !sfm_la_dim_ok(m) || !sfm_la_dim_ok(n) ||
+    if (QR == NULL || tau == NULL || Q == NULL || !sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n) ||
         m < n)
         return SFM_E_ARGUMENT;
     for (int i = 0; i < m; i++)
@@ -102,7 +102,7 @@ int sfm_qr_form_q(const double *QR, const double *tau, int m, int n, double *Q)
 
 int sfm_qr_solve(const double *QR, const double *tau, int m, int n, double *b)
 {
-    if (QR == NULL || tau == NULL || b == NULL || !sfm_la_dim_ok(m) || !sfm_la_dim_ok(n) ||
+    if (QR == NULL || tau == NULL || b == NULL || !sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n) ||
         m < n)
         return SFM_E_ARGUMENT;
     for (int k = 0; k < n; k++)

@@ -134,7 +134,7 @@ static int sign_changes(const sturm_seq *q, double x)
 
 static int sgn(double v) { return (v > 0.0) - (v < 0.0); }
 
-/* p(x) and p'(x) by Horner, without the error bound of sfm_poly__eval_d */
+/* p(x) and p'(x) by Horner, without the error bound of sfmi_poly_eval_d */
 static double eval_pd(const double *p, int d, double x, double *dp)
 {
     double v = p[0], dv = 0.0;
@@ -227,8 +227,8 @@ static int isolate(const double *p, int d, double a0, double b0, double *r, int 
         if (tiny || !(m > I.a && m < I.b)) {
             /* a multiple root (or a cluster double precision cannot split):
              * keep it once, if p vanishes there */
-            double x = sfm_poly__polish(p, d, m, 64), px, dpx, err;
-            sfm_poly__eval_d(p, d, x, &px, &dpx, &err);
+            double x = sfmi_poly_polish(p, d, m, 64), px, dpx, err;
+            sfmi_poly_eval_d(p, d, x, &px, &dpx, &err);
             if (fabs(px) <= 4.0 * err)
                 r[n++] = x;
             continue;
@@ -264,14 +264,14 @@ static int segment_roots(const double *p, int d, double a0, double b0, double *r
     int touch[SFM_POLY_MAX_DEGREE + 2], dummy;
     for (int i = 0; i < d; i++)
         dp[i] = p[i] * (double)(d - i);
-    int dd = sfm_poly__normalize(dp, d - 1, dp);
+    int dd = sfmi_poly_normalize(dp, d - 1, dp);
     int m = dd >= 1 ? isolate(dp, dd, a0, b0, t + 1, &dummy) : 0;
-    m = sfm_poly__finish(dp, dd, t + 1, m, 0.0);
+    m = sfmi_poly_finish(dp, dd, t + 1, m, 0.0);
     t[0] = a0;
     t[m + 1] = b0;
     for (int j = 0; j <= m + 1; j++) {
         double dpx, err;
-        sfm_poly__eval_d(p, d, t[j], &v[j], &dpx, &err);
+        sfmi_poly_eval_d(p, d, t[j], &v[j], &dpx, &err);
         touch[j] = 0;
         if (j > 0 && j <= m && fabs(v[j]) <= 4.0 * err)
             touch[j] = 1;
@@ -311,7 +311,7 @@ int sfm_poly_real_roots(const double *c, int degree, double lo, double hi, doubl
 
     double p[NMAX], r[2 * SFM_POLY_MAX_DEGREE + 1];
     int n = 0, zero_root = 0;
-    int d = sfm_poly__normalize(c, degree, p);
+    int d = sfmi_poly_normalize(c, degree, p);
     if (d <= 0)
         return 0; /* a constant (or zero) polynomial has no isolated roots */
     if (p[d] == 0.0) { /* roots at zero: divide them out */
@@ -341,7 +341,7 @@ int sfm_poly_real_roots(const double *c, int degree, double lo, double hi, doubl
         double q[NMAX];
         for (int i = 0; i <= d; i++)
             q[i] = ldexp(p[i], -e * i);
-        d = sfm_poly__normalize(q, d, p);
+        d = sfmi_poly_normalize(q, d, p);
     }
     if (d == 1) {
         r[n++] = -p[1] / p[0];
@@ -352,7 +352,7 @@ int sfm_poly_real_roots(const double *c, int degree, double lo, double hi, doubl
             n = isolate(p, d, a0, b0, r, &suspect);
             if (suspect && d >= 2)
                 n = segment_roots(p, d, a0, b0, r, n);
-            n = sfm_poly__finish(p, d, r, n, MERGE_TOL(d));
+            n = sfmi_poly_finish(p, d, r, n, MERGE_TOL(d));
         }
     }
     int k = 0;

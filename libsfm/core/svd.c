@@ -41,7 +41,7 @@ typedef struct svd_ws {
     double *tmp; /* rows */
 } svd_ws;
 
-static void svd_layout(sfm_arena *a, int R, int C, svd_ws *w)
+static void svd_layout(sfmi_arena *a, int R, int C, svd_ws *w)
 {
     w->W = SFM_ARENA_ARRAY(a, double, (size_t)R * C);
     w->Vm = SFM_ARENA_ARRAY(a, double, (size_t)C * C);
@@ -54,13 +54,13 @@ static void svd_layout(sfm_arena *a, int R, int C, svd_ws *w)
 
 size_t sfm_svd_workspace_size(int m, int n)
 {
-    if (!sfm_la_dim_ok(m) || !sfm_la_dim_ok(n))
+    if (!sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     svd_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     svd_layout(&a, m >= n ? m : n, m >= n ? n : m, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static double dot(const double *x, const double *y, int n)
@@ -102,10 +102,10 @@ static int jacobi_sweeps(double *W, int R, int C, double *Vm, double zero2)
                 rotated = 1;
                 /* rotation that zeroes gamma: tan of the smaller angle */
                 double c, s;
-                sfm_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
-                sfm_la_rotate(ci, cj, R, 1, c, s);
+                sfmi_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
+                sfmi_la_rotate(ci, cj, R, 1, c, s);
                 if (Vm != NULL)
-                    sfm_la_rotate(Vm + (size_t)i * C, Vm + (size_t)j * C, C, 1, c, s);
+                    sfmi_la_rotate(Vm + (size_t)i * C, Vm + (size_t)j * C, C, 1, c, s);
             }
         }
         if (!rotated)
@@ -176,23 +176,23 @@ static void write_left_basis(const svd_ws *w, int R, int C, int r, double *out)
     }
 }
 
-int sfm_svd_core(const double *A, int m, int n, double *U, double *S, double *V, void *ws,
+int sfmi_svd_core(const double *A, int m, int n, double *U, double *S, double *V, void *ws,
                  size_t ws_size)
 {
     const int tall = m >= n;
     const int R = tall ? m : n, C = tall ? n : m;
-    sfm_arena a;
+    sfmi_arena a;
     svd_ws w;
     /* the reported size is the contract, whatever the buffer's alignment */
     if (ws_size < sfm_svd_workspace_size(m, n))
         return SFM_E_WORKSPACE;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     svd_layout(&a, R, C, &w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
 
     const size_t mn = (size_t)m * (size_t)n;
-    const double f = sfm_la_pow2_scale(sfm_la_max_abs(A, mn));
+    const double f = sfmi_la_pow2_scale(sfmi_la_max_abs(A, mn));
     if (tall) {
         for (int i = 0; i < m; i++)
             for (int j = 0; j < n; j++)
@@ -241,9 +241,9 @@ int sfm_svd_core(const double *A, int m, int n, double *U, double *S, double *V,
 int sfm_svd(const double *A, int m, int n, double *U, double *S, double *V, void *ws,
             size_t ws_size)
 {
-    if (A == NULL || S == NULL || ws == NULL || !sfm_la_dim_ok(m) || !sfm_la_dim_ok(n))
+    if (A == NULL || S == NULL || ws == NULL || !sfmi_la_dim_ok(m) || !sfmi_la_dim_ok(n))
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(A, (size_t)m * (size_t)n))
+    if (!sfmi_la_all_finite(A, (size_t)m * (size_t)n))
         return SFM_E_NONFINITE;
-    return sfm_svd_core(A, m, n, U, S, V, ws, ws_size);
+    return sfmi_svd_core(A, m, n, U, S, V, ws, ws_size);
 }

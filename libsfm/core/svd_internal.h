@@ -6,7 +6,7 @@
 
 /* As sfm_svd, arguments already checked (A finite, sizes valid). S is written
  * only on success, as are U and V. */
-int sfm_svd_core(const double *A, int m, int n, double *U, double *S, double *V, void *ws,
+int sfmi_svd_core(const double *A, int m, int n, double *U, double *S, double *V, void *ws,
                  size_t ws_size);
 
 #endif

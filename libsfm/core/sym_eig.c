@@ -22,7 +22,7 @@ typedef struct sym_ws {
     int *perm;  /* n */
 } sym_ws;
 
-static void sym_layout(sfm_arena *a, int n, sym_ws *w)
+static void sym_layout(sfmi_arena *a, int n, sym_ws *w)
 {
     w->A = SFM_ARENA_ARRAY(a, double, (size_t)n * n);
     w->V = SFM_ARENA_ARRAY(a, double, (size_t)n * n);
@@ -31,18 +31,18 @@ static void sym_layout(sfm_arena *a, int n, sym_ws *w)
 
 size_t sfm_sym_eig_workspace_size(int n)
 {
-    if (!sfm_la_dim_ok(n))
+    if (!sfmi_la_dim_ok(n))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     sym_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     sym_layout(&a, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_sym_eig(const double *A, int n, double *w_out, double *V, void *ws, size_t ws_size)
 {
-    if (A == NULL || w_out == NULL || ws == NULL || !sfm_la_dim_ok(n))
+    if (A == NULL || w_out == NULL || ws == NULL || !sfmi_la_dim_ok(n))
         return SFM_E_ARGUMENT;
     double maxabs = 0.0;
     for (int i = 0; i < n; i++)
@@ -53,16 +53,16 @@ int sfm_sym_eig(const double *A, int n, double *w_out, double *V, void *ws, size
             if (fabs(v) > maxabs)
                 maxabs = fabs(v);
         }
-    sfm_arena ar;
+    sfmi_arena ar;
     sym_ws w;
     if (ws_size < sfm_sym_eig_workspace_size(n))
         return SFM_E_WORKSPACE;
-    sfm_arena_init(&ar, ws, ws_size);
+    sfmi_arena_init(&ar, ws, ws_size);
     sym_layout(&ar, n, &w);
-    if (!sfm_arena_ok(&ar))
+    if (!sfmi_arena_ok(&ar))
         return SFM_E_WORKSPACE;
 
-    const double f = sfm_la_pow2_scale(maxabs);
+    const double f = sfmi_la_pow2_scale(maxabs);
     double *a = w.A;
     for (int i = 0; i < n; i++)
         for (int j = 0; j <= i; j++)
@@ -87,7 +87,7 @@ int sfm_sym_eig(const double *A, int n, double *w_out, double *V, void *ws, size
                     continue;
                 rotated = 1;
                 double c, s;
-                double t = sfm_la_jacobi_angle((aqq - app) / (2.0 * apq), &c, &s);
+                double t = sfmi_la_jacobi_angle((aqq - app) / (2.0 * apq), &c, &s);
                 /* A <- J^T A J with J = [[c, s], [-s, c]] in the (p, q) plane */
                 for (int k = 0; k < n; k++) {
                     double akp = a[(size_t)k * n + p], akq = a[(size_t)k * n + q];

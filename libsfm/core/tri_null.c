@@ -22,7 +22,7 @@ enum { TRI_NULL_ONE_STEPS = 20, TRI_NULL_TWO_STEPS = 40 };
 /* x /= |x|; 0 when x is zero or not finite. */
 static int normalize(double *x, int n)
 {
-    double m = sfm_la_max_abs(x, (size_t)n);
+    double m = sfmi_la_max_abs(x, (size_t)n);
     if (!(m > 0.0) || !isfinite(m))
         return 0;
     double inv = 1.0 / m, s = 0.0;
@@ -118,7 +118,7 @@ static double rx_dot(const double *R, int n, const double *x, const double *y)
     return s;
 }
 
-int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch)
+int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratch)
 {
     double rmax = 0.0;
     for (int i = 0; i < n; i++)
@@ -188,8 +188,8 @@ int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch
         double alpha = rx_dot(R, n, y, y), beta = rx_dot(R, n, w, w), gamma = rx_dot(R, n, y, w);
         if (gamma != 0.0) {
             double c, s;
-            double tt = sfm_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
-            sfm_la_rotate(y, w, n, 1, c, s);
+            double tt = sfmi_la_jacobi_angle((beta - alpha) / (2.0 * gamma), &c, &s);
+            sfmi_la_rotate(y, w, n, 1, c, s);
             alpha -= tt * gamma;
             beta += tt * gamma;
         }

@@ -15,6 +15,6 @@
  * finite): the caller then takes the SVD. When the smallest singular value
  * is multiple, v may be any unit vector of its space (so may an SVD's).
  * n >= 1. */
-int sfm_la_tri_smallest_right(const double *R, int n, double *v, double *scratch);
+int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratch);
 
 #endif

@@ -11,7 +11,7 @@ typedef struct assoc_ws {
     int32_t *f12, *f23, *f31;
 } assoc_ws;
 
-static void carve(sfm_arena *a, int n1, int n2, int n3, assoc_ws *m)
+static void carve(sfmi_arena *a, int n1, int n2, int n3, assoc_ws *m)
 {
     m->f12 = SFM_ARENA_ARRAY(a, int32_t, n1);
     m->f23 = SFM_ARENA_ARRAY(a, int32_t, n2);
@@ -22,11 +22,11 @@ size_t sfm_features_associate_workspace_size(int n1, int n2, int n3)
 {
     if (n1 < 0 || n2 < 0 || n3 < 0)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     assoc_ws m;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     carve(&a, n1, n2, n3, &m);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* Fills f (size n_from, preset to -1) from pairs; 0 on a bad or repeated index. */
@@ -56,11 +56,11 @@ int sfm_features_associate_three_views(const int *m12, int n12, const int *m23, 
     const size_t need = sfm_features_associate_workspace_size(n1, n2, n3);
     if (need == 0 || ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
+    sfmi_arena a;
     assoc_ws m;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     carve(&a, n1, n2, n3, &m);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     if (!fill(m.f12, n1, n2, m12, n12) || !fill(m.f23, n2, n3, m23, n23) || !fill(m.f31, n3, n1, m31, n31))
         return SFM_E_ARGUMENT;

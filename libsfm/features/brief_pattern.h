@@ -7,6 +7,6 @@
 #define SFM_BRIEF_RADIUS 15
 
 /* Rows x1, y1, x2, y2 (structure of arrays, so steering vectorises). */
-extern const signed char sfm_brief_pattern[4][SFM_BRIEF_PAIRS];
+extern const signed char sfmi_brief_pattern[4][SFM_BRIEF_PAIRS];
 
 #endif

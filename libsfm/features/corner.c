@@ -55,7 +55,7 @@ static void tensor(const uint8_t *img, int stride, int x, int y, int32_t *sxx, i
     *ee = e;
 }
 
-double sfm_feat_harris(const uint8_t *img, int stride, int x, int y)
+double sfmi_feat_harris(const uint8_t *img, int stride, int x, int y)
 {
     int32_t a = 0, b = 0, c = 0;
     for (int v = -WIN; v <= WIN; v++) {
@@ -72,7 +72,7 @@ double sfm_feat_harris(const uint8_t *img, int stride, int x, int y)
     return da * db - dc * dc - 0.04 * tr * tr;
 }
 
-int sfm_feat_refine(const uint8_t *img, int stride, int x, int y, double max_residual, double *rx, double *ry)
+int sfmi_feat_refine(const uint8_t *img, int stride, int x, int y, double max_residual, double *rx, double *ry)
 {
     int cx = x, cy = y;
     double fx = (double)x, fy = (double)y;

@@ -22,7 +22,7 @@
 /* floor(sqrt(15^2 - v^2)) for v = 0..15: the half-width of the disc rows. */
 static const signed char disc_umax[16] = {15, 14, 14, 14, 14, 14, 13, 13, 12, 12, 11, 10, 9, 7, 5, 0};
 
-void sfm_feat_disc_mask(uint8_t *mask)
+void sfmi_feat_disc_mask(uint8_t *mask)
 {
     for (int v = -15; v <= 15; v++) {
         const int um = disc_umax[v < 0 ? -v : v];
@@ -54,7 +54,7 @@ static void row_moments(const uint8_t *restrict r, const uint8_t *restrict m, in
     *su_out = (int32_t)mr - (int32_t)ml;
 }
 
-void sfm_feat_orientation(const uint8_t *img, int stride, int x, int y, const uint8_t *mask, double *c, double *s)
+void sfmi_feat_orientation(const uint8_t *img, int stride, int x, int y, const uint8_t *mask, double *c, double *s)
 {
     const uint8_t *ctr = img + (long)y * stride + x;
     int32_t m10 = 0, m01 = 0; /* |m10|, |m01| <= 255 * 15 * 709 */
@@ -87,8 +87,8 @@ static void steer(int stride, double c, double s, int32_t *restrict o1, int32_t 
 {
     const int32_t cs = (int32_t)floor(c * (double)(1 << FIX) + 0.5), sn = (int32_t)floor(s * (double)(1 << FIX) + 0.5);
     const int32_t half = 1 << (FIX - 1);
-    const signed char *x1 = sfm_brief_pattern[0], *y1 = sfm_brief_pattern[1], *x2 = sfm_brief_pattern[2],
-                      *y2 = sfm_brief_pattern[3];
+    const signed char *x1 = sfmi_brief_pattern[0], *y1 = sfmi_brief_pattern[1], *x2 = sfmi_brief_pattern[2],
+                      *y2 = sfmi_brief_pattern[3];
     for (int k = 0; k < SFM_BRIEF_PAIRS; k++) {
         int32_t u1 = ((cs * x1[k] - sn * y1[k] + BIAS + half) >> FIX) - 16;
         int32_t v1 = ((sn * x1[k] + cs * y1[k] + BIAS + half) >> FIX) - 16;
@@ -99,20 +99,20 @@ static void steer(int stride, double c, double s, int32_t *restrict o1, int32_t 
     }
 }
 
-void sfm_feat_steer_bin(int stride, int bin, int32_t *table)
+void sfmi_feat_steer_bin(int stride, int bin, int32_t *table)
 {
     const double a = 6.283185307179586 * (double)bin / (double)SFM_FEAT_ANGLE_BINS;
     steer(stride, sfmi_cos(a), sfmi_sin(a), table + (size_t)bin * 2 * SFM_BRIEF_PAIRS,
           table + (size_t)bin * 2 * SFM_BRIEF_PAIRS + SFM_BRIEF_PAIRS);
 }
 
-void sfm_feat_steer_table(int stride, int32_t *table)
+void sfmi_feat_steer_table(int stride, int32_t *table)
 {
     for (int b = 0; b < SFM_FEAT_ANGLE_BINS; b++)
-        sfm_feat_steer_bin(stride, b, table);
+        sfmi_feat_steer_bin(stride, b, table);
 }
 
-int sfm_feat_angle_bin(double c, double s)
+int sfmi_feat_angle_bin(double c, double s)
 {
     const double a = sfmi_atan2(s, c); /* (-pi, pi] */
     int b = (int)floor(a * ((double)SFM_FEAT_ANGLE_BINS / 6.283185307179586) + 0.5);
@@ -120,7 +120,7 @@ int sfm_feat_angle_bin(double c, double s)
     return b < 0 ? b + SFM_FEAT_ANGLE_BINS : b;
 }
 
-void sfm_feat_describe(const uint8_t *img, int stride, int x, int y, const int32_t *offsets, uint8_t *out)
+void sfmi_feat_describe(const uint8_t *img, int stride, int x, int y, const int32_t *offsets, uint8_t *out)
 {
     const uint8_t *ctr = img + (long)y * stride + x;
     const int32_t *o1 = offsets, *o2 = offsets + SFM_BRIEF_PAIRS;

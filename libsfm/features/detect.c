@@ -92,7 +92,7 @@ static int dims_ok(int w, int h)
 static void make_plan(const sfm_features_params *p, int w0, int h0, plan *pl)
 {
     memset(pl, 0, sizeof *pl);
-    pl->n_levels = sfm_feat_level_sizes(w0, h0, p->n_levels, p->scale_factor, pl->w, pl->h);
+    pl->n_levels = sfmi_feat_level_sizes(w0, h0, p->n_levels, p->scale_factor, pl->w, pl->h);
     const int L = pl->n_levels;
     if (L == 0)
         return;
@@ -124,7 +124,7 @@ static void make_plan(const sfm_features_params *p, int w0, int h0, plan *pl)
     }
 }
 
-static void carve(sfm_arena *a, const plan *pl, layout *ly)
+static void carve(sfmi_arena *a, const plan *pl, layout *ly)
 {
     memset(ly, 0, sizeof *ly);
     if (pl->n_levels == 0)
@@ -150,11 +150,11 @@ size_t sfm_features_workspace_size(const sfm_features_params *p, int width, int 
         return 0;
     plan pl;
     make_plan(p, width, height, &pl);
-    sfm_arena a;
+    sfmi_arena a;
     layout ly;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     carve(&a, &pl, &ly);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* Strict total order: stronger Harris first, then raster order. */
@@ -258,7 +258,7 @@ static void sort_by_harris(const cand *c, int32_t *idx, int n)
 }
 
 /* FAST + NMS + cell heaps over one level. */
-static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, int K,
+static void collect(const sfmi_feat_level *lv, int threshold, int cell, int gx, int K,
                     uint8_t *ring, cand *slots, int32_t *count, int cells)
 {
     const int B = SFM_FEATURES_BORDER, w = lv->w, h = lv->h;
@@ -267,7 +267,7 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
     memset(ring, 0, 3 * (size_t)w);
     for (int y = B - 1; y <= h - B; y++) {
         uint8_t *cur = ring + (size_t)(y % 3) * (size_t)w;
-        sfm_feat_fast_row(lv->data, lv->stride, y, B - 1, w - B + 1, threshold, cur);
+        sfmi_feat_fast_row(lv->data, lv->stride, y, B - 1, w - B + 1, threshold, cur);
         const int ym = y - 1;
         if (ym < B)
             continue;
@@ -305,20 +305,20 @@ static void collect(const sfm_feat_level *lv, int threshold, int cell, int gx, i
 
 /* steered: bit b set once bin b of the level's steering table is written
  * (bins are filled on first use). */
-static int emit(const sfm_feat_level *lv, const uint8_t *smooth, int32_t *steer, uint64_t *steered,
+static int emit(const sfmi_feat_level *lv, const uint8_t *smooth, int32_t *steer, uint64_t *steered,
                 const uint8_t *disc, int level, const cand *c, sfm_keypoint *kp, uint8_t *desc)
 {
     double rx, ry, co, si;
     /* gradient lines must meet within REFINE_RMS level-0 pixels (rms) */
     const double max_res = REFINE_RMS * REFINE_RMS / (lv->sx * lv->sy);
-    (void)sfm_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
-    sfm_feat_orientation(smooth, lv->w, c->x, c->y, disc, &co, &si);
-    const int bin = sfm_feat_angle_bin(co, si);
+    (void)sfmi_feat_refine(lv->data, lv->stride, c->x, c->y, max_res, &rx, &ry);
+    sfmi_feat_orientation(smooth, lv->w, c->x, c->y, disc, &co, &si);
+    const int bin = sfmi_feat_angle_bin(co, si);
     if (!(*steered >> bin & 1u)) {
-        sfm_feat_steer_bin(lv->w, bin, steer);
+        sfmi_feat_steer_bin(lv->w, bin, steer);
         *steered |= (uint64_t)1 << bin;
     }
-    sfm_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
+    sfmi_feat_describe(smooth, lv->w, c->x, c->y, steer + (size_t)bin * 512, desc);
     kp->x = (rx + 0.5) * lv->sx - 0.5;
     kp->y = (ry + 0.5) * lv->sy - 0.5;
     kp->angle = sfmi_atan2(si, co);
@@ -340,24 +340,24 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
         return SFM_E_CAPACITY;
     plan pl;
     make_plan(p, image->width, image->height, &pl);
-    sfm_arena a;
+    sfmi_arena a;
     layout ly;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     carve(&a, &pl, &ly);
-    const size_t need = sfm_arena_required(&a);
+    const size_t need = sfmi_arena_required(&a);
     if (need == 0 || ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     carve(&a, &pl, &ly);
-    if (pl.n_levels > 0 && !sfm_arena_ok(&a))
+    if (pl.n_levels > 0 && !sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
 
     uint8_t disc[SFM_FEAT_DISC_MASK_LEN]; /* the only sizeable stack use: 992 bytes */
-    sfm_feat_disc_mask(disc);
+    sfmi_feat_disc_mask(disc);
     int n_out = 0, carry = 0;
-    sfm_feat_level prev = {image->data, image->width, image->height, image->stride, 1.0, 1.0};
+    sfmi_feat_level prev = {image->data, image->width, image->height, image->stride, 1.0, 1.0};
     for (int l = 0; l < pl.n_levels; l++) {
-        sfm_feat_level lv;
+        sfmi_feat_level lv;
         if (l == 0) {
             lv.data = image->data;
             lv.w = image->width;
@@ -365,7 +365,7 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
             lv.stride = image->stride;
             lv.sx = lv.sy = 1.0;
         } else {
-            sfm_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw, ly.row);
+            sfmi_feat_resize(prev.data, prev.w, prev.h, prev.stride, ly.level[l], pl.w[l], pl.h[l], ly.xofs, ly.xw, ly.row);
             lv.data = ly.level[l];
             lv.w = pl.w[l];
             lv.h = pl.h[l];
@@ -384,10 +384,10 @@ int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
         for (int ci = 0; ci < cells; ci++) {
             cand *cc = ly.slots + (size_t)ci * (size_t)K;
             for (int k = 0; k < ly.count[ci]; k++)
-                cc[k].harris = sfm_feat_harris(lv.data, lv.stride, cc[k].x, cc[k].y);
+                cc[k].harris = sfmi_feat_harris(lv.data, lv.stride, cc[k].x, cc[k].y);
             sort_cands(cc, ly.count[ci]);
         }
-        sfm_feat_smooth(lv.data, lv.w, lv.h, lv.stride, ly.smooth, ly.tmp);
+        sfmi_feat_smooth(lv.data, lv.w, lv.h, lv.stride, ly.smooth, ly.tmp);
         uint64_t steered = 0;
         /* every cell's kept candidates compete by Harris measure */
         int n = 0;

@@ -174,7 +174,7 @@ static uint8_t full_test(const uint8_t *p, const int *off, int t)
  * at least as fast as 0, 1, 3 and 6. */
 #define CANDS_SCALAR 2
 
-void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, int t, uint8_t *score)
+void sfmi_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, int t, uint8_t *score)
 {
     int off[16];
     for (int k = 0; k < 16; k++)

@@ -9,6 +9,6 @@
  * still is one (>= t, clamped to 255). Needs 3 pixels of image on each side
  * of the scanned columns and of row y. Entries outside [x0, x1) are not
  * written. */
-void sfm_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, int t, uint8_t *score);
+void sfmi_feat_fast_row(const uint8_t *img, int stride, int y, int x0, int x1, int t, uint8_t *score);
 
 #endif

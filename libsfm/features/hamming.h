@@ -9,7 +9,7 @@
  * 2-bit then 4-bit partial sums per word; two words' nibble sums still fit
  * a nibble, so the fold to bytes runs once per pair of words and the byte
  * sum once per descriptor). With a hardware popcount the builtin is used. */
-static inline int sfm_feat_popcount256(uint64_t a, uint64_t b, uint64_t c, uint64_t d)
+static inline int sfmi_feat_popcount256(uint64_t a, uint64_t b, uint64_t c, uint64_t d)
 {
 #if defined(__POPCNT__) && defined(__GNUC__)
     return __builtin_popcountll(a) + __builtin_popcountll(b) + __builtin_popcountll(c) +
@@ -32,19 +32,19 @@ static inline int sfm_feat_popcount256(uint64_t a, uint64_t b, uint64_t c, uint6
 #endif
 }
 
-static inline uint64_t sfm_feat_load64(const uint8_t *p)
+static inline uint64_t sfmi_feat_load64(const uint8_t *p)
 {
     uint64_t v;
     memcpy(&v, p, 8);
     return v;
 }
 
-static inline int sfm_feat_hamming256(const uint8_t *x, const uint8_t *y)
+static inline int sfmi_feat_hamming256(const uint8_t *x, const uint8_t *y)
 {
-    return sfm_feat_popcount256(sfm_feat_load64(x) ^ sfm_feat_load64(y),
-                                sfm_feat_load64(x + 8) ^ sfm_feat_load64(y + 8),
-                                sfm_feat_load64(x + 16) ^ sfm_feat_load64(y + 16),
-                                sfm_feat_load64(x + 24) ^ sfm_feat_load64(y + 24));
+    return sfmi_feat_popcount256(sfmi_feat_load64(x) ^ sfmi_feat_load64(y),
+                                sfmi_feat_load64(x + 8) ^ sfmi_feat_load64(y + 8),
+                                sfmi_feat_load64(x + 16) ^ sfmi_feat_load64(y + 16),
+                                sfmi_feat_load64(x + 24) ^ sfmi_feat_load64(y + 24));
 }
 
 #endif

@@ -20,7 +20,7 @@ int sfm_features_hamming(const uint8_t *a, const uint8_t *b)
 {
     if (a == NULL || b == NULL)
         return SFM_E_ARGUMENT;
-    return sfm_feat_hamming256(a, b);
+    return sfmi_feat_hamming256(a, b);
 }
 
 int sfm_features_default_match_params(sfm_match_params *p)
@@ -38,7 +38,7 @@ typedef struct match_ws {
     int32_t *col_best, *col_idx;
 } match_ws;
 
-static void carve(sfm_arena *a, int n1, int n2, match_ws *m)
+static void carve(sfmi_arena *a, int n1, int n2, match_ws *m)
 {
     m->row_best = SFM_ARENA_ARRAY(a, int32_t, n1);
     m->row_idx = SFM_ARENA_ARRAY(a, int32_t, n1);
@@ -51,11 +51,11 @@ size_t sfm_features_match_workspace_size(int n1, int n2)
 {
     if (n1 < 0 || n2 < 0)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     match_ws m;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     carve(&a, n1, n2, &m);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* Rows [i0, i0 + nq) (nq <= QB) against every train descriptor. */
@@ -66,18 +66,18 @@ static void block(const uint8_t *d1, int i0, int nq, const uint8_t *d2, int n2, 
     for (int k = 0; k < QB; k++) {
         const uint8_t *src = d1 + (size_t)(i0 + (k < nq ? k : 0)) * 32;
         for (int w = 0; w < 4; w++)
-            q[k][w] = sfm_feat_load64(src + 8 * w);
+            q[k][w] = sfmi_feat_load64(src + 8 * w);
         b1[k] = b2[k] = 257;
         bi[k] = -1;
     }
     int32_t *cb = m->col_best, *ci = m->col_idx;
     for (int j = 0; j < n2; j++) {
         const uint8_t *t = d2 + (size_t)j * 32;
-        const uint64_t t0 = sfm_feat_load64(t), t1 = sfm_feat_load64(t + 8), t2 = sfm_feat_load64(t + 16),
-                       t3 = sfm_feat_load64(t + 24);
+        const uint64_t t0 = sfmi_feat_load64(t), t1 = sfmi_feat_load64(t + 8), t2 = sfmi_feat_load64(t + 16),
+                       t3 = sfmi_feat_load64(t + 24);
         int d[QB];
         for (int k = 0; k < QB; k++)
-            d[k] = sfm_feat_popcount256(q[k][0] ^ t0, q[k][1] ^ t1, q[k][2] ^ t2, q[k][3] ^ t3);
+            d[k] = sfmi_feat_popcount256(q[k][0] ^ t0, q[k][1] ^ t1, q[k][2] ^ t2, q[k][3] ^ t3);
         int cbest = cb[j], cidx = ci[j];
         for (int k = 0; k < nq; k++) {
             const int dk = d[k];
@@ -119,11 +119,11 @@ int sfm_features_match(const uint8_t *d1, int n1, const uint8_t *d2, int n2, con
         return SFM_E_WORKSPACE;
     if (n1 == 0 || n2 == 0)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     match_ws m;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     carve(&a, n1, n2, &m);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     for (int j = 0; j < n2; j++) {
         m.col_best[j] = 257;

@@ -8,7 +8,7 @@
 
 #include "sfm/sfm_features.h"
 
-int sfm_feat_level_sizes(int w0, int h0, int n_levels, double scale_factor, int *w, int *h)
+int sfmi_feat_level_sizes(int w0, int h0, int n_levels, double scale_factor, int *w, int *h)
 {
     const int min_side = 2 * SFM_FEATURES_BORDER + 1;
     double s = 1.0;
@@ -35,7 +35,7 @@ static void vblend16(const uint8_t *restrict r0, const uint8_t *restrict r1, uin
         out[k] = (uint16_t)(r0[k] * w0 + r1[k] * wy);
 }
 
-void sfm_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
+void sfmi_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
                      uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw, uint16_t *row)
 {
     const double rx = (double)sw / (double)dw, ry = (double)sh / (double)dh;
@@ -115,7 +115,7 @@ static uint8_t vtap(const uint8_t *const *r, int x)
     return (uint8_t)((s + 128u) >> 8);
 }
 
-void sfm_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint8_t *tmp)
+void sfmi_feat_smooth(const uint8_t *src, int w, int h, int sstride, uint8_t *dst, uint8_t *tmp)
 {
     static const uint32_t g[5] = {G2, G1, G0, G1, G2};
     for (int y = 0; y < h; y++) {

@@ -35,7 +35,7 @@ typedef struct fz_ws {
     size_t ba_size;
 } fz_ws;
 
-static void layout(sfm_arena *a, int m, int n, fz_ws *w)
+static void layout(sfmi_arena *a, int m, int n, fz_ws *w)
 {
     size_t mn = (size_t)m * (size_t)n;
     w->xn = SFM_ARENA_ARRAY(a, double, 2 * mn);
@@ -55,13 +55,13 @@ static void layout(sfm_arena *a, int m, int n, fz_ws *w)
     w->seen = SFM_ARENA_ARRAY(a, int, n);
     int big = 3 * m > 12 ? 3 * m : 12;
     w->eig_size = sfm_sym_eig_workspace_size(big);
-    w->eig_ws = sfm_arena_alloc(a, w->eig_size);
+    w->eig_ws = sfmi_arena_alloc(a, w->eig_size);
     w->obs_cam = SFM_ARENA_ARRAY(a, int, mn);
     w->obs_pt = SFM_ARENA_ARRAY(a, int, mn);
     w->first = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
     w->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * mn);
     w->ba_size = sfmi_projective_ba_workspace_size(m, n, (int)mn);
-    w->ba_ws = sfm_arena_alloc(a, w->ba_size);
+    w->ba_ws = sfmi_arena_alloc(a, w->ba_size);
 }
 
 int sfm_factorize_default_options(sfm_factorize_options *opt)
@@ -79,11 +79,11 @@ size_t sfm_factorize_workspace_size(int m, int n)
     if (m < 2 || m > SFM_FACTORIZE_MAX_VIEWS || n < SFM_FACTORIZE_MIN_BLOCK_POINTS ||
         n > SFM_FACTORIZE_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     fz_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, m, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static int observed(const double *x, int m, int n, int i, int j)
@@ -358,11 +358,11 @@ int sfm_factorize_projective(int m, int n, const double *x, const sfm_factorize_
     for (size_t i = 0; i < 2 * (size_t)m * n; i++)
         if (isinf(x[i]))
             return SFM_E_NONFINITE;
-    sfm_arena a;
+    sfmi_arena a;
     fz_ws w;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, m, n, &w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
 
     double Tn[9 * SFM_FACTORIZE_MAX_VIEWS];

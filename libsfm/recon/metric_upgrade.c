@@ -29,7 +29,7 @@
 #define NOISE_FLOOR 0.05
 #define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
 
-void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c)
+void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
 {
     c->nv = nv;
     c->nmax = nmax;
@@ -46,7 +46,7 @@ void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c)
     c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
     sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL};
     c->ba_size = sfm_ba_workspace_size(&d);
-    c->ba_ws = sfm_arena_alloc(a, c->ba_size);
+    c->ba_ws = sfmi_arena_alloc(a, c->ba_size);
 }
 
 static void identity_pose(sfm_pose *p)
@@ -595,7 +595,7 @@ int sfmi_uncal_centre(int nv, const double *const px[3], int n, int width, int h
                       sfm_uncal_report *rep)
 {
     for (int v = 0; v < nv; v++)
-        if (!sfm_la_all_finite(px[v], 2 * (size_t)n))
+        if (!sfmi_la_all_finite(px[v], 2 * (size_t)n))
             return SFM_E_NONFINITE;
     memset(rep, 0, sizeof *rep);
     rep->n_input = n;

@@ -33,7 +33,7 @@ typedef struct sfmi_mu {
     int evaluations;
 } sfmi_mu;
 
-void sfmi_mu_layout(sfm_arena *a, int nv, int nmax, sfmi_mu *c);
+void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c);
 
 /* Runs sweep, starts and the final checks; fills report fields focal_sweep,
  * evaluations, path, profile_rise, focal, inliers, rms, front_fraction and

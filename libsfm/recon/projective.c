@@ -51,7 +51,7 @@ int sfmi_hartley_view(const double *px, int n, double T[9], double *xn)
     if (!(d > 0))
         return SFM_E_SINGULAR;
     double t[3] = {sqrt(2.0) / d, -sqrt(2.0) / d * cx, -sqrt(2.0) / d * cy};
-    sfm__hartley_matrix(t, T);
+    sfmi_hartley_matrix(t, T);
     for (int j = 0; j < n; j++) {
         if (isnan(px[2 * j]) || isnan(px[2 * j + 1])) {
             xn[2 * j] = xn[2 * j + 1] = (double)NAN;

@@ -37,7 +37,7 @@ typedef struct pba {
     double *S, *rhs, *dc, *dp;
 } pba;
 
-static void layout(sfm_arena *a, int m, int n, int nobs, pba *s)
+static void layout(sfmi_arena *a, int m, int n, int nobs, pba *s)
 {
     s->Pt = SFM_ARENA_ARRAY(a, double, 12 * (size_t)m);
     s->Xt = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
@@ -61,11 +61,11 @@ size_t sfmi_projective_ba_workspace_size(int m, int n, int nobs)
 {
     if (m < 2 || n < 1 || nobs < 1)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     pba s;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, m, n, nobs, &s);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* residual (pixels) of one observation; Jacobians along the sphere bases
@@ -360,11 +360,11 @@ int sfmi_projective_ba(int m, int n, int nobs, const int *obs_cam, const int *ob
                        const double *obs_xy, const double *iscale, double *P, double *X, int max_iterations,
                        sfmi_lm_summary *summary, void *ws, size_t ws_size)
 {
-    sfm_arena a;
+    sfmi_arena a;
     pba s;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, m, n, nobs, &s);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     s.m = m;
     s.n = n;

@@ -123,7 +123,7 @@ static int inv44(const double B[16], double A[16])
         A[k] = (k % 5 == 0) ? 1.0 : 0.0;
     if (sfm_lu_solve(LU, piv, 4, A, 4) < 0)
         return 0;
-    return sfm_la_all_finite(A, 16);
+    return sfmi_la_all_finite(A, 16);
 }
 
 /* One weighted linear solve (two passes), rank 3, semi-definiteness and
@@ -237,8 +237,8 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     for (int i = 0; i < m; i++)
         if (!(wh[2 * i] > 0) || !(wh[2 * i + 1] > 0))
             return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(P, 12 * (size_t)m) || !sfm_la_all_finite(wh, 2 * (size_t)m) ||
-        (n > 0 && !sfm_la_all_finite(X, 4 * (size_t)n)))
+    if (!sfmi_la_all_finite(P, 12 * (size_t)m) || !sfmi_la_all_finite(wh, 2 * (size_t)m) ||
+        (n > 0 && !sfmi_la_all_finite(X, 4 * (size_t)n)))
         return SFM_E_NONFINITE;
     unsigned char ews[2048]; /* sfm_sym_eig for n <= 10: 1663 bytes measured */
     if (sfm_sym_eig_workspace_size(10) > sizeof ews)
@@ -384,7 +384,7 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
             return SFM_E_SINGULAR;
         }
     }
-    if (!sfm_la_all_finite(Ht, 16))
+    if (!sfmi_la_all_finite(Ht, 16))
         return SFM_E_SINGULAR;
     for (int i = 0; i < m; i++) {
         double cx = 0.5 * (wh[2 * i] - 1), cy = 0.5 * (wh[2 * i + 1] - 1);

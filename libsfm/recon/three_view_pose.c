@@ -37,7 +37,7 @@ typedef struct tv_ws {
     size_t ba_size;
 } tv_ws;
 
-static void layout(sfm_arena *a, int n, tv_ws *w)
+static void layout(sfmi_arena *a, int n, tv_ws *w)
 {
     for (int v = 0; v < 3; v++)
         w->ideal[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
@@ -46,28 +46,28 @@ static void layout(sfm_arena *a, int n, tv_ws *w)
     w->flags = SFM_ARENA_ARRAY(a, int, n);
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
-    w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+    w->ransac_ws = sfmi_arena_alloc(a, w->ransac_size);
     w->obs_cam = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
     w->obs_pt = SFM_ARENA_ARRAY(a, int, 3 * (size_t)n);
     w->obs_xy = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
     sfm_ba_dims d = {3, n, 3 * n, SFM_BA_INTRINSICS_FIXED, 0};
     w->ba_size = sfm_ba_workspace_size(&d);
-    w->ba_ws = sfm_arena_alloc(a, w->ba_size);
+    w->ba_ws = sfmi_arena_alloc(a, w->ba_size);
     w->m12 = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->m13 = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->rel_size = sfm_ransac_relpose_workspace_size(n);
-    w->rel_ws = sfm_arena_alloc(a, w->rel_size);
+    w->rel_ws = sfmi_arena_alloc(a, w->rel_size);
 }
 
 size_t sfm_recon_three_view_pose_workspace_size(int n)
 {
     if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     tv_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static void K_of(const sfm_camera *c, double K[9])
@@ -265,14 +265,14 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
         int st = sfm_camera_validate(cams[v]);
         if (st < 0)
             return st;
-        if (!sfm_la_all_finite(px[v], 2 * n))
+        if (!sfmi_la_all_finite(px[v], 2 * n))
             return SFM_E_NONFINITE;
     }
-    sfm_arena a;
+    sfmi_arena a;
     tv_ws w;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, &w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     for (int v = 0; v < 3; v++) {
         int st = undistort(cams[v], px[v], n, w.ideal[v]);

@@ -23,14 +23,14 @@ typedef struct tu_ws {
     sfmi_mu mu;
 } tu_ws;
 
-static void layout(sfm_arena *a, int n, tu_ws *w)
+static void layout(sfmi_arena *a, int n, tu_ws *w)
 {
     for (int v = 0; v < 3; v++)
         w->xc[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->Xh = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
-    w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+    w->ransac_ws = sfmi_arena_alloc(a, w->ransac_size);
     sfmi_mu_layout(a, 3, n, &w->mu);
 }
 
@@ -67,11 +67,11 @@ size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
 {
     if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     tu_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* One run from RANSAC to the checked metric answer. */
@@ -169,13 +169,13 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     sfm_uncal_options o;
     if (sfmi_uncal_options(opt, &o) < 0)
         return SFM_E_ARGUMENT;
-    sfm_arena a;
+    sfmi_arena a;
     tu_ws w;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, &w);
     sfm_uncal_report rep;
     const double *px[3] = {px1, px2, px3};
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     int st0 = sfmi_uncal_centre(3, px, n, width, height, w.xc, &rep);
     if (st0 < 0)

@@ -21,14 +21,14 @@ typedef struct twu_ws {
     sfmi_mu mu;
 } twu_ws;
 
-static void layout(sfm_arena *a, int n, twu_ws *w)
+static void layout(sfmi_arena *a, int n, twu_ws *w)
 {
     for (int v = 0; v < 2; v++)
         w->xc[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     w->xc[2] = NULL;
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->ransac_size = sfm_ransac_fundamental_workspace_size(n);
-    w->ransac_ws = sfm_arena_alloc(a, w->ransac_size);
+    w->ransac_ws = sfmi_arena_alloc(a, w->ransac_size);
     sfmi_mu_layout(a, 2, n, &w->mu);
 }
 
@@ -36,11 +36,11 @@ size_t sfm_recon_two_view_uncalibrated_workspace_size(int n)
 {
     if (n < 8 || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     twu_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static void cross3(const double a[3], const double b[3], double c[3])
@@ -204,13 +204,13 @@ int sfm_recon_two_view_uncalibrated(const double *px1, const double *px2, int n,
     sfm_uncal_options o;
     if (sfmi_uncal_options(opt, &o) < 0)
         return SFM_E_ARGUMENT;
-    sfm_arena a;
+    sfmi_arena a;
     twu_ws w;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, &w);
     sfm_uncal_report rep;
     const double *px[3] = {px1, px2, NULL};
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     int st0 = sfmi_uncal_centre(2, px, n, width, height, w.xc, &rep);
     if (st0 < 0)

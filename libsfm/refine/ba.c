@@ -18,12 +18,12 @@ size_t sfm_ba_workspace_size(const sfm_ba_dims *dims)
 {
     if (!sfmi_ba_dims_valid(dims))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     sfmi_ba_ws w;
     int q, nc;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     sfmi_ba_carve(&a, dims, &w, &q, &nc);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_ba_default_options(sfm_ba_options *o)
@@ -230,11 +230,11 @@ int sfm_ba_solve(sfm_ba_problem *p, const sfm_ba_options *o, sfm_ba_result *resu
     c.n = p->n_points;
     c.nobs = p->n_observations;
     c.a2 = o->loss_scale * o->loss_scale;
-    sfm_arena ar;
+    sfmi_arena ar;
     int ncmax;
-    sfm_arena_init(&ar, ws, ws_size);
+    sfmi_arena_init(&ar, ws, ws_size);
     sfmi_ba_carve(&ar, &dims, &c.w, &c.qmax, &ncmax);
-    if (!sfm_arena_ok(&ar))
+    if (!sfmi_arena_ok(&ar))
         return SFM_E_WORKSPACE;
     st = sfmi_ba_setup(&c, ncmax);
     if (st != SFM_OK)

@@ -60,7 +60,7 @@ int sfmi_ba_n_intrinsics(const sfm_ba_dims *d);
 int sfmi_ba_dims_valid(const sfm_ba_dims *d);
 /* Carves the workspace; *qmax, *ncmax: the largest camera-side parameter
  * count of an observation and of the reduced system. */
-void sfmi_ba_carve(sfm_arena *a, const sfm_ba_dims *d, sfmi_ba_ws *w, int *qmax, int *ncmax);
+void sfmi_ba_carve(sfmi_arena *a, const sfm_ba_dims *d, sfmi_ba_ws *w, int *qmax, int *ncmax);
 /* Free flags, the observations by point, the camera-side columns and the
  * gauge, the working copies. Returns SFM_OK or SFM_E_ARGUMENT (a free point
  * or camera nobody sees, an unobservable distance gauge). */

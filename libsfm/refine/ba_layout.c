@@ -46,7 +46,7 @@ int sfmi_ba_dims_valid(const sfm_ba_dims *d)
     return 1;
 }
 
-void sfmi_ba_carve(sfm_arena *a, const sfm_ba_dims *d, sfmi_ba_ws *w, int *qmax_out, int *ncmax_out)
+void sfmi_ba_carve(sfmi_arena *a, const sfm_ba_dims *d, sfmi_ba_ws *w, int *qmax_out, int *ncmax_out)
 {
     int m = d->n_cameras, n = d->n_points, no = d->n_observations;
     int ni = sfmi_ba_n_intrinsics(d);

@@ -111,8 +111,8 @@ static inline int distorted_point(const sfm_camera *cam, const double *Xc, doubl
         }
         return 1;
     }
-    int st = cam->model == SFM_CAMERA_FISHEYE ? sfm_cam__fisheye_project(k, Xc, xd, D)
-                                              : sfm_cam__brown_project(k, Xc, xd, D);
+    int st = cam->model == SFM_CAMERA_FISHEYE ? sfmi_cam_fisheye_project(k, Xc, xd, D)
+                                              : sfmi_cam_brown_project(k, Xc, xd, D);
     return st >= 0;
 }
 

@@ -29,8 +29,8 @@ static int solve_p3p(void *ctx, const int *s, double *models)
     const abs_ctx *c = ctx;
     double x[9], X[9];
     sfm_pose P[SFM_P3P_MAX_SOLUTIONS];
-    sfm_robust_gather(c->b, 3, s, 3, x);
-    sfm_robust_gather(c->X, 3, s, 3, X);
+    sfmi_robust_gather(c->b, 3, s, 3, x);
+    sfmi_robust_gather(c->X, 3, s, 3, X);
     int ns = sfm_p3p(x, X, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
@@ -44,7 +44,7 @@ static int solve_p3p(void *ctx, const int *s, double *models)
 static double residual(void *ctx, const double *m, int i)
 {
     const abs_ctx *c = ctx;
-    return sfm_robust_reproj2(m, m + 9, c->b + 3 * i, c->X + 3 * i);
+    return sfmi_robust_reproj2(m, m + 9, c->b + 3 * i, c->X + 3 * i);
 }
 
 static int refine(void *ctx, const int *inl, int n, double *m)
@@ -52,7 +52,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     const abs_ctx *c = ctx;
     if (n < 3)
         return -1;
-    return sfm_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
+    return sfmi_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
 }
 
 /* The support checks of sfm_ransac.h on the inliers of model (tau: the
@@ -87,29 +87,29 @@ static int support(const abs_ctx *c, const double *px, int n, const double *m, d
     return SFM_OK;
 }
 
-static void layout(sfm_arena *a, int n, size_t es, double **b, int **idx, void **eng)
+static void layout(sfmi_arena *a, int n, size_t es, double **b, int **idx, void **eng)
 {
     *b = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
     *idx = SFM_ARENA_ARRAY(a, int, n);
-    *eng = sfm_arena_alloc(a, es);
+    *eng = sfmi_arena_alloc(a, es);
 }
 
 static size_t engine_size(int n)
 {
-    return sfm_robust_engine_size(n, 3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL);
+    return sfmi_robust_engine_size(n, 3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL);
 }
 
 size_t sfm_ransac_abspose_workspace_size(int n)
 {
     if (n < 3 || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     double *b;
     int *idx;
     void *eng;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, engine_size(n), &b, &idx, &eng);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camera *cam,
@@ -121,25 +121,25 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     if (n < 3 || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
     sfm_ransac_options eopt;
-    int st = sfm_robust_options(opt, &eopt);
+    int st = sfmi_robust_options(opt, &eopt);
     if (st < 0)
         return st;
     st = sfm_camera_validate(cam);
     if (st < 0)
         return st;
-    if (!sfm_la_all_finite(px, 2 * (size_t)n) || !sfm_la_all_finite(X, 3 * (size_t)n))
+    if (!sfmi_la_all_finite(px, 2 * (size_t)n) || !sfmi_la_all_finite(X, 3 * (size_t)n))
         return SFM_E_NONFINITE;
     size_t need = sfm_ransac_abspose_workspace_size(n);
     if (ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
+    sfmi_arena a;
     double *b;
     int *idx;
     void *eng;
     size_t es = engine_size(n);
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, es, &b, &idx, &eng);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     st = sfm_camera_unproject_many(cam, px, n, b);
     if (st < 0)

@@ -17,7 +17,7 @@
 
 #define SFM_ROBUST_HUGE 1e300
 
-static inline double sfm_sampson_bearing2(const double *E, const double *b1, const double *b2)
+static inline double sfmi_sampson_bearing2(const double *E, const double *b1, const double *b2)
 {
     double e0 = E[0] * b1[0] + E[1] * b1[1] + E[2] * b1[2];
     double e1 = E[3] * b1[0] + E[4] * b1[1] + E[5] * b1[2];
@@ -33,7 +33,7 @@ static inline double sfm_sampson_bearing2(const double *E, const double *b1, con
 }
 
 /* Sampson error of a fundamental matrix on pixels (classic form). */
-static inline double sfm_sampson_pixel2(const double *F, const double *p1, const double *p2)
+static inline double sfmi_sampson_pixel2(const double *F, const double *p1, const double *p2)
 {
     double x = p1[0], y = p1[1], u = p2[0], v = p2[1];
     double l0 = F[0] * x + F[1] * y + F[2];
@@ -49,7 +49,7 @@ static inline double sfm_sampson_pixel2(const double *F, const double *p1, const
 }
 
 /* Adjugate v of the 3x3 a (a v = det I); returns det. */
-static inline double sfm_adj3(const double *a, double *v)
+static inline double sfmi_adj3(const double *a, double *v)
 {
     v[0] = a[4] * a[8] - a[5] * a[7];
     v[1] = a[2] * a[7] - a[1] * a[8];
@@ -64,7 +64,7 @@ static inline double sfm_adj3(const double *a, double *v)
 }
 
 /* Squared distance of y from the homography's transfer of x (pixels). */
-static inline double sfm_transfer2(const double *H, const double *x, const double *y)
+static inline double sfmi_transfer2(const double *H, const double *x, const double *y)
 {
     double w = H[6] * x[0] + H[7] * x[1] + H[8];
     if (w == 0.0)
@@ -75,7 +75,7 @@ static inline double sfm_transfer2(const double *H, const double *x, const doubl
 }
 
 /* E = [t]x R. */
-static inline void sfm_essential_from_pose(const double *R, const double *t, double *E)
+static inline void sfmi_essential_from_pose(const double *R, const double *t, double *E)
 {
     for (int c = 0; c < 3; c++) {
         double r0 = R[c], r1 = R[3 + c], r2 = R[6 + c];
@@ -86,7 +86,7 @@ static inline void sfm_essential_from_pose(const double *R, const double *t, dou
 }
 
 /* Two unit vectors completing the unit vector n to an orthonormal basis. */
-static inline void sfm_tangent_basis(const double *n, double *e1, double *e2)
+static inline void sfmi_tangent_basis(const double *n, double *e1, double *e2)
 {
     double a[3] = {0.0, 0.0, 0.0};
     double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
@@ -96,12 +96,12 @@ static inline void sfm_tangent_basis(const double *n, double *e1, double *e2)
         a[1] = 1.0;
     else
         a[2] = 1.0;
-    sfm_cross3(n, a, e1);
-    double l = sqrt(sfm_dot3(e1, e1));
+    sfmi_cross3(n, a, e1);
+    double l = sqrt(sfmi_dot3(e1, e1));
     e1[0] /= l;
     e1[1] /= l;
     e1[2] /= l;
-    sfm_cross3(n, e1, e2);
+    sfmi_cross3(n, e1, e2);
 }
 
 /* The oriented epipolar constraint (Chum, Werner & Matas, "Epipolar
@@ -114,18 +114,18 @@ static inline void sfm_tangent_basis(const double *n, double *e1, double *e2)
  * homogeneous 3-vectors each. Returns 1 when the model can place all n
  * pairs in front of both cameras (a necessary condition); the solvers drop
  * the models that fail it on their own sample before any verification. */
-static inline int sfm_oriented_epipolar(const double *E, const double *x1, const double *x2,
+static inline int sfmi_oriented_epipolar(const double *E, const double *x1, const double *x2,
                                         int n)
 {
     /* t: the largest cross product of two columns of E */
     const double c0[3] = {E[0], E[3], E[6]}, c1[3] = {E[1], E[4], E[7]},
                  c2[3] = {E[2], E[5], E[8]};
     double t[3], u[3], v[3];
-    sfm_cross3(c0, c1, t);
-    sfm_cross3(c0, c2, u);
-    sfm_cross3(c1, c2, v);
+    sfmi_cross3(c0, c1, t);
+    sfmi_cross3(c0, c2, u);
+    sfmi_cross3(c1, c2, v);
     const double *w = t;
-    double nt = sfm_dot3(t, t), nu = sfm_dot3(u, u), nv = sfm_dot3(v, v);
+    double nt = sfmi_dot3(t, t), nu = sfmi_dot3(u, u), nv = sfmi_dot3(v, v);
     if (nu > nt) {
         w = u;
         nt = nu;
@@ -135,9 +135,9 @@ static inline int sfm_oriented_epipolar(const double *E, const double *x1, const
     int pos = 0, neg = 0;
     for (int i = 0; i < n; i++) {
         double Eb[3], txb[3];
-        sfm_matvec3(E, x1 + 3 * i, Eb);
-        sfm_cross3(w, x2 + 3 * i, txb);
-        double sgn = sfm_dot3(txb, Eb);
+        sfmi_matvec3(E, x1 + 3 * i, Eb);
+        sfmi_cross3(w, x2 + 3 * i, txb);
+        double sgn = sfmi_dot3(txb, Eb);
         pos += sgn > 0.0;
         neg += sgn < 0.0;
     }

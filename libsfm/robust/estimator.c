@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-int sfm_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
+int sfmi_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
 {
     if (opt != NULL)
         *eopt = *opt;
@@ -16,7 +16,7 @@ int sfm_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
     return SFM_OK;
 }
 
-size_t sfm_robust_engine_size(int n, int sample, int max_models, int model_size)
+size_t sfmi_robust_engine_size(int n, int sample, int max_models, int model_size)
 {
     sfm_ransac_dims d = {n, sample, max_models, model_size};
     return sfm_ransac_workspace_size(&d);

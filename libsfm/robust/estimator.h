@@ -11,13 +11,13 @@
 /* eopt = *opt, or the defaults when opt is NULL; then checks that threshold
  * and confidence are finite (SFM_E_NONFINITE) and threshold > 0
  * (SFM_E_ARGUMENT). Returns SFM_OK or that status. */
-int sfm_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt);
+int sfmi_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt);
 
 /* sfm_ransac_workspace_size for these dimensions (0 when they are invalid). */
-size_t sfm_robust_engine_size(int n, int sample, int max_models, int model_size);
+size_t sfmi_robust_engine_size(int n, int sample, int max_models, int model_size);
 
 /* dst[j] = src[idx[j]] for j < k, rows of dim doubles. */
-static inline void sfm_robust_gather(const double *src, int dim, const int *idx, int k,
+static inline void sfmi_robust_gather(const double *src, int dim, const int *idx, int k,
                                      double *dst)
 {
     for (int j = 0; j < k; j++)

@@ -62,10 +62,10 @@ static int solve7(void *ctx, const int *s, double *models)
 {
     const f_ctx *c = ctx;
     double a[14], b[14];
-    sfm_robust_gather(c->p1, 2, s, 7, a);
-    sfm_robust_gather(c->p2, 2, s, 7, b);
-    sfm_mat3 F[SFM_RELPOSE_7PT_MAX_SOLUTIONS];
-    int ns = sfm_relpose_7pt(a, b, F);
+    sfmi_robust_gather(c->p1, 2, s, 7, a);
+    sfmi_robust_gather(c->p2, 2, s, 7, b);
+    sfm_mat3 F[SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS];
+    int ns = sfm_fundamental_7pt(a, b, F);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     double h1[21], h2[21];
@@ -79,11 +79,11 @@ static int solve7(void *ctx, const int *s, double *models)
     }
     int kept = 0;
     for (int k = 0; k < ns; k++) {
-        if (!sfm_oriented_epipolar(F[k].m, h1, h2, 7))
+        if (!sfmi_oriented_epipolar(F[k].m, h1, h2, 7))
             continue;
         double *m = models + FMODEL * kept;
         memcpy(m, F[k].m, 9 * sizeof(double));
-        sfm__normalize9(m);
+        sfmi_normalize9(m);
         m[F_PP] = 0.0;
         kept++;
     }
@@ -93,7 +93,7 @@ static int solve7(void *ctx, const int *s, double *models)
 static double residual(void *ctx, const double *m, int i)
 {
     const f_ctx *c = ctx;
-    return sfm_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    return sfmi_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
 /* Linear refit, then LM from whichever of it and the current model has the
@@ -103,16 +103,16 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     f_ctx *c = ctx;
     if (n < 8)
         return -1;
-    sfm_robust_gather(c->p1, 2, inl, n, c->g1);
-    sfm_robust_gather(c->p2, 2, inl, n, c->g2);
+    sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
+    sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double F[9];
     memcpy(F, m, sizeof F);
     sfm_mat3 L;
-    if (sfm_fundamental_8pt(c->g1, c->g2, n, &L) == 1 && sfm__normalize9(L.m) == 0 &&
-        sfm_robust_fundamental_cost(c->g1, c->g2, n, c->tau, L.m) <
-            sfm_robust_fundamental_cost(c->g1, c->g2, n, c->tau, F))
+    if (sfm_fundamental_8pt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
+        sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, L.m) <
+            sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, F))
         memcpy(F, L.m, sizeof F);
-    (void)sfm_robust_fundamental_lm(c->g1, c->g2, n, c->tau, F_LM_STEPS, F);
+    (void)sfmi_robust_fundamental_lm(c->g1, c->g2, n, c->tau, F_LM_STEPS, F);
     memcpy(m, F, sizeof F);
     return 0;
 }
@@ -121,7 +121,7 @@ static double score(const f_ctx *c, const double *F)
 {
     double s = 0.0;
     for (int i = 0; i < c->n; i++) {
-        double r2 = sfm_sampson_pixel2(F, c->p1 + 2 * i, c->p2 + 2 * i);
+        double r2 = sfmi_sampson_pixel2(F, c->p1 + 2 * i, c->p2 + 2 * i);
         s += r2 < c->tau2 ? r2 : c->tau2;
     }
     return s;
@@ -141,14 +141,14 @@ static int degenerate_h(const f_ctx *c, const int *s, double *H)
                 for (int e = d + 1; e < 7; e++) {
                     const int q[4] = {s[a], s[b], s[d], s[e]};
                     double x[8], y[8];
-                    sfm_robust_gather(c->p1, 2, q, 4, x);
-                    sfm_robust_gather(c->p2, 2, q, 4, y);
+                    sfmi_robust_gather(c->p1, 2, q, 4, x);
+                    sfmi_robust_gather(c->p2, 2, q, 4, y);
                     sfm_mat3 G;
                     if (sfm_homography_4pt(x, y, &G) != 1)
                         continue;
                     int cnt = 0;
                     for (int j = 0; j < 7; j++)
-                        cnt += sfm_transfer2(G.m, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < lim;
+                        cnt += sfmi_transfer2(G.m, c->p1 + 2 * s[j], c->p2 + 2 * s[j]) < lim;
                     if (cnt > best) {
                         best = cnt;
                         memcpy(H, G.m, sizeof G.m);
@@ -172,20 +172,20 @@ static int plane_refit(f_ctx *c, double *H)
     for (int round = 0; round < 2; round++) {
         int on = 0;
         for (int i = 0; i < c->n; i++)
-            if (sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim)
+            if (sfmi_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim)
                 c->idx[on++] = i;
         if (on < 5)
             break;
-        sfm_robust_gather(c->p1, 2, c->idx, on, c->g1);
-        sfm_robust_gather(c->p2, 2, c->idx, on, c->g2);
+        sfmi_robust_gather(c->p1, 2, c->idx, on, c->g1);
+        sfmi_robust_gather(c->p2, 2, c->idx, on, c->g2);
         sfm_mat3 G;
-        if (sfm_homography_dlt(c->g1, c->g2, on, &G) != 1 || sfm__normalize9(G.m) != 0)
+        if (sfm_homography_dlt(c->g1, c->g2, on, &G) != 1 || sfmi_normalize9(G.m) != 0)
             break;
         memcpy(H, G.m, sizeof G.m);
     }
     int off = 0;
     for (int i = 0; i < c->n; i++)
-        if (!(sfm_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim))
+        if (!(sfmi_transfer2(H, c->p1 + 2 * i, c->p2 + 2 * i) < lim))
             c->idx[off++] = i;
     if (c->n - off > c->plane_on) {
         c->plane_on = c->n - off;
@@ -215,17 +215,17 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
             int i = j == 0 ? a : b;
             double x[3] = {c->p1[2 * i], c->p1[2 * i + 1], 1.0};
             double y[3] = {c->p2[2 * i], c->p2[2 * i + 1], 1.0}, Hx[3];
-            sfm_matvec3(H, x, Hx);
-            sfm_cross3(Hx, y, l[j]);
+            sfmi_matvec3(H, x, Hx);
+            sfmi_cross3(Hx, y, l[j]);
         }
         double ep[3], F[9];
-        sfm_cross3(l[0], l[1], ep);
+        sfmi_cross3(l[0], l[1], ep);
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++) {
                 int r1 = (r + 1) % 3, r2 = (r + 2) % 3;
                 F[3 * r + k] = ep[r1] * H[3 * r2 + k] - ep[r2] * H[3 * r1 + k];
             }
-        if (sfm__normalize9(F) != 0)
+        if (sfmi_normalize9(F) != 0)
             continue;
         double sc = score(c, F);
         if (sc < best) {
@@ -246,7 +246,7 @@ static int plane_support(const f_ctx *c, const double *H, const int *idx, int m)
 {
     int on = 0;
     for (int j = 0; j < m; j++)
-        on += sfm_transfer2(H, c->p1 + 2 * idx[j], c->p2 + 2 * idx[j]) < 4.0 * c->tau2;
+        on += sfmi_transfer2(H, c->p1 + 2 * idx[j], c->p2 + 2 * idx[j]) < 4.0 * c->tau2;
     return on;
 }
 
@@ -259,7 +259,7 @@ static int dominant_plane(f_ctx *c, const double *m, sfm_rng *rng)
 {
     int in = 0;
     for (int i = 0; i < c->n; i++)
-        if (sfm_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2)
+        if (sfmi_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2)
             c->idx[in++] = i;
     if (in < 8)
         return 0;
@@ -278,8 +278,8 @@ static int dominant_plane(f_ctx *c, const double *m, sfm_rng *rng)
             q[k] = v;
         }
         double x[8], y[8];
-        sfm_robust_gather(c->p1, 2, q, 4, x);
-        sfm_robust_gather(c->p2, 2, q, 4, y);
+        sfmi_robust_gather(c->p1, 2, q, 4, x);
+        sfmi_robust_gather(c->p2, 2, q, 4, y);
         sfm_mat3 G;
         if (sfm_homography_4pt(x, y, &G) == 1 && 2 * plane_support(c, G.m, c->idx, in) >= in)
             return 1;
@@ -291,7 +291,7 @@ size_t sfm_ransac_fundamental_workspace_size(int n)
 {
     if (n < 8)
         return 0;
-    return sfm_pixel_pairs_workspace_size(n, 7, SFM_RELPOSE_7PT_MAX_SOLUTIONS, FMODEL);
+    return sfmi_pixel_pairs_workspace_size(n, 7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS, FMODEL);
 }
 
 int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sfm_camera *cam1,
@@ -303,7 +303,7 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
         return SFM_E_ARGUMENT;
     pixel_pairs pp;
     sfm_ransac_options eopt;
-    int st = sfm_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 7, SFM_RELPOSE_7PT_MAX_SOLUTIONS,
+    int st = sfmi_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS,
                                    FMODEL, ws, ws_size, &pp, &eopt);
     if (st < 0)
         return st;
@@ -318,7 +318,7 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
     c.n = n;
     c.tau = eopt.threshold;
     c.tau2 = eopt.threshold * eopt.threshold;
-    sfm_ransac_estimator est = {7, SFM_RELPOSE_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
+    sfm_ransac_estimator est = {7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
                                 refine, NULL, fix_best, &c, NULL};
     double model[FMODEL];
     sfm_ransac_stats s;
@@ -333,7 +333,7 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
      * 2 sqrt(2) tau across image 2 (the Sampson error splits the distance
      * to the epipolar line over both images) */
     double diag, area = sfmi_bbox_area(pp.p2, 2, n, &diag);
-    st = sfm_pixel_pairs_support(&pp, n, 7, m,
+    st = sfmi_pixel_pairs_support(&pp, n, 7, m,
                                  sfmi_chance_band(area, diag, 2.8284271247461903 * c.tau), 0,
                                  c.tau);
     if (st < 0)

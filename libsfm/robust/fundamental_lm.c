@@ -77,8 +77,8 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     Sp[0] = cs[0] * p[0];
     Sp[1] = cs[1] * p[1];
     Sp[2] = 0.0;
-    sfm_matvec3(U, Sz, l); /* F_n x_n */
-    sfm_matvec3(V, Sp, m); /* F_n^T y_n */
+    sfmi_matvec3(U, Sz, l); /* F_n x_n */
+    sfmi_matvec3(V, Sp, m); /* F_n^T y_n */
     const double q1 = N->t1[0] * N->t1[0], q2 = N->t2[0] * N->t2[0];
     const double C = p[0] * Sz[0] + p[1] * Sz[1];
     const double D = q2 * (l[0] * l[0] + l[1] * l[1]) + q1 * (m[0] * m[0] + m[1] * m[1]);
@@ -89,28 +89,28 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     if (J == NULL)
         return 1;
     double Szxp[3], zxSp[3];
-    sfm_cross3(Sz, p, Szxp);
-    sfm_cross3(z, Sp, zxSp);
+    sfmi_cross3(Sz, p, Szxp);
+    sfmi_cross3(z, Sp, zxSp);
     for (int k = 0; k < 3; k++) {
         double e[3] = {0.0, 0.0, 0.0}, ez[3], ep[3], Mx[3], Mty[3], w[3];
         e[k] = 1.0;
         /* a_k: -U (S z x e_k) = U (e_k x S z); V S (p x e_k) */
-        sfm_cross3(e, Sz, ez);
-        sfm_matvec3(U, ez, Mx);
-        sfm_cross3(p, e, ep);
+        sfmi_cross3(e, Sz, ez);
+        sfmi_matvec3(U, ez, Mx);
+        sfmi_cross3(p, e, ep);
         w[0] = cs[0] * ep[0];
         w[1] = cs[1] * ep[1];
         w[2] = 0.0;
-        sfm_matvec3(V, w, Mty);
+        sfmi_matvec3(V, w, Mty);
         J[k] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, Szxp[k]);
         /* b_k: U S (z x e_k); -V (S p x e_k) = V (e_k x S p) */
-        sfm_cross3(z, e, ez);
+        sfmi_cross3(z, e, ez);
         w[0] = cs[0] * ez[0];
         w[1] = cs[1] * ez[1];
         w[2] = 0.0;
-        sfm_matvec3(U, w, Mx);
-        sfm_cross3(e, Sp, ep);
-        sfm_matvec3(V, ep, Mty);
+        sfmi_matvec3(U, w, Mx);
+        sfmi_cross3(e, Sp, ep);
+        sfmi_matvec3(V, ep, Mty);
         J[3 + k] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, -zxSp[k]);
     }
     double B[2], dz[3], dp[3], Mx[3], Mty[3];
@@ -121,8 +121,8 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     dp[0] = B[0] * p[0];
     dp[1] = B[1] * p[1];
     dp[2] = 0.0;
-    sfm_matvec3(U, dz, Mx);
-    sfm_matvec3(V, dp, Mty);
+    sfmi_matvec3(U, dz, Mx);
+    sfmi_matvec3(V, dp, Mty);
     J[6] = dres(l, m, q1, q2, C, D, sD, Mx, Mty, p[0] * dz[0] + p[1] * dz[1]);
     return 1;
 }
@@ -136,13 +136,13 @@ static double robust_loss(double r2, double s2)
     return rho;
 }
 
-double sfm_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
+double sfmi_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
                                    const double F[9])
 {
     const double s2 = scale > 0.0 ? scale * scale : 0.0;
     double c = 0.0;
     for (int i = 0; i < n; i++) {
-        double r2 = sfm_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
+        double r2 = sfmi_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
         if (r2 < SFM_ROBUST_HUGE)
             c += robust_loss(r2, s2);
     }
@@ -161,13 +161,13 @@ static void inv_norm(const double *t, double *ti)
 static void congruence(const double *t2, const double *A, const double *t1, double *B)
 {
     double T1[9], T2[9], T2t[9], tmp[9];
-    sfm__hartley_matrix(t1, T1);
-    sfm__hartley_matrix(t2, T2);
+    sfmi_hartley_matrix(t1, T1);
+    sfmi_hartley_matrix(t2, T2);
     for (int r = 0; r < 3; r++)
         for (int k = 0; k < 3; k++)
             T2t[3 * r + k] = T2[3 * k + r];
-    sfm_matmul3(T2t, A, tmp);
-    sfm_matmul3(tmp, T1, B);
+    sfmi_matmul3(T2t, A, tmp);
+    sfmi_matmul3(tmp, T1, B);
 }
 
 static double det3(const double *a)
@@ -179,7 +179,7 @@ static double det3(const double *a)
 int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, double scale,
                                 const double F[9], sfmi_fundamental_problem *N)
 {
-    if (n < NP || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
+    if (n < NP || sfmi_hartley_2d(p1, n, N->t1) < 0 || sfmi_hartley_2d(p2, n, N->t2) < 0)
         return -1;
     N->p1 = p1;
     N->p2 = p2;
@@ -190,7 +190,7 @@ int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, doubl
     inv_norm(N->t1, ti1);
     inv_norm(N->t2, ti2);
     congruence(ti2, F, ti1, Fn);
-    if (sfm__svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
+    if (sfmi_svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
         return -1;
     if (det3(U) < 0.0)
         for (int r = 0; r < 3; r++)
@@ -211,7 +211,7 @@ int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, doubl
     return 0;
 }
 
-int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
+int sfmi_robust_fundamental_lm(const double *p1, const double *p2, int n, double scale, int iters,
                               double F[9])
 {
     fnorm N;
@@ -224,7 +224,7 @@ int sfm_robust_fundamental_lm(const double *p1, const double *p2, int n, double 
     double Fn[9], Fp[9];
     compose(N.U, N.V, N.cs, Fn);
     congruence(N.t2, Fn, N.t1, Fp);
-    if (sfm__normalize9(Fp) != 0)
+    if (sfmi_normalize9(Fp) != 0)
         return -1;
     memcpy(F, Fp, sizeof Fp);
     return 0;

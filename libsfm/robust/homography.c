@@ -36,9 +36,9 @@ static int finish_model(const double *H, double *m)
 {
     double adj[9];
     memmove(m, H, 9 * sizeof(double));
-    if (sfm__normalize9(m))
+    if (sfmi_normalize9(m))
         return 0;
-    double det = sfm_adj3(m, adj);
+    double det = sfmi_adj3(m, adj);
     if (!(fabs(det) > 1e-15))
         return 0;
     return 1;
@@ -48,8 +48,8 @@ static int solve4(void *ctx, const int *s, double *models)
 {
     const h_ctx *c = ctx;
     double a[8], b[8];
-    sfm_robust_gather(c->p1, 2, s, 4, a);
-    sfm_robust_gather(c->p2, 2, s, 4, b);
+    sfmi_robust_gather(c->p1, 2, s, 4, a);
+    sfmi_robust_gather(c->p2, 2, s, 4, b);
     sfm_mat3 H;
     int ns = sfm_homography_4pt(a, b, &H);
     if (ns < 0)
@@ -62,7 +62,7 @@ static int solve4(void *ctx, const int *s, double *models)
 static double residual(void *ctx, const double *m, int i)
 {
     const h_ctx *c = ctx;
-    return sfm_robust_homography_sampson2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    return sfmi_robust_homography_sampson2(m, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
 /* A linear refit (normalised DLT), then LM on the Sampson error from
@@ -79,16 +79,16 @@ static int refine(void *ctx, const int *inl, int n, double *m)
     h_ctx *c = ctx;
     if (n < 4)
         return -1;
-    sfm_robust_gather(c->p1, 2, inl, n, c->g1);
-    sfm_robust_gather(c->p2, 2, inl, n, c->g2);
+    sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
+    sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double H[9];
     memcpy(H, m, sizeof H);
     sfm_mat3 L;
-    if (sfm_homography_dlt(c->g1, c->g2, n, &L) == 1 && sfm__normalize9(L.m) == 0 &&
-        sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
-            sfm_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
+    if (sfm_homography_dlt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
+        sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
+            sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
         memcpy(H, L.m, sizeof H);
-    (void)sfm_robust_homography_lm(c->g1, c->g2, n, 2.0 * c->tau, H_LM_STEPS, H);
+    (void)sfmi_robust_homography_lm(c->g1, c->g2, n, 2.0 * c->tau, H_LM_STEPS, H);
     double tmp[HMODEL];
     if (!finish_model(H, tmp))
         return -1;
@@ -98,7 +98,7 @@ static int refine(void *ctx, const int *inl, int n, double *m)
 
 size_t sfm_ransac_homography_workspace_size(int n)
 {
-    return sfm_pixel_pairs_workspace_size(n, 4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL);
+    return sfmi_pixel_pairs_workspace_size(n, 4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL);
 }
 
 int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm_camera *cam1,
@@ -109,7 +109,7 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
         return SFM_E_ARGUMENT;
     pixel_pairs pp;
     sfm_ransac_options eopt;
-    int st = sfm_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 4,
+    int st = sfmi_pixel_pairs_setup(px1, px2, n, cam1, cam2, opt, 4,
                                    SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, ws, ws_size, &pp,
                                    &eopt);
     if (st < 0)
@@ -131,7 +131,7 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     /* a random pair is an inlier when it lands within about sqrt(2) tau of
      * the transfer (the Sampson error splits the distance over both images) */
     double diag, area = sfmi_bbox_area(pp.p2, 2, n, &diag);
-    st = sfm_pixel_pairs_support(&pp, n, 4, m,
+    st = sfmi_pixel_pairs_support(&pp, n, 4, m,
                                  sfmi_chance_disc(area, 1.4142135623730951 * eopt.threshold), 1,
                                  eopt.threshold);
     if (st < 0)

@@ -43,7 +43,7 @@ static int sampson_pair(const double *H, const double *x, const double *y, doubl
                         hs_pair *P)
 {
     const double X[3] = {x[0], x[1], 1.0};
-    sfm_matvec3(H, X, P->u);
+    sfmi_matvec3(H, X, P->u);
     const double *u = P->u;
     P->e[0] = y[1] * u[2] - u[1];
     P->e[1] = u[0] - y[0] * u[2];
@@ -75,7 +75,7 @@ static int sampson_pair(const double *H, const double *x, const double *y, doubl
 }
 
 /* e^T (J J^T)^-1 e in closed form (the 2 x 2 inverse), for scoring. */
-double sfm_robust_homography_sampson2(const double H[9], const double *x, const double *y)
+double sfmi_robust_homography_sampson2(const double H[9], const double *x, const double *y)
 {
     const double u0 = H[0] * x[0] + H[1] * x[1] + H[2];
     const double u1 = H[3] * x[0] + H[4] * x[1] + H[5];
@@ -91,13 +91,13 @@ double sfm_robust_homography_sampson2(const double H[9], const double *x, const 
     return (c * e0 * e0 - 2.0 * b * e0 * e1 + a * e1 * e1) / det;
 }
 
-double sfm_robust_homography_cost(const double *p1, const double *p2, int n, double scale,
+double sfmi_robust_homography_cost(const double *p1, const double *p2, int n, double scale,
                                   const double H[9])
 {
     const double s2 = scale > 0.0 ? scale * scale : 0.0;
     double c = 0.0;
     for (int i = 0; i < n; i++) {
-        double r2 = sfm_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
+        double r2 = sfmi_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
         if (r2 < SFM_ROBUST_HUGE) {
             double rho = r2, rho1;
             if (s2 > 0.0)
@@ -182,7 +182,7 @@ static int homography_residual(const void *user, const double *const *x, int i, 
 int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double scale,
                                const double H[9], sfmi_homography_problem *N)
 {
-    if (n < 4 || sfm__hartley_2d(p1, n, N->t1) < 0 || sfm__hartley_2d(p2, n, N->t2) < 0)
+    if (n < 4 || sfmi_hartley_2d(p1, n, N->t1) < 0 || sfmi_hartley_2d(p2, n, N->t2) < 0)
         return -1;
     N->p1 = p1;
     N->p2 = p2;
@@ -190,11 +190,11 @@ int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double
     double T1i[9], T2[9], tmp[9];
     double *Hn = N->Hn;
     const double ti1[3] = {1.0 / N->t1[0], -N->t1[1] / N->t1[0], -N->t1[2] / N->t1[0]};
-    sfm__hartley_matrix(ti1, T1i);
-    sfm__hartley_matrix(N->t2, T2);
-    sfm_matmul3(T2, H, tmp);
-    sfm_matmul3(tmp, T1i, Hn);
-    if (sfm__normalize9(Hn) != 0)
+    sfmi_hartley_matrix(ti1, T1i);
+    sfmi_hartley_matrix(N->t2, T2);
+    sfmi_matmul3(T2, H, tmp);
+    sfmi_matmul3(tmp, T1i, Hn);
+    if (sfmi_normalize9(Hn) != 0)
         return -1;
     int fixed = 0;
     for (int k = 1; k < 9; k++)
@@ -211,7 +211,7 @@ int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double
     return 0;
 }
 
-int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
+int sfmi_robust_homography_lm(const double *p1, const double *p2, int n, double scale, int iters,
                              double H[9])
 {
     hnorm N;
@@ -224,11 +224,11 @@ int sfm_robust_homography_lm(const double *p1, const double *p2, int n, double s
     /* H = T2^-1 H_n T1 */
     double T2i[9], T1[9], Hp[9], tmp[9];
     const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
-    sfm__hartley_matrix(ti2, T2i);
-    sfm__hartley_matrix(N.t1, T1);
-    sfm_matmul3(T2i, N.Hn, tmp);
-    sfm_matmul3(tmp, T1, Hp);
-    if (sfm__normalize9(Hp) != 0 || !sfm_all_finite9(Hp))
+    sfmi_hartley_matrix(ti2, T2i);
+    sfmi_hartley_matrix(N.t1, T1);
+    sfmi_matmul3(T2i, N.Hn, tmp);
+    sfmi_matmul3(tmp, T1, Hp);
+    if (sfmi_normalize9(Hp) != 0 || !sfmi_all_finite9(Hp))
         return -1;
     memcpy(H, Hp, sizeof Hp);
     return 0;

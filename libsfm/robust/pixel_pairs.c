@@ -8,29 +8,29 @@
 #include "robust/estimator.h"
 #include "robust/support_check.h"
 
-static void layout(sfm_arena *a, int n, size_t es, pixel_pairs *pp)
+static void layout(sfmi_arena *a, int n, size_t es, pixel_pairs *pp)
 {
     pp->p1 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     pp->p2 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     pp->g1 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     pp->g2 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     pp->idx = SFM_ARENA_ARRAY(a, int, n);
-    pp->eng = sfm_arena_alloc(a, es);
+    pp->eng = sfmi_arena_alloc(a, es);
     pp->eng_size = es;
 }
 
-size_t sfm_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size)
+size_t sfmi_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size)
 {
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    size_t es = sfm_robust_engine_size(n, sample, max_models, model_size);
+    size_t es = sfmi_robust_engine_size(n, sample, max_models, model_size);
     if (es == 0)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     pixel_pairs pp;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, es, &pp);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static int ideal(const sfm_camera *cam, const double *px, int n, double *out)
@@ -53,7 +53,7 @@ static int ideal(const sfm_camera *cam, const double *px, int n, double *out)
     return SFM_OK;
 }
 
-int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
                           const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
                           int max_models, int model_size, void *ws, size_t ws_size,
                           pixel_pairs *pp, sfm_ransac_options *eopt)
@@ -62,7 +62,7 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
         return SFM_E_ARGUMENT;
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    int st = sfm_robust_options(opt, eopt);
+    int st = sfmi_robust_options(opt, eopt);
     if (st < 0)
         return st;
     if (cam1 != NULL) {
@@ -73,17 +73,17 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
         if (st < 0)
             return st;
     }
-    if (!sfm_la_all_finite(px1, 2 * (size_t)n) || !sfm_la_all_finite(px2, 2 * (size_t)n))
+    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
         return SFM_E_NONFINITE;
-    size_t need = sfm_pixel_pairs_workspace_size(n, sample, max_models, model_size);
+    size_t need = sfmi_pixel_pairs_workspace_size(n, sample, max_models, model_size);
     if (need == 0)
         return SFM_E_ARGUMENT;
     if (ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
-    sfm_arena_init(&a, ws, ws_size);
-    layout(&a, n, sfm_robust_engine_size(n, sample, max_models, model_size), pp);
-    if (!sfm_arena_ok(&a))
+    sfmi_arena a;
+    sfmi_arena_init(&a, ws, ws_size);
+    layout(&a, n, sfmi_robust_engine_size(n, sample, max_models, model_size), pp);
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     if (cam1 == NULL) {
         memcpy(pp->p1, px1, 2 * (size_t)n * sizeof(double));
@@ -96,13 +96,13 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
     return ideal(cam2, px2, n, pp->p2);
 }
 
-int sfm_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
+int sfmi_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
                             double tau)
 {
     if (!sfmi_above_chance(n, k, m, p))
         return SFM_E_NO_MODEL;
-    sfm_robust_gather(pp->p1, 2, pp->idx, m, pp->g1);
-    sfm_robust_gather(pp->p2, 2, pp->idx, m, pp->g2);
+    sfmi_robust_gather(pp->p1, 2, pp->idx, m, pp->g1);
+    sfmi_robust_gather(pp->p2, 2, pp->idx, m, pp->g2);
     const double *img[2] = {pp->p1, pp->p2}, *sup[2] = {pp->g1, pp->g2};
     /* a plane seen edge-on in one image still determines the (singular)
      * homography onto that line, so H needs a line in both images; F,

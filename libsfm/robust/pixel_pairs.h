@@ -14,11 +14,11 @@ typedef struct pixel_pairs {
     size_t eng_size;
 } pixel_pairs;
 
-size_t sfm_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size);
+size_t sfmi_pixel_pairs_workspace_size(int n, int sample, int max_models, int model_size);
 /* Checks inputs and options, carves ws, writes ideal pixels: with cameras,
  * unproject (undoing distortion) and project with the cameras' pinhole part;
  * without, copy. Returns SFM_OK or a status. */
-int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
+int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm_camera *cam1,
                           const sfm_camera *cam2, const sfm_ransac_options *opt, int sample,
                           int max_models, int model_size, void *ws, size_t ws_size,
                           pixel_pairs *pp, sfm_ransac_options *eopt);
@@ -29,7 +29,7 @@ int sfm_pixel_pairs_setup(const double *px1, const double *px2, int n, const sfm
  * (collinear, clustered against the input box) and the design test
  * (homography or fundamental rows). Overwrites pp->g1, pp->g2. Returns
  * SFM_OK, SFM_E_NO_MODEL or SFM_E_DEGENERATE. */
-int sfm_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
+int sfmi_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
                             double tau);
 
 #endif

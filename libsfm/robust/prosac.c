@@ -30,7 +30,7 @@ static void sift_down(int *h, const double *q, int root, int n)
     }
 }
 
-void sfm_prosac_sort(int *order, const double *quality, int N)
+void sfmi_prosac_sort(int *order, const double *quality, int N)
 {
     for (int i = 0; i < N; i++)
         order[i] = i;
@@ -45,7 +45,7 @@ void sfm_prosac_sort(int *order, const double *quality, int N)
     }
 }
 
-void sfm_prosac_init(sfm_prosac *p, int N, int m)
+void sfmi_prosac_init(sfmi_prosac *p, int N, int m)
 {
     p->N = N;
     p->m = m;
@@ -78,7 +78,7 @@ static void draw_distinct(sfm_rng *rng, int range, int k, int *out, int start)
     }
 }
 
-void sfm_prosac_sample(sfm_prosac *p, sfm_rng *rng, int *out)
+void sfmi_prosac_sample(sfmi_prosac *p, sfm_rng *rng, int *out)
 {
     p->t++;
     if (p->n >= p->N || (double)p->t > PROSAC_TN) {

@@ -10,20 +10,20 @@
 
 #include "sfm/sfm_rng.h"
 
-typedef struct sfm_prosac {
+typedef struct sfmi_prosac {
     int N;         /* number of points */
     int m;         /* sample size */
     int n;         /* current subset size */
     int t;         /* samples drawn */
     double Tn;     /* T_n of the paper (real valued) */
     double Tn_prime;
-} sfm_prosac;
+} sfmi_prosac;
 
 /* Sort order[0..N) by decreasing quality (ties by increasing index, so the
  * order is unique). In place heap sort: no extra memory. */
-void sfm_prosac_sort(int *order, const double *quality, int N);
-void sfm_prosac_init(sfm_prosac *p, int N, int m);
+void sfmi_prosac_sort(int *order, const double *quality, int N);
+void sfmi_prosac_init(sfmi_prosac *p, int N, int m);
 /* Draw the next sample as ranks (positions in the sorted order) into out[m]. */
-void sfm_prosac_sample(sfm_prosac *p, sfm_rng *rng, int *out);
+void sfmi_prosac_sample(sfmi_prosac *p, sfm_rng *rng, int *out);
 
 #endif

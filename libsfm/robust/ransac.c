@@ -50,7 +50,7 @@ static int dims_ok(const sfm_ransac_dims *d)
 
 /* The one layout, used both to measure and to carve (keep in step with
  * SFM_RANSAC_WS_SIZE in the header). */
-static void carve(sfm_arena *a, const sfm_ransac_dims *d, engine *e)
+static void carve(sfmi_arena *a, const sfm_ransac_dims *d, engine *e)
 {
     e->perm = SFM_ARENA_ARRAY(a, int, d->n);
     e->pos = SFM_ARENA_ARRAY(a, int, d->n);
@@ -70,11 +70,11 @@ size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims)
 {
     if (!dims_ok(dims))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     engine e;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     carve(&a, dims, &e);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_ransac_default_options(sfm_ransac_options *opt)
@@ -131,7 +131,7 @@ static double score_full(const engine *e, const double *model, int *ninl)
  * and say nothing about the model: they count in the score but not in the
  * likelihood ratio nor in the estimate of delta. own_pos holds their
  * positions in the verification order, ascending, ending with n. */
-static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *model,
+static int evaluate(const engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
                     const int *own_pos, double best_score, double best_eps, double *score,
                     int *ninl)
 {
@@ -154,7 +154,7 @@ static int evaluate(const engine *e, sfm_sprt *sp, int use_sprt, const double *m
         } else {
             lambda *= in ? min_ : mout;
             if (sprt_on && lambda > A) {
-                sfm_sprt_record_rejection(sp, j + 1 - own, c - own_c);
+                sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
                 return EVAL_SPRT;
             }
         }
@@ -369,8 +369,8 @@ static int inner_ransac(const engine *e, int early, sfm_rng *rng, double *model,
     int c = collect_within(e, model, lo_band2(e, model, 0), e->inl);
     if (c < 2 * e->k)
         return 0;
-    sfm_sprt off;
-    sfm_sprt_init(&off, 0.0, 0.0); /* inactive: inner models are not the bad
+    sfmi_sprt off;
+    sfmi_sprt_init(&off, 0.0, 0.0); /* inactive: inner models are not the bad
                                       models SPRT's delta describes; the
                                       bail-out still applies */
     const int own_none = e->n;
@@ -471,19 +471,19 @@ static int polish(const engine *e, int rounds, int best_inl)
  * eps^k would then ask for 2^k times the samples an all-inlier draw needs.
  * The ratio the rule used goes to *share. Returns the samples the
  * confidence now needs (counted by the caller from this sample on). */
-static double new_best(const engine *e, const sfm_ransac_options *opt, sfm_sprt *sprt, int ninl,
+static double new_best(const engine *e, const sfm_ransac_options *opt, sfmi_sprt *sprt, int ninl,
                        double *share)
 {
     memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
     double eps = (double)ninl / (double)e->n;
     sprt->eps = eps;
-    sfm_sprt_update(sprt);
+    sfmi_sprt_update(sprt);
     double eps_stop =
         e->wide > 1.0 ? (double)collect_within(e, e->best, e->tau2 * e->wide * e->wide, NULL) / (double)e->n
                       : eps;
     *share = eps_stop;
     return needed_iterations(eps_stop, e->k,
-                             opt->use_sprt ? sfm_sprt_pass_probability(sprt) : 1.0,
+                             opt->use_sprt ? sfmi_sprt_pass_probability(sprt) : 1.0,
                              opt->confidence);
 }
 
@@ -516,10 +516,10 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         return SFM_E_WORKSPACE;
 
     engine e;
-    sfm_arena a;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena a;
+    sfmi_arena_init(&a, ws, ws_size);
     carve(&a, &d, &e);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     e.est = est;
     e.n = n;
@@ -543,15 +543,15 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     }
     for (int i = 0; i < n; i++)
         e.pos[e.perm[i]] = i;
-    sfm_prosac prosac;
+    sfmi_prosac prosac;
     const int use_prosac = opt->quality != NULL;
     if (use_prosac) {
-        sfm_prosac_sort(e.order, opt->quality, n);
-        sfm_prosac_init(&prosac, n, e.k);
+        sfmi_prosac_sort(e.order, opt->quality, n);
+        sfmi_prosac_init(&prosac, n, e.k);
     }
 
-    sfm_sprt sprt;
-    sfm_sprt_init(&sprt, SPRT_EPS0, SPRT_DELTA0);
+    sfmi_sprt sprt;
+    sfmi_sprt_init(&sprt, SPRT_EPS0, SPRT_DELTA0);
     const int use_sprt = opt->use_sprt != 0;
     const int lo_on = opt->lo_rounds > 0 && est->refine != NULL;
     int inner_done = 0;
@@ -583,7 +583,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         int budget_left = 1; /* as of the reading above */
         it++;
         if (use_prosac) {
-            sfm_prosac_sample(&prosac, &rng, e.sample);
+            sfmi_prosac_sample(&prosac, &rng, e.sample);
             for (int i = 0; i < e.k; i++)
                 e.sample[i] = e.order[e.sample[i]];
         } else {
@@ -613,7 +613,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             return nm;
         if (nm > e.m)
             nm = e.m;
-        sfm_sprt_record_models(&sprt, nm);
+        sfmi_sprt_record_models(&sprt, nm);
         for (int mi = 0; mi < nm; mi++) {
             const double *cand = e.models + (size_t)mi * (size_t)e.s;
             double sc;

@@ -18,14 +18,14 @@ static int solve5(void *ctx, const int *s, double *models)
     twoview_ctx *c = ctx;
     double x1[15], x2[15];
     sfm_mat3 E[SFM_RELPOSE_5PT_MAX_SOLUTIONS];
-    sfm_robust_gather(c->b1, 3, s, 5, x1);
-    sfm_robust_gather(c->b2, 3, s, 5, x2);
+    sfmi_robust_gather(c->b1, 3, s, 5, x1);
+    sfmi_robust_gather(c->b2, 3, s, 5, x2);
     int ns = sfm_relpose_5pt(x1, x2, E);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     int kept = 0;
     for (int k = 0; k < ns; k++) {
-        if (!sfm_oriented_epipolar(E[k].m, x1, x2, 5))
+        if (!sfmi_oriented_epipolar(E[k].m, x1, x2, 5))
             continue;
         twoview_model m;
         memset(&m, 0, sizeof m);
@@ -38,7 +38,7 @@ static int solve5(void *ctx, const int *s, double *models)
 
 size_t sfm_ransac_relpose_workspace_size(int n)
 {
-    return sfm_twoview_workspace_size(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS);
+    return sfmi_twoview_workspace_size(n, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS);
 }
 
 int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_camera *cam1,
@@ -53,9 +53,9 @@ int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_ca
     twoview_ws w;
     sfm_ransac_options eopt;
     double focal;
-    int st = sfm_twoview_setup(&call, &w, &eopt, &focal);
+    int st = sfmi_twoview_setup(&call, &w, &eopt, &focal);
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, NULL, NULL, eopt.threshold};
-    return sfm_twoview_run(&call, &c, &w, &eopt, focal);
+    return sfmi_twoview_run(&call, &c, &w, &eopt, focal);
 }

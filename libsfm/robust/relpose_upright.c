@@ -15,17 +15,17 @@ static int solve3(void *ctx, const int *s, double *models)
 {
     twoview_ctx *c = ctx;
     double x1[9], x2[9];
-    sfm_pose P[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
-    sfm_robust_gather(c->b1, 3, s, 3, x1);
-    sfm_robust_gather(c->b2, 3, s, 3, x2);
+    sfm_pose P[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS];
+    sfmi_robust_gather(c->b1, 3, s, 3, x1);
+    sfmi_robust_gather(c->b2, 3, s, 3, x2);
     int ns = sfm_relpose_upright_3pt(x1, x2, c->d1, c->d2, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     int kept = 0;
     for (int k = 0; k < ns; k++) {
         twoview_model m;
-        sfm_twoview_set_pose(&m, P[k].R, P[k].t);
-        if (sfm_oriented_epipolar(m.E, x1, x2, 3))
+        sfmi_twoview_set_pose(&m, P[k].R, P[k].t);
+        if (sfmi_oriented_epipolar(m.E, x1, x2, 3))
             memcpy(models + (size_t)kept++ * SFM_RANSAC_RELPOSE_MODEL, &m, sizeof m);
     }
     return kept;
@@ -33,7 +33,7 @@ static int solve3(void *ctx, const int *s, double *models)
 
 size_t sfm_ransac_relpose_upright_workspace_size(int n)
 {
-    return sfm_twoview_workspace_size(n, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS);
+    return sfmi_twoview_workspace_size(n, 3, SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS);
 }
 
 static int unit(const double *d, double *u)
@@ -64,14 +64,14 @@ int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
     st = unit(d2, u2);
     if (st < 0)
         return st;
-    twoview_call call = {px1, px2, n, cam1, cam2, opt, 3, SFM_UPRIGHT_3PT_MAX_SOLUTIONS, solve3,
+    twoview_call call = {px1, px2, n, cam1, cam2, opt, 3, SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS, solve3,
                          ws, ws_size, pose, E, inlier_mask, stats};
     twoview_ws w;
     sfm_ransac_options eopt;
     double focal;
-    st = sfm_twoview_setup(&call, &w, &eopt, &focal);
+    st = sfmi_twoview_setup(&call, &w, &eopt, &focal);
     if (st < 0)
         return st;
     twoview_ctx c = {w.b1, w.b2, n, u1, u2, eopt.threshold};
-    return sfm_twoview_run(&call, &c, &w, &eopt, focal);
+    return sfmi_twoview_run(&call, &c, &w, &eopt, focal);
 }

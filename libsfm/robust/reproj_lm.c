@@ -15,7 +15,7 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 
-double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
+double sfmi_robust_reproj2(const double R[9], const double t[3], const double *b,
                           const double *X)
 {
     double Xc0 = R[0] * X[0] + R[1] * X[1] + R[2] * X[2] + t[0];
@@ -37,16 +37,16 @@ static int reproj_residual(const void *user, const double *const *x, int j, doub
     const double *R = x[0], *t = x[1];
     const double *bb = d->b + 3 * d->idx[j], *XX = d->X + 3 * d->idx[j];
     double RX[3], Xc[3], e[2][3];
-    sfm_matvec3(R, XX, RX);
+    sfmi_matvec3(R, XX, RX);
     Xc[0] = RX[0] + t[0];
     Xc[1] = RX[1] + t[1];
     Xc[2] = RX[2] + t[2];
-    double dd = sfm_dot3(bb, Xc);
+    double dd = sfmi_dot3(bb, Xc);
     if (!(dd > 0.0))
         return 0;
-    sfm_tangent_basis(bb, e[0], e[1]);
+    sfmi_tangent_basis(bb, e[0], e[1]);
     for (int k = 0; k < 2; k++) {
-        r[k] = sfm_dot3(e[k], Xc) / dd;
+        r[k] = sfmi_dot3(e[k], Xc) / dd;
         if (J == NULL)
             continue;
         double a[3]; /* d r / d Xc */
@@ -54,7 +54,7 @@ static int reproj_residual(const void *user, const double *const *x, int j, doub
             a[c] = (e[k][c] - r[k] * bb[c]) / dd;
         /* d r / d w = a . (-[RX]x) = (RX x a) */
         double *Jk = J + 6 * k;
-        sfm_cross3(RX, a, Jk);
+        sfmi_cross3(RX, a, Jk);
         Jk[3] = a[0];
         Jk[4] = a[1];
         Jk[5] = a[2];
@@ -77,7 +77,7 @@ void sfmi_reproj_lm_problem(const double *b, const double *X, const int *idx, in
     rp->prob = prob;
 }
 
-int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
+int sfmi_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
                          int iters, double R[9], double t[3])
 {
     sfmi_reproj_problem rp;

@@ -8,7 +8,7 @@
 /* Squared tangent-plane error of world point X against unit bearing b under
  * (R, t): tan^2 of the angle between b and R X + t; SFM_ROBUST_HUGE behind
  * the camera. */
-double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
+double sfmi_robust_reproj2(const double R[9], const double t[3], const double *b,
                           const double *X);
 
 /* Minimises the sum over idx[0..n) of the squared residuals
@@ -17,10 +17,10 @@ double sfm_robust_reproj2(const double R[9], const double t[3], const double *b,
  * steps. scale > 0: Cauchy loss of scale `scale` on each point's squared
  * error (IRLS). Returns 0 when the cost went down, 1 otherwise, -1 on failure
  * (R, t unchanged). */
-int sfm_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
+int sfmi_robust_reproj_lm(const double *b, const double *X, const int *idx, int n, double scale,
                          int iters, double R[9], double t[3]);
 
-/* The LM driver problem sfm_robust_reproj_lm solves (R on SO(3), t in R^3,
+/* The LM driver problem sfmi_robust_reproj_lm solves (R on SO(3), t in R^3,
  * over R, t in place; one 2-residual per listed point): for a Jacobian
  * check. rp must outlive its use. */
 typedef struct sfmi_reproj_problem {

@@ -28,7 +28,7 @@ static void upright_plus(const double *R, const double *d, double *out, const vo
             out[k] = (double)NAN;
         return;
     }
-    sfm_matmul3(dR, R, out);
+    sfmi_matmul3(dR, R, out);
 }
 
 /* Residual block j: the Sampson error of pair idx[j]; left out where D
@@ -44,11 +44,11 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
      * Under t <- t + dt: dC = dt.(u x b2),
      * d|a|^2 + d|v|^2 = 2 dt.(u x a + v x b2). */
     double u[3], a[3], v[3];
-    sfm_matvec3(R, x1, u);
-    sfm_cross3(t, u, a);
-    sfm_cross3(x2, t, v);
-    double C = sfm_dot3(u, v);
-    double D = sfm_dot3(a, a) + sfm_dot3(v, v) - 2.0 * C * C;
+    sfmi_matvec3(R, x1, u);
+    sfmi_cross3(t, u, a);
+    sfmi_cross3(x2, t, v);
+    double C = sfmi_dot3(u, v);
+    double D = sfmi_dot3(a, a) + sfmi_dot3(v, v) - 2.0 * C * C;
     if (!(D > 1e-300))
         return 0;
     double sD = sqrt(D);
@@ -56,12 +56,12 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     if (J == NULL)
         return 1;
     double gCw[3], axt[3], gDw[3], gCt[3], uxa[3], vxb[3], gDt[3];
-    sfm_cross3(u, v, gCw);
-    sfm_cross3(a, t, axt);
-    sfm_cross3(u, axt, gDw);
-    sfm_cross3(u, x2, gCt);
-    sfm_cross3(u, a, uxa);
-    sfm_cross3(v, x2, vxb);
+    sfmi_cross3(u, v, gCw);
+    sfmi_cross3(a, t, axt);
+    sfmi_cross3(u, axt, gDw);
+    sfmi_cross3(u, x2, gCt);
+    sfmi_cross3(u, a, uxa);
+    sfmi_cross3(v, x2, vxb);
     for (int k = 0; k < 3; k++) {
         gDw[k] = 2.0 * gDw[k] - 4.0 * C * gCw[k];
         gDt[k] = 2.0 * (uxa[k] + vxb[k]) - 4.0 * C * gCt[k];
@@ -69,7 +69,7 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     const double ia = 1.0 / sD, ib = 0.5 * C / (D * sD);
     int nr;
     if (dat->axis) {
-        J[0] = ia * sfm_dot3(dat->axis, gCw) - ib * sfm_dot3(dat->axis, gDw);
+        J[0] = ia * sfmi_dot3(dat->axis, gCw) - ib * sfmi_dot3(dat->axis, gDw);
         nr = 1;
     } else {
         for (int k = 0; k < 3; k++)
@@ -81,7 +81,7 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     sfmi_lm_sphere_basis(t, 3, B);
     for (int c = 0; c < 2; c++) {
         const double e[3] = {B[c], B[2 + c], B[4 + c]};
-        J[nr + c] = ia * sfm_dot3(e, gCt) - ib * sfm_dot3(e, gDt);
+        J[nr + c] = ia * sfmi_dot3(e, gCt) - ib * sfmi_dot3(e, gDt);
     }
     return 1;
 }
@@ -104,7 +104,7 @@ void sfmi_sampson_lm_problem(const double *b1, const double *b2, const int *idx,
     sp->prob = prob;
 }
 
-int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
+int sfmi_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
                           const double *axis, double scale, int iters, double R[9], double t[3])
 {
     sfmi_sampson_problem sp;

@@ -16,10 +16,10 @@
  * cost went down, 1 when it could not, -1 on a numerical failure (R, t
  * unchanged).
  */
-int sfm_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
+int sfmi_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
                           const double *axis, double scale, int iters, double R[9], double t[3]);
 
-/* The LM driver problem sfm_robust_sampson_lm solves (blocks R on SO(3), or
+/* The LM driver problem sfmi_robust_sampson_lm solves (blocks R on SO(3), or
  * the upright rotation, and t on S^2 over R, t in place; one residual per
  * listed pair): for a Jacobian check. sp must outlive its use. */
 typedef struct sfmi_sampson_problem {

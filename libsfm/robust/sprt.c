@@ -5,7 +5,7 @@
 #include <math.h>
 #include "core/dmath.h"
 
-void sfm_sprt_init(sfm_sprt *s, double eps, double delta)
+void sfmi_sprt_init(sfmi_sprt *s, double eps, double delta)
 {
     s->eps = eps;
     s->delta = delta;
@@ -13,10 +13,10 @@ void sfm_sprt_init(sfm_sprt *s, double eps, double delta)
     s->bad_consistent = 0.0;
     s->models_per_sample = 1.0;
     s->n_samples = 0.0;
-    sfm_sprt_update(s);
+    sfmi_sprt_update(s);
 }
 
-void sfm_sprt_update(sfm_sprt *s)
+void sfmi_sprt_update(sfmi_sprt *s)
 {
     double eps = s->eps, delta = s->delta;
     if (!(eps > delta * 1.05) || eps >= 1.0 || delta <= 0.0) {
@@ -45,7 +45,7 @@ void sfm_sprt_update(sfm_sprt *s)
     s->A = A > 1.0 + 1e-9 ? A : 1.0 + 1e-9;
 }
 
-void sfm_sprt_record_rejection(sfm_sprt *s, int tested, int consistent)
+void sfmi_sprt_record_rejection(sfmi_sprt *s, int tested, int consistent)
 {
     s->bad_tested += tested;
     s->bad_consistent += consistent;
@@ -58,17 +58,17 @@ void sfm_sprt_record_rejection(sfm_sprt *s, int tested, int consistent)
         d = 0.5;
     if (fabs(d - s->delta) > 0.1 * s->delta) {
         s->delta = d;
-        sfm_sprt_update(s);
+        sfmi_sprt_update(s);
     }
 }
 
-void sfm_sprt_record_models(sfm_sprt *s, int n_models)
+void sfmi_sprt_record_models(sfmi_sprt *s, int n_models)
 {
     s->n_samples += 1.0;
     s->models_per_sample += ((double)n_models - s->models_per_sample) / s->n_samples;
 }
 
-double sfm_sprt_pass_probability(const sfm_sprt *s)
+double sfmi_sprt_pass_probability(const sfmi_sprt *s)
 {
     if (!s->active)
         return 1.0;

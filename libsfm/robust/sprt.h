@@ -12,7 +12,7 @@
 #ifndef SFM_ROBUST_SPRT_H
 #define SFM_ROBUST_SPRT_H
 
-typedef struct sfm_sprt {
+typedef struct sfmi_sprt {
     double eps;        /* inlier ratio of a good model */
     double delta;      /* consistency ratio of a bad model */
     double A;          /* decision threshold on lambda */
@@ -23,20 +23,20 @@ typedef struct sfm_sprt {
     double bad_consistent;
     double models_per_sample; /* running mean m_S */
     double n_samples;
-} sfm_sprt;
+} sfmi_sprt;
 
 /* Time to compute one sample's models, in units of one point verification. */
 #define SFM_SPRT_MODEL_COST 200.0
 
-void sfm_sprt_init(sfm_sprt *s, double eps, double delta);
+void sfmi_sprt_init(sfmi_sprt *s, double eps, double delta);
 /* Recompute A and the multipliers for the current eps and delta. */
-void sfm_sprt_update(sfm_sprt *s);
+void sfmi_sprt_update(sfmi_sprt *s);
 /* Record a rejected model (tested points, how many were consistent); re-tunes
  * delta when the estimate has moved by more than 10 %. */
-void sfm_sprt_record_rejection(sfm_sprt *s, int tested, int consistent);
+void sfmi_sprt_record_rejection(sfmi_sprt *s, int tested, int consistent);
 /* Record the number of models a sample produced. */
-void sfm_sprt_record_models(sfm_sprt *s, int n_models);
+void sfmi_sprt_record_models(sfmi_sprt *s, int n_models);
 /* Probability that a good model passes the test (1 - 1/A), 1 when inactive. */
-double sfm_sprt_pass_probability(const sfm_sprt *s);
+double sfmi_sprt_pass_probability(const sfmi_sprt *s);
 
 #endif

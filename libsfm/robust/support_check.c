@@ -35,7 +35,7 @@ int sfmi_above_chance(int n, int k, int n_inl, double p)
 
 double sfmi_bbox_area(const double *p, int stride, int n, double *diag)
 {
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
     for (int i = 0; i < n; i++)
         for (int c = 0; c < 2; c++) {
             double v = p[(size_t)stride * i + c];
@@ -113,7 +113,7 @@ int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V
     if (st < 0)
         return st;
     /* ascending order is not promised: find the two smallest */
-    double a = INFINITY, b = INFINITY;
+    double a = HUGE_VAL, b = HUGE_VAL;
     for (int i = 0; i < d; i++) {
         if (w[i] < a) {
             b = a;
@@ -190,7 +190,7 @@ int sfmi_pairs_design_degenerate(const double *g1, const double *g2, int m, int 
                                  double tau)
 {
     double t1[3], t2[3];
-    if (m < 4 || sfm__hartley_2d(g1, m, t1) != 0 || sfm__hartley_2d(g2, m, t2) != 0)
+    if (m < 4 || sfmi_hartley_2d(g1, m, t1) != 0 || sfmi_hartley_2d(g2, m, t2) != 0)
         return 1; /* all points on one spot */
     double AtA[81];
     memset(AtA, 0, sizeof AtA);

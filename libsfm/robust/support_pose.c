@@ -24,7 +24,7 @@ static double sampson_signed(const double *E, const double *b1, const double *b2
         f[r] = E[r] * b2[0] + E[3 + r] * b2[1] + E[6 + r] * b2[2];
     }
     double C = b2[0] * e[0] + b2[1] * e[1] + b2[2] * e[2];
-    double D = sfm_dot3(e, e) + sfm_dot3(f, f) - 2.0 * C * C;
+    double D = sfmi_dot3(e, e) + sfmi_dot3(f, f) - 2.0 * C * C;
     if (!(D > 1e-300))
         return 0.0;
     return C / sqrt(D);
@@ -44,13 +44,13 @@ static void rel_move(const double *R, const double *t, const double *axis, const
             w[k] = x[k];
     }
     sfm_rot_from_axis_angle(w, dR);
-    sfm_matmul3(dR, R, Rn);
+    sfmi_matmul3(dR, R, Rn);
     for (int k = 0; k < 3; k++)
         tn[k] = t[k] + x[nr] * e1[k] + x[nr + 1] * e2[k];
-    double l = sqrt(sfm_dot3(tn, tn));
+    double l = sqrt(sfmi_dot3(tn, tn));
     for (int k = 0; k < 3; k++)
         tn[k] /= l;
-    sfm_essential_from_pose(Rn, tn, E);
+    sfmi_essential_from_pose(Rn, tn, E);
 }
 
 int sfmi_relpose_normal(const double *b1, const double *b2, const int *idx, int m,
@@ -59,9 +59,9 @@ int sfmi_relpose_normal(const double *b1, const double *b2, const int *idx, int 
 {
     const int np = axis ? 3 : 5, nr = axis ? 1 : 3;
     double e1[3], e2[3];
-    sfm_tangent_basis(t, e1, e2);
+    sfmi_tangent_basis(t, e1, e2);
     double E0[9], Ep[5][9], Em[5][9];
-    sfm_essential_from_pose(R, t, E0);
+    sfmi_essential_from_pose(R, t, E0);
     for (int p = 0; p < np; p++) {
         double x[5] = {0, 0, 0, 0, 0};
         x[p] = STEP;
@@ -105,16 +105,16 @@ static int reproj(const double *R, const double *t, const double *b, const doubl
                   double *depth)
 {
     double Xc[3];
-    sfm_matvec3(R, X, Xc);
+    sfmi_matvec3(R, X, Xc);
     for (int k = 0; k < 3; k++)
         Xc[k] += t[k];
-    double d = sfm_dot3(b, Xc);
+    double d = sfmi_dot3(b, Xc);
     if (!(d > 0.0))
         return 0;
     double e1[3], e2[3];
-    sfm_tangent_basis(b, e1, e2);
-    r[0] = sfm_dot3(e1, Xc) / d;
-    r[1] = sfm_dot3(e2, Xc) / d;
+    sfmi_tangent_basis(b, e1, e2);
+    r[0] = sfmi_dot3(e1, Xc) / d;
+    r[1] = sfmi_dot3(e2, Xc) / d;
     if (depth)
         *depth = d;
     return 1;
@@ -136,7 +136,7 @@ int sfmi_abspose_normal(const double *b, const double *X, const int *idx, int m,
             else
                 to[p - 3] += h;
             sfm_rot_from_axis_angle(w, dR);
-            sfm_matmul3(dR, R, Ro);
+            sfmi_matmul3(dR, R, Ro);
         }
     }
     memset(JtJ, 0, 36 * sizeof(double));

@@ -6,7 +6,7 @@
 /*
  * Relative pose, signed bearing Sampson residuals of the points idx[0..m)
  * at (R, t), |t| = 1. Parameters: axis NULL: w (3, R <- exp([w]x) R) and
- * the tangent coordinates of t in the basis (e1, e2) of sfm_tangent_basis
+ * the tangent coordinates of t in the basis (e1, e2) of sfmi_tangent_basis
  * (np = 5); axis set (upright): the angle about axis and the same two
  * (np = 3). Writes JtJ (np x np, lower triangle and upper), G (6 x np: the
  * map to (w, t)), returns np; *ssr gets the sum of squared residuals.

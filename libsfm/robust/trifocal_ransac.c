@@ -25,7 +25,7 @@ typedef struct tf_ctx {
     const double *x1, *x2, *x3;
     void *solver_ws;
     size_t solver_size;
-    sfm_tf_refine_ws refine;
+    sfmi_tf_refine_ws refine;
 } tf_ctx;
 
 /* Scratch of the final support checks. */
@@ -44,35 +44,35 @@ typedef struct tf_layout_out {
     size_t ransac_size;
     void *solver_ws;
     size_t solver_size;
-    sfm_tf_refine_ws refine;
+    sfmi_tf_refine_ws refine;
 } tf_layout_out;
 
-static void layout(sfm_arena *a, int n, tf_layout_out *o)
+static void layout(sfmi_arena *a, int n, tf_layout_out *o)
 {
     sfm_ransac_dims d = {n, SAMPLE, 1, MODEL};
     o->ransac_size = sfm_ransac_workspace_size(&d);
-    o->ransac_ws = sfm_arena_alloc(a, o->ransac_size);
+    o->ransac_ws = sfmi_arena_alloc(a, o->ransac_size);
     o->solver_size = sfm_trifocal_7pt_workspace_size();
-    o->solver_ws = sfm_arena_alloc(a, o->solver_size);
-    sfm_tf_refine_layout(a, n, &o->refine);
+    o->solver_ws = sfmi_arena_alloc(a, o->solver_size);
+    sfmi_tf_refine_layout(a, n, &o->refine);
     o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
     o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
     o->sup.AtA = SFM_ARENA_ARRAY(a, double, 27 * 27);
     o->sup.V = SFM_ARENA_ARRAY(a, double, 27 * 27);
     o->sup.w = SFM_ARENA_ARRAY(a, double, 27);
     o->sup.eig_size = sfm_sym_eig_workspace_size(27);
-    o->sup.eig = sfm_arena_alloc(a, o->sup.eig_size);
+    o->sup.eig = sfmi_arena_alloc(a, o->sup.eig_size);
 }
 
 size_t sfm_ransac_trifocal_workspace_size(int n)
 {
     if (n < SAMPLE || n > SFM_RANSAC_MAX_POINTS)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     tf_layout_out o;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, &o);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 static const double P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
@@ -117,7 +117,7 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
     memcpy(P2, &model[27], sizeof P2);
     memcpy(P3, &model[39], sizeof P3);
     int st;
-    sfm_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, P2, P3, LO_ITERS, &c->refine, &st);
+    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, P2, P3, LO_ITERS, &c->refine, &st);
     if (st < 0)
         return st;
     if (sfm_trifocal_from_cameras(P1, P2, P3, T) != SFM_OK)
@@ -136,7 +136,7 @@ static int tf_design_degenerate(tf_support_ws *w, int m, double tau)
     double h[3][3];
     double *g[3] = {w->g, w->g + 2 * (size_t)m, w->g + 4 * (size_t)m};
     for (int v = 0; v < 3; v++)
-        if (sfm__hartley_2d(g[v], m, h[v]) != 0)
+        if (sfmi_hartley_2d(g[v], m, h[v]) != 0)
             return 1;
     memset(w->AtA, 0, 27 * 27 * sizeof(double));
     for (int j = 0; j < m; j++) {
@@ -195,7 +195,7 @@ static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, d
         return SFM_E_NO_MODEL;
     for (int v = 0; v < 3; v++) {
         double *g = w->g + 2 * (size_t)m * v, lo, hi;
-        sfm_robust_gather(x[v], 2, w->idx, m, g);
+        sfmi_robust_gather(x[v], 2, w->idx, m, g);
         sfmi_spread(g, 2, NULL, m, &lo, &hi);
         if (sfmi_spread_collinear(lo, hi, tau) || hi < SFMI_CLUSTER_RATIO * diag[v])
             return SFM_E_DEGENERATE;
@@ -224,18 +224,18 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL || n < SAMPLE ||
         n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(x1, 2 * n) || !sfm_la_all_finite(x2, 2 * n) || !sfm_la_all_finite(x3, 2 * n))
+    if (!sfmi_la_all_finite(x1, 2 * n) || !sfmi_la_all_finite(x2, 2 * n) || !sfmi_la_all_finite(x3, 2 * n))
         return SFM_E_NONFINITE;
     sfm_ransac_options o;
     if (opt != NULL)
         o = *opt;
     else
         sfm_ransac_default_options(&o);
-    sfm_arena a;
+    sfmi_arena a;
     tf_layout_out lay;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, &lay);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine};
     sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};

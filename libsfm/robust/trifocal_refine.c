@@ -30,7 +30,7 @@
 
 enum { NC = 24 };
 
-void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w)
+void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w)
 {
     w->X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->Xold = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
@@ -50,7 +50,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         int p = idx[q];
         for (int v = 0; v < 3; v++) {
             double r[2];
-            if (!sfm_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
+            if (!sfmi_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
                 return HUGE_VAL;
             c += r[0] * r[0] + r[1] * r[1];
         }
@@ -69,7 +69,7 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
     for (int v = 0; v < 3; v++) {
         double JX[8];
         double *JP = v == 1 ? b->Jc2 : v == 2 ? b->Jc3 : NULL;
-        if (!sfm_trifocal_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX, JP))
+        if (!sfmi_trifocal_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX, JP))
             return 0;
         for (int h = 0; h < 2; h++)
             for (int c = 0; c < 3; c++)
@@ -285,8 +285,8 @@ static void tf_accept(void *self)
     c->Xt = t;
 }
 
-double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
-                     double P2[12], double P3[12], int max_iters, sfm_tf_refine_ws *w, int *status)
+double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
+                     double P2[12], double P3[12], int max_iters, sfmi_tf_refine_ws *w, int *status)
 {
     const double *xs[3] = {x1, x2, x3};
     *status = SFM_OK;

@@ -6,12 +6,12 @@
 
 #include "core/arena.h"
 
-typedef struct sfm_tf_refine_ws {
+typedef struct sfmi_tf_refine_ws {
     double *X;    /* 4n: current homogeneous points */
     double *Xold; /* 4n: points of the trial step */
     double *U, *S; /* 24 x 24: camera block, reduced system */
     int cap;      /* n the buffers hold */
-} sfm_tf_refine_ws;
+} sfmi_tf_refine_ws;
 
 /* Per-point blocks: Jp (6x3, along the sfmi_lm_sphere_basis of X), Jc rows
  * (view 2 -> P2's 12 entries, view 3 -> P3's) stored as two 2x12 blocks,
@@ -27,7 +27,7 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
                             const double X[4], sfmi_tf_point_blocks *b);
 
 /* Carves buffers for up to n points (measuring or real arena). */
-void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
+void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w);
 
 /*
  * Levenberg-Marquardt on the reprojection error of the listed triplets over
@@ -39,7 +39,7 @@ void sfm_tf_refine_layout(sfm_arena *a, int n, sfm_tf_refine_ws *w);
  * the input when no step lowered the cost). Returns the final cost (sum of
  * squared pixel errors), or INFINITY with *status negative.
  */
-double sfm_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
-                     double P2[12], double P3[12], int max_iters, sfm_tf_refine_ws *w, int *status);
+double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
+                     double P2[12], double P3[12], int max_iters, sfmi_tf_refine_ws *w, int *status);
 
 #endif

@@ -14,7 +14,7 @@
 #include "robust/twoview_degeneracy.h"
 #include "solvers/normalize.h"
 
-static void layout(sfm_arena *a, int n, size_t eng_size, twoview_ws *w)
+static void layout(sfmi_arena *a, int n, size_t eng_size, twoview_ws *w)
 {
     w->b1 = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
     w->b2 = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
@@ -22,30 +22,30 @@ static void layout(sfm_arena *a, int n, size_t eng_size, twoview_ws *w)
     w->p2 = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
     w->idx = SFM_ARENA_ARRAY(a, int, n);
     w->sel = SFM_ARENA_ARRAY(a, int, n);
-    w->eng = sfm_arena_alloc(a, eng_size);
+    w->eng = sfmi_arena_alloc(a, eng_size);
     w->eng_size = eng_size;
 }
 
 static size_t engine_size(int n, int sample, int max_models)
 {
-    return sfm_robust_engine_size(n, sample, max_models, SFM_RANSAC_RELPOSE_MODEL);
+    return sfmi_robust_engine_size(n, sample, max_models, SFM_RANSAC_RELPOSE_MODEL);
 }
 
-size_t sfm_twoview_workspace_size(int n, int sample, int max_models)
+size_t sfmi_twoview_workspace_size(int n, int sample, int max_models)
 {
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return 0;
     size_t es = engine_size(n, sample, max_models);
     if (es == 0)
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     twoview_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, n, es, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
-int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_options *eopt,
+int sfmi_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_options *eopt,
                       double *focal)
 {
     const double *px1 = call->px1, *px2 = call->px2;
@@ -57,7 +57,7 @@ int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_option
         return SFM_E_ARGUMENT;
     if (n < sample || n > SFM_RANSAC_MAX_POINTS)
         return SFM_E_ARGUMENT;
-    int st = sfm_robust_options(call->opt, eopt);
+    int st = sfmi_robust_options(call->opt, eopt);
     if (st < 0)
         return st;
     st = sfm_camera_validate(cam1);
@@ -66,17 +66,17 @@ int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_option
     st = sfm_camera_validate(cam2);
     if (st < 0)
         return st;
-    if (!sfm_la_all_finite(px1, 2 * (size_t)n) || !sfm_la_all_finite(px2, 2 * (size_t)n))
+    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
         return SFM_E_NONFINITE;
-    size_t need = sfm_twoview_workspace_size(n, sample, max_models);
+    size_t need = sfmi_twoview_workspace_size(n, sample, max_models);
     if (need == 0)
         return SFM_E_ARGUMENT;
     if (ws_size < need)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena a;
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, n, engine_size(n, sample, max_models), w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     st = sfm_camera_unproject_many(cam1, px1, n, w->b1);
     if (st < 0)
@@ -92,17 +92,17 @@ int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_option
     return SFM_OK;
 }
 
-double sfm_twoview_residual(void *ctx, const double *model, int i)
+double sfmi_twoview_residual(void *ctx, const double *model, int i)
 {
     const twoview_ctx *c = ctx;
     const twoview_model *m = (const twoview_model *)model;
-    return sfm_sampson_bearing2(m->E, c->b1 + 3 * i, c->b2 + 3 * i);
+    return sfmi_sampson_bearing2(m->E, c->b1 + 3 * i, c->b2 + 3 * i);
 }
 
-void sfm_twoview_set_pose(twoview_model *m, const double R[9], const double t[3])
+void sfmi_twoview_set_pose(twoview_model *m, const double R[9], const double t[3])
 {
-    sfm_essential_from_pose(R, t, m->E);
-    sfm__normalize9(m->E);
+    sfmi_essential_from_pose(R, t, m->E);
+    sfmi_normalize9(m->E);
     memmove(m->R, R, 9 * sizeof(double));
     memmove(m->t, t, 3 * sizeof(double));
     m->pose_valid = 1;
@@ -116,8 +116,8 @@ static int upright_sign(const twoview_ctx *c, const int *idx, int n, const doubl
     int cp = 0, cn = 0;
     for (int j = 0; j < n; j++) {
         int i = idx ? idx[j] : j;
-        cp += sfm_robust_in_front(R, t, c->b1 + 3 * i, c->b2 + 3 * i);
-        cn += sfm_robust_in_front(R, tn, c->b1 + 3 * i, c->b2 + 3 * i);
+        cp += sfmi_robust_in_front(R, t, c->b1 + 3 * i, c->b2 + 3 * i);
+        cn += sfmi_robust_in_front(R, tn, c->b1 + 3 * i, c->b2 + 3 * i);
     }
     if (cn > cp) {
         memcpy(t, tn, sizeof tn);
@@ -126,18 +126,18 @@ static int upright_sign(const twoview_ctx *c, const int *idx, int n, const doubl
     return cp;
 }
 
-void sfm_twoview_set_scale(void *ctx, double scale)
+void sfmi_twoview_set_scale(void *ctx, double scale)
 {
     ((twoview_ctx *)ctx)->scale = scale;
 }
 
-int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model)
+int sfmi_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model)
 {
     const twoview_ctx *c = ctx;
     twoview_model *m = (twoview_model *)model;
     double R[9], t[3];
     if (!m->pose_valid) {
-        if (sfm_robust_pose_from_essential(m->E, c->b1, c->b2, inliers, n_inliers, R, t) < 0)
+        if (sfmi_robust_pose_from_essential(m->E, c->b1, c->b2, inliers, n_inliers, R, t) < 0)
             return -1;
     } else {
         memcpy(R, m->R, sizeof R);
@@ -145,11 +145,11 @@ int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *mod
         if (c->d2 != NULL)
             upright_sign(c, inliers, n_inliers, R, t);
     }
-    int st = sfm_robust_sampson_lm(c->b1, c->b2, inliers, n_inliers, c->d2, c->scale,
+    int st = sfmi_robust_sampson_lm(c->b1, c->b2, inliers, n_inliers, c->d2, c->scale,
                                    SFM_TWOVIEW_LM_STEPS, R, t);
     if (st < 0)
         return -1;
-    sfm_twoview_set_pose(m, R, t);
+    sfmi_twoview_set_pose(m, R, t);
     return 0;
 }
 
@@ -244,17 +244,17 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
     const int upright = c->d2 != NULL;
     int m = 0;
     for (int i = 0; i < c->n; i++)
-        if (sfm_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2)
+        if (sfmi_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2)
             w->idx[m++] = i;
     double R[9], t[3];
     if (upright) {
         memcpy(R, model->R, sizeof R);
         memcpy(t, model->t, sizeof t);
         upright_sign(c, w->idx, m, R, t);
-    } else if (sfm_robust_pose_from_essential(model->E, c->b1, c->b2, w->idx, m, R, t) < 0) {
+    } else if (sfmi_robust_pose_from_essential(model->E, c->b1, c->b2, w->idx, m, R, t) < 0) {
         return SFM_E_NO_CONVERGENCE;
     }
-    int flags = sfm_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
+    int flags = sfmi_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
                                               w->p2, w->sel);
     double cov6[36];
     int st = support(c, w, call->sample, m, R, t, tau, focal, &flags, cov6);
@@ -264,13 +264,13 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
     memcpy(call->pose->R, R, sizeof R);
     memcpy(call->pose->t, t, sizeof t);
     if (call->E != NULL) {
-        sfm_essential_from_pose(R, t, call->E);
-        sfm__normalize9(call->E);
+        sfmi_essential_from_pose(R, t, call->E);
+        sfmi_normalize9(call->E);
     }
     if (call->mask != NULL)
         for (int i = 0; i < c->n; i++)
             call->mask[i] =
-                (uint8_t)(sfm_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2);
+                (uint8_t)(sfmi_sampson_bearing2(model->E, c->b1 + 3 * i, c->b2 + 3 * i) < tau2);
     if (call->stats != NULL) {
         *call->stats = *est;
         call->stats->score = est->score * focal * focal;
@@ -281,19 +281,19 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
     return n_inl;
 }
 
-int sfm_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
+int sfmi_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
                     const sfm_ransac_options *eopt, double focal)
 {
     sfm_ransac_estimator est = {call->sample,
                                 call->max_models,
                                 SFM_RANSAC_RELPOSE_MODEL,
                                 call->solve,
-                                sfm_twoview_residual,
-                                sfm_twoview_refine,
+                                sfmi_twoview_residual,
+                                sfmi_twoview_refine,
                                 NULL,
                                 NULL,
                                 c,
-                                sfm_twoview_set_scale};
+                                sfmi_twoview_set_scale};
     twoview_model model;
     sfm_ransac_stats es;
     int ni = sfm_ransac_run(&est, c->n, eopt, (double *)&model, NULL, &es, w->eng, w->eng_size);

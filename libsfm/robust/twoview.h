@@ -54,25 +54,25 @@ typedef struct twoview_call {
     sfm_ransac_stats *stats;
 } twoview_call;
 
-size_t sfm_twoview_workspace_size(int n, int sample, int max_models);
+size_t sfmi_twoview_workspace_size(int n, int sample, int max_models);
 /* Checks inputs, carves ws, unprojects; returns SFM_OK or a status. eopt
  * gets the options in angular units, *focal the mean focal length. */
-int sfm_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_options *eopt,
+int sfmi_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_options *eopt,
                       double *focal);
 
-double sfm_twoview_residual(void *ctx, const double *model, int i);
-int sfm_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model);
+double sfmi_twoview_residual(void *ctx, const double *model, int i);
+int sfmi_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model);
 /* The engine's set_scale: the Cauchy scale of the next refits (radians). */
-void sfm_twoview_set_scale(void *ctx, double scale);
+void sfmi_twoview_set_scale(void *ctx, double scale);
 /* Sets m's E from R, t (unit Frobenius norm) and marks the pose valid. */
-void sfm_twoview_set_pose(twoview_model *m, const double R[9], const double t[3]);
+void sfmi_twoview_set_pose(twoview_model *m, const double R[9], const double t[3]);
 
 /* After a successful setup: runs the engine with call->solve, the shared
  * residual and LO, then the final pose by cheirality over the inliers
  * (upright when c->d2 is set: only the sign of t is chosen), the support
  * checks of sfm_ransac.h and the outputs. Returns the inlier count or a
  * status. */
-int sfm_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
+int sfmi_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
                     const sfm_ransac_options *eopt, double focal);
 
 #endif

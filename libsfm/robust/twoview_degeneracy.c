@@ -25,9 +25,9 @@ static int rotation_count(const double *b1, const double *b2, const int *idx, in
     for (int j = 0; j < n; j++) {
         int i = idx[j];
         double Rb[3], x[3];
-        sfm_matvec3(R, b1 + 3 * i, Rb);
-        sfm_cross3(Rb, b2 + 3 * i, x);
-        if (sfm_dot3(Rb, b2 + 3 * i) > 0.0 && sfm_dot3(x, x) < tol * tol)
+        sfmi_matvec3(R, b1 + 3 * i, Rb);
+        sfmi_cross3(Rb, b2 + 3 * i, x);
+        if (sfmi_dot3(Rb, b2 + 3 * i) > 0.0 && sfmi_dot3(x, x) < tol * tol)
             sel[c++] = i;
     }
     return c;
@@ -93,7 +93,7 @@ static int project_plane(const double *b1, const double *b2, const int *idx, int
     return m;
 }
 
-int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
+int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
                                   const double *R_pose, double tau, uint64_t seed, double *p1,
                                   double *p2, int *sel)
 {

@@ -23,7 +23,7 @@
  * samples. p1, p2: scratch of 2 n doubles each, sel: n ints.
  * Returns SFM_RANSAC_FLAG_* bits (PURE_ROTATION, PLANAR) or 0.
  */
-int sfm_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
+int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
                                   const double *R_pose, double tau, uint64_t seed, double *p1,
                                   double *p2, int *sel);
 

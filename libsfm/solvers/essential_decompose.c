@@ -79,10 +79,10 @@ static int count_front(const double R[9], const double t[3], const double *x1, c
                        R[3] * a[0] + R[4] * a[1] + R[5] * a[2],
                        R[6] * a[0] + R[7] * a[1] + R[8] * a[2]};
         double r[3], tb[3], tv[3];
-        sfm_cross3(v, b, r);
-        sfm_cross3(t, b, tb);
-        sfm_cross3(t, v, tv);
-        double s1 = -sfm_dot3(tb, r), s2 = -sfm_dot3(tv, r);
+        sfmi_cross3(v, b, r);
+        sfmi_cross3(t, b, tb);
+        sfmi_cross3(t, v, tv);
+        double s1 = -sfmi_dot3(tb, r), s2 = -sfmi_dot3(tv, r);
         if (s1 > 0.0 && s2 > 0.0)
             cnt++;
     }
@@ -94,8 +94,8 @@ int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2
 {
     if (!E || !poses || n < 0 || (n > 0 && (!x1 || !x2)))
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(E, 9) ||
-        (n > 0 && (!sfm_la_all_finite(x1, 3 * (size_t)n) || !sfm_la_all_finite(x2, 3 * (size_t)n))))
+    if (!sfmi_la_all_finite(E, 9) ||
+        (n > 0 && (!sfmi_la_all_finite(x1, 3 * (size_t)n) || !sfmi_la_all_finite(x2, 3 * (size_t)n))))
         return SFM_E_NONFINITE;
 
     /* scale E to unit Frobenius norm (no under/overflow in E^T E) */
@@ -142,26 +142,26 @@ int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2
     if (!(w[i1] > 1e-14 * w[i0]))
         return 0;
     double v1[3] = {V[i0], V[3 + i0], V[6 + i0]}, v2[3] = {V[i1], V[3 + i1], V[6 + i1]}, v3[3];
-    sfm_cross3(v1, v2, v3);
+    sfmi_cross3(v1, v2, v3);
     double u1[3], u2[3], u3[3];
     for (int k = 0; k < 3; k++) {
         u1[k] = Es[3 * k] * v1[0] + Es[3 * k + 1] * v1[1] + Es[3 * k + 2] * v1[2];
         u2[k] = Es[3 * k] * v2[0] + Es[3 * k + 1] * v2[1] + Es[3 * k + 2] * v2[2];
     }
-    double n1 = sqrt(sfm_dot3(u1, u1));
+    double n1 = sqrt(sfmi_dot3(u1, u1));
     if (!(n1 > 0.0))
         return 0;
     for (int k = 0; k < 3; k++)
         u1[k] /= n1;
-    double pr = sfm_dot3(u1, u2);
+    double pr = sfmi_dot3(u1, u2);
     for (int k = 0; k < 3; k++)
         u2[k] -= pr * u1[k];
-    double n2 = sqrt(sfm_dot3(u2, u2));
+    double n2 = sqrt(sfmi_dot3(u2, u2));
     if (!(n2 > 0.0))
         return 0;
     for (int k = 0; k < 3; k++)
         u2[k] /= n2;
-    sfm_cross3(u1, u2, u3);
+    sfmi_cross3(u1, u2, u3);
 
     /* R = U W V^T = u2 v1^T - u1 v2^T + u3 v3^T; U W^T V^T = -u2 v1^T + u1 v2^T + u3 v3^T */
     sfm_pose out[4];

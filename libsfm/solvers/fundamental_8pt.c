@@ -26,10 +26,10 @@ int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F)
 {
     if (!p1 || !p2 || !F || n < 8)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(p1, 2 * n) || !sfm_la_all_finite(p2, 2 * n))
+    if (!sfmi_la_all_finite(p1, 2 * n) || !sfmi_la_all_finite(p2, 2 * n))
         return SFM_E_NONFINITE;
     double t1[3], t2[3];
-    if (sfm__hartley_2d(p1, n, t1) || sfm__hartley_2d(p2, n, t2))
+    if (sfmi_hartley_2d(p1, n, t1) || sfmi_hartley_2d(p2, n, t2))
         return 0;
     double f[9];
     if (n == 8) {
@@ -39,26 +39,26 @@ int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F)
             double b[3] = {t2[0] * p2[2 * i] + t2[1], t2[0] * p2[2 * i + 1] + t2[2], 1.0};
             epi_row(a, b, A + 9 * i);
         }
-        if (sfm__null9_exact(A, 8, f))
+        if (sfmi_null9_exact(A, 8, f))
             return 0;
     } else {
-        sfm__ls9 ls;
-        sfm__ls9_init(&ls);
+        sfmi_ls9 ls;
+        sfmi_ls9_init(&ls);
         for (int i = 0; i < n; i++) {
             double a[3] = {t1[0] * p1[2 * i] + t1[1], t1[0] * p1[2 * i + 1] + t1[2], 1.0};
             double b[3] = {t2[0] * p2[2 * i] + t2[1], t2[0] * p2[2 * i + 1] + t2[2], 1.0};
             double r[9];
             epi_row(a, b, r);
-            sfm__ls9_add_row(&ls, r);
+            sfmi_ls9_add_row(&ls, r);
         }
-        int st = sfm__ls9_solve(&ls, f);
+        int st = sfmi_ls9_solve(&ls, f);
         if (st == -1)
             return 0;
         if (st < 0)
             return st;
     }
     double U[9], S[3], V[9];
-    int st = sfm__svd3(f, U, S, V);
+    int st = sfmi_svd3(f, U, S, V);
     if (st < 0)
         return st;
     if (!(S[1] > 1e-12 * S[0]))
@@ -68,13 +68,13 @@ int sfm_fundamental_8pt(const double *p1, const double *p2, int n, sfm_mat3 *F)
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
             Fn[3 * r + c] = U[3 * r] * S[0] * V[3 * c] + U[3 * r + 1] * S[1] * V[3 * c + 1];
-    sfm__hartley_matrix(t1, T1);
-    sfm__hartley_matrix(t2, T2);
-    sfm_matmul3(Fn, T1, M);
+    sfmi_hartley_matrix(t1, T1);
+    sfmi_hartley_matrix(t2, T2);
+    sfmi_matmul3(Fn, T1, M);
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
             G[3 * r + c] = T2[r] * M[c] + T2[3 + r] * M[3 + c] + T2[6 + r] * M[6 + c];
-    if (sfm__normalize9(G))
+    if (sfmi_normalize9(G))
         return 0;
     for (int k = 0; k < 9; k++)
         F->m[k] = G[k];

@@ -55,7 +55,7 @@ int sfm_homography_4pt(const double *p1, const double *p2, sfm_mat3 *H)
     const v2i ok = ((v2d)((v2i)d0 & mag) > tol) & ((v2d)((v2i)d1 & mag) > tol) &
                    ((v2d)((v2i)d2 & mag) > tol) & ((v2d)((v2i)d3 & mag) > tol);
     if ((ok[0] & ok[1]) == 0) {
-        if (!sfm_la_all_finite(p1, 8) || !sfm_la_all_finite(p2, 8))
+        if (!sfmi_la_all_finite(p1, 8) || !sfmi_la_all_finite(p2, 8))
             return SFM_E_NONFINITE;
         return 0;
     }

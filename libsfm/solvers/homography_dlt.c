@@ -29,30 +29,30 @@ int sfm_homography_dlt(const double *p1, const double *p2, int n, sfm_mat3 *H)
 {
     if (!p1 || !p2 || !H || n < 4)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(p1, 2 * n) || !sfm_la_all_finite(p2, 2 * n))
+    if (!sfmi_la_all_finite(p1, 2 * n) || !sfmi_la_all_finite(p2, 2 * n))
         return SFM_E_NONFINITE;
     double t1[3], t2[3];
-    if (sfm__hartley_2d(p1, n, t1) || sfm__hartley_2d(p2, n, t2))
+    if (sfmi_hartley_2d(p1, n, t1) || sfmi_hartley_2d(p2, n, t2))
         return 0;
     double h[9];
     if (n == 4) {
         double A[72], N[9];
         for (int i = 0; i < 4; i++)
             dlt_rows(p1, p2, i, t1, t2, A + 18 * i, A + 18 * i + 9);
-        if (sfm__null9_exact(A, 8, N))
+        if (sfmi_null9_exact(A, 8, N))
             return 0;
         for (int k = 0; k < 9; k++)
             h[k] = N[k];
     } else {
-        sfm__ls9 ls;
-        sfm__ls9_init(&ls);
+        sfmi_ls9 ls;
+        sfmi_ls9_init(&ls);
         for (int i = 0; i < n; i++) {
             double r0[9], r1[9];
             dlt_rows(p1, p2, i, t1, t2, r0, r1);
-            sfm__ls9_add_row(&ls, r0);
-            sfm__ls9_add_row(&ls, r1);
+            sfmi_ls9_add_row(&ls, r0);
+            sfmi_ls9_add_row(&ls, r1);
         }
-        int st = sfm__ls9_solve(&ls, h);
+        int st = sfmi_ls9_solve(&ls, h);
         if (st == -1)
             return 0;
         if (st < 0)
@@ -60,16 +60,16 @@ int sfm_homography_dlt(const double *p1, const double *p2, int n, sfm_mat3 *H)
     }
     /* H = T2^-1 Hn T1 with T = [s 0 a; 0 s b; 0 0 1], T^-1 = [1/s 0 -a/s; ...]. */
     double T1[9], Ti[9], M[9], G[9];
-    sfm__hartley_matrix(t1, T1);
+    sfmi_hartley_matrix(t1, T1);
     double is = 1.0 / t2[0];
     Ti[0] = is; Ti[1] = 0.0; Ti[2] = -t2[1] * is;
     Ti[3] = 0.0; Ti[4] = is; Ti[5] = -t2[2] * is;
     Ti[6] = 0.0; Ti[7] = 0.0; Ti[8] = 1.0;
-    sfm_matmul3(h, T1, M);
-    sfm_matmul3(Ti, M, G);
+    sfmi_matmul3(h, T1, M);
+    sfmi_matmul3(Ti, M, G);
     double det = G[0] * (G[4] * G[8] - G[5] * G[7]) - G[1] * (G[3] * G[8] - G[5] * G[6]) +
                  G[2] * (G[3] * G[7] - G[4] * G[6]);
-    if (sfm__normalize9(G) || det == 0.0)
+    if (sfmi_normalize9(G) || det == 0.0)
         return 0;
     for (int k = 0; k < 9; k++)
         H->m[k] = det < 0.0 ? -G[k] : G[k];

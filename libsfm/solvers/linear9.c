@@ -8,7 +8,7 @@
 #include "sfm/sfm_linalg.h"
 #include "solvers/linear9.h"
 
-int sfm__null9_exact(double *A, int m, double *N)
+int sfmi_null9_exact(double *A, int m, double *N)
 {
     /* Column j of A^T is row j of A: A[j*9 + i] = (A^T)(i, j). Reflector k
      * (v_k in row k of A from entry k on, beta_k) zeroes entries k+1..8 of
@@ -64,13 +64,13 @@ int sfm__null9_exact(double *A, int m, double *N)
     return 0;
 }
 
-void sfm__ls9_init(sfm__ls9 *ls)
+void sfmi_ls9_init(sfmi_ls9 *ls)
 {
     memset(ls->R, 0, sizeof ls->R);
     ls->rows = 0;
 }
 
-void sfm__ls9_add_row(sfm__ls9 *ls, const double row[9])
+void sfmi_ls9_add_row(sfmi_ls9 *ls, const double row[9])
 {
     double r[9];
     memcpy(r, row, sizeof r);
@@ -93,7 +93,7 @@ void sfm__ls9_add_row(sfm__ls9 *ls, const double row[9])
     ls->rows++;
 }
 
-int sfm__ls9_solve(sfm__ls9 *ls, double h[9])
+int sfmi_ls9_solve(sfmi_ls9 *ls, double h[9])
 {
     if (ls->rows < 8)
         return -1;
@@ -112,7 +112,7 @@ int sfm__ls9_solve(sfm__ls9 *ls, double h[9])
     return 0;
 }
 
-int sfm__svd3(const double M[9], double U[9], double S[3], double V[9])
+int sfmi_svd3(const double M[9], double U[9], double S[3], double V[9])
 {
     double ws[64];
     if (sfm_svd_workspace_size(3, 3) > sizeof ws)

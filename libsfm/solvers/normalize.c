@@ -6,7 +6,7 @@
 
 #include "solvers/normalize.h"
 
-int sfm__hartley_2d(const double *p, int n, double t[3])
+int sfmi_hartley_2d(const double *p, int n, double t[3])
 {
     double cx = 0.0, cy = 0.0, d = 0.0;
     for (int i = 0; i < n; i++) {
@@ -31,14 +31,14 @@ int sfm__hartley_2d(const double *p, int n, double t[3])
     return 0;
 }
 
-void sfm__hartley_matrix(const double t[3], double T[9])
+void sfmi_hartley_matrix(const double t[3], double T[9])
 {
     T[0] = t[0]; T[1] = 0.0;  T[2] = t[1];
     T[3] = 0.0;  T[4] = t[0]; T[5] = t[2];
     T[6] = 0.0;  T[7] = 0.0;  T[8] = 1.0;
 }
 
-int sfm__normalize9(double M[9])
+int sfmi_normalize9(double M[9])
 {
     double s = 0.0;
     for (int i = 0; i < 9; i++)

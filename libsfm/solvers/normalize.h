@@ -11,13 +11,13 @@
 /* Normalizing similarity of n 2D points (row-major (n,2)): T = [s 0 -s cx;
  * 0 s -s cy; 0 0 1], stored as (s, -s cx, -s cy) in t[3]. Returns 0, or -1
  * when all points coincide (no scale). */
-int sfm__hartley_2d(const double *p, int n, double t[3]);
+int sfmi_hartley_2d(const double *p, int n, double t[3]);
 
 /* Full 3x3 matrix of a normalization stored as t[3]. */
-void sfm__hartley_matrix(const double t[3], double T[9]);
+void sfmi_hartley_matrix(const double t[3], double T[9]);
 
 /* Scale M (9 entries) to unit Frobenius norm. Returns 0, or -1 when M is
  * zero or not finite (M is then left as is). */
-int sfm__normalize9(double M[9]);
+int sfmi_normalize9(double M[9]);
 
 #endif

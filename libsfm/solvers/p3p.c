@@ -46,7 +46,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
 {
     if (!x || !X || !poses)
         return SFM_E_ARGUMENT;
-    if (!(sfm_all_finite9(x) && sfm_all_finite9(X)))
+    if (!(sfmi_all_finite9(x) && sfmi_all_finite9(X)))
         return SFM_E_NONFINITE;
 
     double y[3][3];
@@ -63,15 +63,15 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double X12[3] = {X[0] - X[3], X[1] - X[4], X[2] - X[5]};
     double X13[3] = {X[0] - X[6], X[1] - X[7], X[2] - X[8]};
     double X23[3] = {X[3] - X[6], X[4] - X[7], X[5] - X[8]};
-    double a12 = sfm_dot3(X12, X12), a13 = sfm_dot3(X13, X13), a23 = sfm_dot3(X23, X23);
+    double a12 = sfmi_dot3(X12, X12), a13 = sfmi_dot3(X13, X13), a23 = sfmi_dot3(X23, X23);
     double Xn[3];
-    sfm_cross3(X12, X13, Xn);
-    double xn2 = sfm_dot3(Xn, Xn);
+    sfmi_cross3(X12, X13, Xn);
+    double xn2 = sfmi_dot3(Xn, Xn);
     /* Coincident or collinear world points: no unique pose. */
     if (!(xn2 > 1e-24 * a12 * a13) || !(a23 > 0.0))
         return 0;
 
-    double b12 = sfm_dot3(y[0], y[1]), b13 = sfm_dot3(y[0], y[2]), b23 = sfm_dot3(y[1], y[2]);
+    double b12 = sfmi_dot3(y[0], y[1]), b13 = sfmi_dot3(y[0], y[2]), b23 = sfmi_dot3(y[1], y[2]);
     /* Coincident bearings: depths undetermined. */
     if (b12 > 1.0 - 1e-15 || b13 > 1.0 - 1e-15 || b23 > 1.0 - 1e-15)
         return 0;
@@ -90,13 +90,13 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
         if (c3 == 0.0)
             return 0;
         double ic = 1.0 / c3;
-        double g = sfm_cubic_largest_root(c2 * ic, c1 * ic, c0 * ic);
+        double g = sfmi_cubic_largest_root(c2 * ic, c1 * ic, c0 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = D1[k] + g * D2[k];
         Dq = fabs(g) >= 1.0 ? D1 : D2;
     } else {
         double ic = 1.0 / c0;
-        double g = sfm_cubic_largest_root(c1 * ic, c2 * ic, c3 * ic);
+        double g = sfmi_cubic_largest_root(c1 * ic, c2 * ic, c3 * ic);
         for (int k = 0; k < 6; k++)
             D0[k] = g * D1[k] + D2[k];
         Dq = fabs(g) >= 1.0 ? D2 : D1;
@@ -107,7 +107,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double r0[3] = {D0[0], D0[1], D0[2]}, r1[3] = {D0[1], D0[3], D0[4]},
            r2[3] = {D0[2], D0[4], D0[5]};
     double nb[3];
-    double mb = sfm_rank2_null3(r0, r1, r2, 1e-4, nb);
+    double mb = sfmi_rank2_null3(r0, r1, r2, 1e-4, nb);
     if (!(mb > 0.0))
         return 0;
     double tr = D0[0] + D0[3] + D0[5];
@@ -138,14 +138,14 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             e1[1] = D0[4] + sn * nb[1] * nb[2];
             e1[2] = d2;
         }
-        double m1 = sfm_dot3(e1, e1);
+        double m1 = sfmi_dot3(e1, e1);
         if (!(m1 > 0.0))
             return 0;
         double inv = 1.0 / sqrt(m1);
         e1[0] *= inv;
         e1[1] *= inv;
         e1[2] *= inv;
-        sfm_cross3(nb, e1, e2);
+        sfmi_cross3(nb, e1, e2);
         double ne = 1.0 / sqrt(mb);
         e2[0] *= ne;
         e2[1] *= ne;
@@ -162,7 +162,7 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
     double F1[3] = {X12[0] * i1, X12[1] * i1, X12[2] * i1};
     double F3[3] = {Xn[0] * i3, Xn[1] * i3, Xn[2] * i3};
     double F2[3];
-    sfm_cross3(F3, F1, F2);
+    sfmi_cross3(F3, F1, F2);
 
     /* Full symmetric Dq for indexed access. */
     const double Dm[9] = {Dq[0], Dq[1], Dq[2], Dq[1], Dq[3], Dq[4], Dq[2], Dq[4], Dq[5]};
@@ -244,12 +244,12 @@ int sfm_p3p(const double x[9], const double X[9], sfm_pose poses[SFM_P3P_MAX_SOL
             double Y13[3] = {Y1[0] - l[2] * y[2][0], Y1[1] - l[2] * y[2][1],
                              Y1[2] - l[2] * y[2][2]};
             double G3[3], G2[3];
-            sfm_cross3(G1, Y13, G3);
+            sfmi_cross3(G1, Y13, G3);
             double s3 = i3 / i1;
             G3[0] *= s3;
             G3[1] *= s3;
             G3[2] *= s3;
-            sfm_cross3(G3, G1, G2);
+            sfmi_cross3(G3, G1, G2);
             double *R = poses[nsol].R, *t = poses[nsol].t;
 #define P3P_RROW(rw)                                                           \
     R[3 * (rw)] = G1[rw] * F1[0] + G2[rw] * F2[0] + G3[rw] * F3[0];            \

@@ -655,7 +655,7 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
         double *o = out[ns];
         for (int k = 0; k < 9; k++)
             o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
-        if (sfm__normalize9(o))
+        if (sfmi_normalize9(o))
             continue;
         ns++;
     }
@@ -666,7 +666,7 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(x1, 15) || !sfm_la_all_finite(x2, 15))
+    if (!sfmi_la_all_finite(x1, 15) || !sfmi_la_all_finite(x2, 15))
         return SFM_E_NONFINITE;
     /* only directions matter: unit bearings, scaled by a power of two
      * first so that lengths near 1e+-150 neither overflow nor underflow */
@@ -697,7 +697,7 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++)
                 A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
-    if (sfm__null9_exact(A, 5, N))
+    if (sfmi_null9_exact(A, 5, N))
         return 0;
     /* Nister fixes the coefficient of one null vector to 1; how well the
      * 10x10 block is conditioned depends on which. When the first choice

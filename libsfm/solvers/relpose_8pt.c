@@ -18,7 +18,7 @@ int sfm_relpose_8pt(const double *x1, const double *x2, int n, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E || n < 8)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(x1, 3 * n) || !sfm_la_all_finite(x2, 3 * n))
+    if (!sfmi_la_all_finite(x1, 3 * n) || !sfmi_la_all_finite(x2, 3 * n))
         return SFM_E_NONFINITE;
     double e[9];
     if (n == 8) {
@@ -27,26 +27,26 @@ int sfm_relpose_8pt(const double *x1, const double *x2, int n, sfm_mat3 *E)
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++)
                     A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
-        if (sfm__null9_exact(A, 8, e))
+        if (sfmi_null9_exact(A, 8, e))
             return 0;
     } else {
-        sfm__ls9 ls;
-        sfm__ls9_init(&ls);
+        sfmi_ls9 ls;
+        sfmi_ls9_init(&ls);
         for (int i = 0; i < n; i++) {
             double row[9];
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++)
                     row[3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
-            sfm__ls9_add_row(&ls, row);
+            sfmi_ls9_add_row(&ls, row);
         }
-        int st = sfm__ls9_solve(&ls, e);
+        int st = sfmi_ls9_solve(&ls, e);
         if (st == -1)
             return 0;
         if (st < 0)
             return st;
     }
     double U[9], S[3], V[9];
-    int st = sfm__svd3(e, U, S, V);
+    int st = sfmi_svd3(e, U, S, V);
     if (st < 0)
         return st;
     if (!(S[1] > 1e-12 * S[0]))

@@ -66,12 +66,12 @@ static void align_to_y(const double d[3], double Q[9])
         u[1] = d[0];
         u[2] = 0.0;
     }
-    double inv = 1.0 / sqrt(sfm_dot3(u, u));
+    double inv = 1.0 / sqrt(sfmi_dot3(u, u));
     u[0] *= inv;
     u[1] *= inv;
     u[2] *= inv;
     double w[3];
-    sfm_cross3(u, d, w);
+    sfmi_cross3(u, d, w);
     Q[0] = u[0];
     Q[1] = u[1];
     Q[2] = u[2];
@@ -118,7 +118,7 @@ static int quartic_roots(double b, double c, double d, double e, double r[4])
     double y[4];
     int n = 0;
     /* resolvent: m^3 + p m^2 + (p^2/4 - r) m - q^2/8 = 0, largest root m >= 0 */
-    double m = sfm_cubic_largest_root(p, 0.25 * p * p - rr, -0.125 * q * q);
+    double m = sfmi_cubic_largest_root(p, 0.25 * p * p - rr, -0.125 * q * q);
     double scale = fabs(p) + sqrt(fabs(rr));
     if (m > 1e-14 * scale && m > 0.0) {
         double s = sqrt(2.0 * m);
@@ -156,18 +156,18 @@ static int quartic_roots(double b, double c, double d, double e, double r[4])
 static inline double det_rows(const double a[3], const double b[3], const double c[3])
 {
     double t[3];
-    sfm_cross3(b, c, t);
-    return sfm_dot3(a, t);
+    sfmi_cross3(b, c, t);
+    return sfmi_dot3(a, t);
 }
 
 int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double d1[3],
-                            const double d2[3], sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS])
+                            const double d2[3], sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS])
 {
     if (!x1 || !x2 || !d1 || !d2 || !poses)
         return SFM_E_ARGUMENT;
-    if (!(sfm_all_finite9(x1) && sfm_all_finite9(x2) && sfm_all_finite3(d1) && sfm_all_finite3(d2)))
+    if (!(sfmi_all_finite9(x1) && sfmi_all_finite9(x2) && sfmi_all_finite3(d1) && sfmi_all_finite3(d2)))
         return SFM_E_NONFINITE;
-    double n1 = sfm_dot3(d1, d1), n2 = sfm_dot3(d2, d2);
+    double n1 = sfmi_dot3(d1, d1), n2 = sfmi_dot3(d2, d2);
     if (!(n1 > 0.0) || !(n2 > 0.0))
         return SFM_E_ARGUMENT;
 
@@ -203,7 +203,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         S1[i] = -(a[0] * b[0] + a[2] * b[2]);
         W0[i] = a[1] * b[2];
         W2[i] = -a[1] * b[0];
-        mag *= sfm_dot3(a, a) * sfm_dot3(b, b);
+        mag *= sfmi_dot3(a, a) * sfmi_dot3(b, b);
     }
 #define UP_ROW(r, c, s, i_)                                                    \
     (r)[i_][0] = (c) * P[i_][0] + (s) * P[i_][2] + W0[i_];                     \
@@ -280,7 +280,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         }
         /* t' is orthogonal to the three rows */
         double tq[3];
-        double mt = sfm_rank2_null3(r[0], r[1], r[2], 1e-6, tq);
+        double mt = sfmi_rank2_null3(r[0], r[1], r[2], 1e-6, tq);
         if (!(mt > 0.0))
             continue;
         /* Sign of t' and cheirality. With v_i = Ry a_i and r_i = v_i x b_i,
@@ -292,8 +292,8 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         int vote = 0;
         for (int i = 0; i < 3; i++) {
             double tb[3];
-            sfm_cross3(tq, B[i], tb);
-            s1[i] = -sfm_dot3(tb, r[i]);
+            sfmi_cross3(tq, B[i], tb);
+            s1[i] = -sfmi_dot3(tb, r[i]);
             vote += (s1[i] > 0.0) - (s1[i] < 0.0);
         }
         double sg = vote < 0 ? -1.0 : 1.0;
@@ -303,8 +303,8 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         for (int i = 0; i < 3; i++) {
             const double *a = A[i];
             double v[3] = {c * a[0] + s * a[2], a[1], c * a[2] - s * a[0]}, tv[3];
-            sfm_cross3(tq, v, tv);
-            behind |= sg * sfm_dot3(tv, r[i]) > 0.0;
+            sfmi_cross3(tq, v, tv);
+            behind |= sg * sfmi_dot3(tv, r[i]) > 0.0;
         }
         if (behind)
             continue;

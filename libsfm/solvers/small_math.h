@@ -11,32 +11,32 @@
 #include "core/dmath.h"
 
 /* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
-static inline int sfm_all_finite3(const double *v)
+static inline int sfmi_all_finite3(const double *v)
 {
     return (v[0] * 0.0 + v[1] * 0.0) + v[2] * 0.0 == 0.0;
 }
 
-static inline int sfm_all_finite9(const double *v)
+static inline int sfmi_all_finite9(const double *v)
 {
     return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
                ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
            0.0;
 }
 
-static inline void sfm_cross3(const double *a, const double *b, double *c)
+static inline void sfmi_cross3(const double *a, const double *b, double *c)
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
     c[1] = a[2] * b[0] - a[0] * b[2];
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static inline double sfm_dot3(const double *a, const double *b)
+static inline double sfmi_dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /* y = M x for a row-major 3x3 M. */
-static inline void sfm_matvec3(const double *M, const double *x, double *y)
+static inline void sfmi_matvec3(const double *M, const double *x, double *y)
 {
     y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
     y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
@@ -44,7 +44,7 @@ static inline void sfm_matvec3(const double *M, const double *x, double *y)
 }
 
 /* 3x3 product C = A B (C must not alias A or B). */
-static inline void sfm_matmul3(const double *A, const double *B, double *C)
+static inline void sfmi_matmul3(const double *A, const double *B, double *C)
 {
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
@@ -54,16 +54,16 @@ static inline void sfm_matmul3(const double *A, const double *B, double *C)
 /* A vector n orthogonal to the rows r0, r1, r2 of a rank-2 3x3: r0 x r1, or,
  * when |r0 x r1|^2 <= rel |r0|^2 |r1|^2 (r0, r1 nearly parallel), the longest
  * of the three cross products. Returns |n|^2 (not > 0: rank below 2). */
-static inline double sfm_rank2_null3(const double *r0, const double *r1, const double *r2,
+static inline double sfmi_rank2_null3(const double *r0, const double *r1, const double *r2,
                                      double rel, double n[3])
 {
-    sfm_cross3(r0, r1, n);
-    double m = sfm_dot3(n, n);
-    if (!(m > rel * sfm_dot3(r0, r0) * sfm_dot3(r1, r1))) {
+    sfmi_cross3(r0, r1, n);
+    double m = sfmi_dot3(n, n);
+    if (!(m > rel * sfmi_dot3(r0, r0) * sfmi_dot3(r1, r1))) {
         double n02[3], n12[3];
-        sfm_cross3(r0, r2, n02);
-        sfm_cross3(r1, r2, n12);
-        double m02 = sfm_dot3(n02, n02), m12 = sfm_dot3(n12, n12);
+        sfmi_cross3(r0, r2, n02);
+        sfmi_cross3(r1, r2, n12);
+        double m02 = sfmi_dot3(n02, n02), m12 = sfmi_dot3(n12, n12);
         if (m02 > m) {
             n[0] = n02[0];
             n[1] = n02[1];
@@ -84,7 +84,7 @@ static inline double sfm_rank2_null3(const double *r0, const double *r1, const d
  * there are three: Cardano with a single cube root when one root is real
  * (u v = -p/3, u taken on the side without cancellation), else the largest
  * of the trigonometric form; then two Newton steps. */
-static inline double sfm_cubic_largest_root(double b, double c, double d)
+static inline double sfmi_cubic_largest_root(double b, double c, double d)
 {
     double b3 = b * (1.0 / 3.0);
     double p = c - b * b3;

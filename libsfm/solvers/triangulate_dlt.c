@@ -15,12 +15,12 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_triangulate.h"
 
-void sfm_tri_acc_init(sfm_tri_acc *acc)
+void sfmi_tri_acc_init(sfmi_tri_acc *acc)
 {
     memset(acc->R, 0, sizeof acc->R);
 }
 
-void sfm_tri_acc_add(sfm_tri_acc *acc, const double a_in[4])
+void sfmi_tri_acc_add(sfmi_tri_acc *acc, const double a_in[4])
 {
     double n = sqrt(a_in[0] * a_in[0] + a_in[1] * a_in[1] + a_in[2] * a_in[2] + a_in[3] * a_in[3]);
     if (!(n > 0.0))
@@ -41,15 +41,15 @@ void sfm_tri_acc_add(sfm_tri_acc *acc, const double a_in[4])
     }
 }
 
-void sfm_tri_acc_add_obs(sfm_tri_acc *acc, const double P[12], double u, double v)
+void sfmi_tri_acc_add_obs(sfmi_tri_acc *acc, const double P[12], double u, double v)
 {
     double a[4], b[4];
     for (int k = 0; k < 4; k++) {
         a[k] = u * P[8 + k] - P[k];
         b[k] = v * P[8 + k] - P[4 + k];
     }
-    sfm_tri_acc_add(acc, a);
-    sfm_tri_acc_add(acc, b);
+    sfmi_tri_acc_add(acc, a);
+    sfmi_tri_acc_add(acc, b);
 }
 
 static void unit4(double v[4])
@@ -61,7 +61,7 @@ static void unit4(double v[4])
     v[3] *= n;
 }
 
-int sfm_tri_acc_solve(const sfm_tri_acc *acc, double Xh[4])
+int sfmi_tri_acc_solve(const sfmi_tri_acc *acc, double Xh[4])
 {
     const double *R = acc->R;
     /* Inverse iteration on R^T R from e4 (the first step is the exact null
@@ -129,7 +129,7 @@ static double det3_of_P(const double P[12])
            P[2] * (P[4] * P[9] - P[5] * P[8]);
 }
 
-int sfm_tri_finish_h(const double Xh_in[4], int nviews, const double *P, double X[3])
+int sfmi_tri_finish_h(const double Xh_in[4], int nviews, const double *P, double X[3])
 {
     double Xh[4] = {Xh_in[0], Xh_in[1], Xh_in[2], Xh_in[3]};
     double d3 = sqrt(Xh[0] * Xh[0] + Xh[1] * Xh[1] + Xh[2] * Xh[2]);
@@ -169,21 +169,21 @@ int sfm_triangulate_dlt(int nviews, const double *P, int npoints, const double *
 {
     if (!P || !X || nviews < 2 || npoints < 0 || (npoints > 0 && !x))
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(P, 12L * nviews) || !sfm_la_all_finite(x, 2L * nviews * npoints))
+    if (!sfmi_la_all_finite(P, 12L * nviews) || !sfmi_la_all_finite(x, 2L * nviews * npoints))
         return SFM_E_NONFINITE;
     int good = 0;
     for (int j = 0; j < npoints; j++) {
-        sfm_tri_acc acc;
-        sfm_tri_acc_init(&acc);
+        sfmi_tri_acc acc;
+        sfmi_tri_acc_init(&acc);
         for (int v = 0; v < nviews; v++) {
             const double *o = x + 2 * ((long)v * npoints + j);
-            sfm_tri_acc_add_obs(&acc, P + 12 * v, o[0], o[1]);
+            sfmi_tri_acc_add_obs(&acc, P + 12 * v, o[0], o[1]);
         }
         double Xh[4];
-        int st = sfm_tri_acc_solve(&acc, Xh);
+        int st = sfmi_tri_acc_solve(&acc, Xh);
         if (st < 0)
             return st;
-        int fl = sfm_tri_finish_h(Xh, nviews, P, X + 3 * j);
+        int fl = sfmi_tri_finish_h(Xh, nviews, P, X + 3 * j);
         if (flags)
             flags[j] = fl;
         good += fl == 0;

@@ -16,9 +16,9 @@ int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, con
     if (!poses || !X || nviews < 2 || npoints < 0 || (npoints > 0 && !f))
         return SFM_E_ARGUMENT;
     for (int v = 0; v < nviews; v++)
-        if (!sfm_la_all_finite(poses[v].R, 9) || !sfm_la_all_finite(poses[v].t, 3))
+        if (!sfmi_la_all_finite(poses[v].R, 9) || !sfmi_la_all_finite(poses[v].t, 3))
             return SFM_E_NONFINITE;
-    if (!sfm_la_all_finite(f, 3L * nviews * npoints))
+    if (!sfmi_la_all_finite(f, 3L * nviews * npoints))
         return SFM_E_NONFINITE;
     for (long i = 0; i < (long)nviews * npoints; i++) {
         const double *b = f + 3 * i;

@@ -34,7 +34,7 @@ int sfm_fundamental_from_projections(const double P1[12], const double P2[12], d
 {
     if (!P1 || !P2 || !F)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12))
+    if (!sfmi_la_all_finite(P1, 12) || !sfmi_la_all_finite(P2, 12))
         return SFM_E_NONFINITE;
     double G[9], n = 0.0;
     /* F[j][i] = (-1)^(i+j) det[P1 without row i; P2 without row j] */
@@ -66,8 +66,8 @@ int sfm_triangulate_optimal2(const double P1[12], const double P2[12], int npoin
 {
     if (!P1 || !P2 || !X || npoints < 0 || (npoints > 0 && (!x1 || !x2)))
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12) || !sfm_la_all_finite(x1, 2L * npoints) ||
-        !sfm_la_all_finite(x2, 2L * npoints))
+    if (!sfmi_la_all_finite(P1, 12) || !sfmi_la_all_finite(P2, 12) || !sfmi_la_all_finite(x1, 2L * npoints) ||
+        !sfmi_la_all_finite(x2, 2L * npoints))
         return SFM_E_NONFINITE;
     double F[9];
     int st = sfm_fundamental_from_projections(P1, P2, F);
@@ -112,15 +112,15 @@ int sfm_triangulate_optimal2(const double P1[12], const double P2[12], int npoin
                 xpc[1] -= lam * np[1];
             }
         }
-        sfm_tri_acc acc;
-        sfm_tri_acc_init(&acc);
-        sfm_tri_acc_add_obs(&acc, P1, xpc[0], xpc[1]);
-        sfm_tri_acc_add_obs(&acc, P2, xc[0], xc[1]);
+        sfmi_tri_acc acc;
+        sfmi_tri_acc_init(&acc);
+        sfmi_tri_acc_add_obs(&acc, P1, xpc[0], xpc[1]);
+        sfmi_tri_acc_add_obs(&acc, P2, xc[0], xc[1]);
         double Xh[4];
-        st = sfm_tri_acc_solve(&acc, Xh);
+        st = sfmi_tri_acc_solve(&acc, Xh);
         if (st < 0)
             return st;
-        int fl = sfm_tri_finish_h(Xh, 2, P, X + 3 * j);
+        int fl = sfmi_tri_finish_h(Xh, 2, P, X + 3 * j);
         if (flags)
             flags[j] = fl;
         good += fl == 0;

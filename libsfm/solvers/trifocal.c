@@ -38,7 +38,7 @@ static double det4(const double *r0, const double *r1, const double *r2, const d
     return s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
 }
 
-int sfm_trifocal_normalize(double *v, int n)
+int sfmi_trifocal_normalize(double *v, int n)
 {
     double s = 0;
     for (int i = 0; i < n; i++)
@@ -67,7 +67,7 @@ static int centre(const double *P, double C[4])
     C[1] = -det3_cols(P, 0, 2, 3);
     C[2] = det3_cols(P, 0, 1, 3);
     C[3] = -det3_cols(P, 0, 1, 2);
-    return sfm_trifocal_normalize(C, 4) == SFM_OK;
+    return sfmi_trifocal_normalize(C, 4) == SFM_OK;
 }
 
 /* Two unit 4-vectors equal up to sign, to 1e-10 (coincident centres). */
@@ -86,7 +86,7 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
 {
     if (P1 == NULL || P2 == NULL || P3 == NULL || T == NULL)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(P1, 12) || !sfm_la_all_finite(P2, 12) || !sfm_la_all_finite(P3, 12))
+    if (!sfmi_la_all_finite(P1, 12) || !sfmi_la_all_finite(P2, 12) || !sfmi_la_all_finite(P3, 12))
         return SFM_E_NONFINITE;
     /* the tensor of cameras with coincident centres is not zero but
      * carries no three-view geometry (H&Z 15.1: the centres must differ) */
@@ -105,7 +105,7 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
             for (int k = 0; k < 3; k++)
                 out[i * 9 + j * 3 + k] = det4(ra, rb, &P2[j * 4], &P3[k * 4]);
     }
-    if (sfm_trifocal_normalize(out, 27) != SFM_OK)
+    if (sfmi_trifocal_normalize(out, 27) != SFM_OK)
         return SFM_E_SINGULAR;
     memcpy(T, out, sizeof out);
     return SFM_OK;
@@ -145,7 +145,7 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
 {
     if (T == NULL || e2 == NULL || e3 == NULL)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(T, 27))
+    if (!sfmi_la_all_finite(T, 27))
         return SFM_E_NONFINITE;
     double tn = 0;
     for (int k = 0; k < 27; k++)
@@ -169,7 +169,7 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
     st = null3(V, 0, b);
     if (st < 0)
         return st;
-    if (sfm_trifocal_normalize(a, 3) != SFM_OK || sfm_trifocal_normalize(b, 3) != SFM_OK)
+    if (sfmi_trifocal_normalize(a, 3) != SFM_OK || sfmi_trifocal_normalize(b, 3) != SFM_OK)
         return SFM_E_SINGULAR;
     fix_sign(a);
     fix_sign(b);
@@ -232,10 +232,10 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
         }
     }
     sfm_skew(e2, Ex);
-    sfm_matmul3(Ex, M2, a);
+    sfmi_matmul3(Ex, M2, a);
     sfm_skew(e3, Ex);
-    sfm_matmul3(Ex, M3, b);
-    if (sfm_trifocal_normalize(a, 9) != SFM_OK || sfm_trifocal_normalize(b, 9) != SFM_OK)
+    sfmi_matmul3(Ex, M3, b);
+    if (sfmi_trifocal_normalize(a, 9) != SFM_OK || sfmi_trifocal_normalize(b, 9) != SFM_OK)
         return SFM_E_SINGULAR;
     if (F32 != NULL) {
         double P2[12], P3[12];
@@ -258,8 +258,8 @@ int sfm_trifocal_transfer(const double T[27], const double F21[9], const double 
 {
     if (T == NULL || x1 == NULL || x2 == NULL || x3 == NULL)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(T, 27) || !sfm_la_all_finite(x1, 2) || !sfm_la_all_finite(x2, 2) ||
-        (F21 != NULL && !sfm_la_all_finite(F21, 9)))
+    if (!sfmi_la_all_finite(T, 27) || !sfmi_la_all_finite(x1, 2) || !sfmi_la_all_finite(x2, 2) ||
+        (F21 != NULL && !sfmi_la_all_finite(F21, 9)))
         return SFM_E_NONFINITE;
     double F[9];
     if (F21 != NULL) {
@@ -297,7 +297,7 @@ int sfm_trifocal_transfer_line(const double T[27], const double l2[3], const dou
 {
     if (T == NULL || l2 == NULL || l3 == NULL || l1 == NULL)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(T, 27) || !sfm_la_all_finite(l2, 3) || !sfm_la_all_finite(l3, 3))
+    if (!sfmi_la_all_finite(T, 27) || !sfmi_la_all_finite(l2, 3) || !sfmi_la_all_finite(l3, 3))
         return SFM_E_NONFINITE;
     double out[3];
     for (int i = 0; i < 3; i++) {

@@ -41,7 +41,7 @@ typedef struct tf_ws {
     size_t svd_size;
 } tf_ws;
 
-static void tf_layout(sfm_arena *a, tf_ws *w)
+static void tf_layout(sfmi_arena *a, tf_ws *w)
 {
     w->buf = SFM_ARENA_ARRAY(a, double, ROWS * NU);
     w->tau = SFM_ARENA_ARRAY(a, double, NU);
@@ -50,16 +50,16 @@ static void tf_layout(sfm_arena *a, tf_ws *w)
     w->S = SFM_ARENA_ARRAY(a, double, NU);
     w->M = SFM_ARENA_ARRAY(a, double, NU * NA);
     w->svd_size = sfm_svd_workspace_size(NU, NU);
-    w->svd = sfm_arena_alloc(a, w->svd_size);
+    w->svd = sfmi_arena_alloc(a, w->svd_size);
 }
 
 size_t sfm_trifocal_7pt_workspace_size(void)
 {
-    sfm_arena a;
+    sfmi_arena a;
     tf_ws w;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     tf_layout(&a, &w);
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 /* The normalizing similarity of one view as a matrix (shared Hartley
@@ -67,9 +67,9 @@ size_t sfm_trifocal_7pt_workspace_size(void)
 static int normalizer(const double *x, int n, double H[9])
 {
     double t[3];
-    if (sfm__hartley_2d(x, n, t) != 0)
+    if (sfmi_hartley_2d(x, n, t) != 0)
         return SFM_E_SINGULAR;
-    sfm__hartley_matrix(t, H);
+    sfmi_hartley_matrix(t, H);
     return SFM_OK;
 }
 
@@ -109,7 +109,7 @@ static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
 static int smallest_right_tri(tf_ws *w, const double *A, int n, double *v)
 {
     double scratch[4 * NU];
-    if (sfm_la_tri_smallest_right(A, n, v, scratch))
+    if (sfmi_la_tri_smallest_right(A, n, v, scratch))
         return SFM_OK;
     return smallest_right(w, A, n, n, v);
 }
@@ -194,7 +194,7 @@ static int algebraic_step(tf_ws *w, double t[NU])
                 s += B[b][c] * y[i * NB + b];
             t[i * 9 + c] = s;
         }
-    return sfm_trifocal_normalize(t, NU);
+    return sfmi_trifocal_normalize(t, NU);
 }
 
 /* Transfer error of x2 ~ H x1, squared. */
@@ -248,13 +248,13 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL ||
         n < SFM_TRIFOCAL_MIN_POINTS)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(x1, 2 * n) || !sfm_la_all_finite(x2, 2 * n) || !sfm_la_all_finite(x3, 2 * n))
+    if (!sfmi_la_all_finite(x1, 2 * n) || !sfmi_la_all_finite(x2, 2 * n) || !sfmi_la_all_finite(x3, 2 * n))
         return SFM_E_NONFINITE;
-    sfm_arena a;
+    sfmi_arena a;
     tf_ws w;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     tf_layout(&a, &w);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
 
     double H1[9], H2[9], H3[9];
@@ -337,7 +337,7 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
                     acc += H1[r * 3 + i] * tmp2[r * 9 + j * 3 + k];
                 out[i * 9 + j * 3 + k] = acc;
             }
-    if (sfm_trifocal_normalize(out, NU) != SFM_OK || !sfm_la_all_finite(out, NU))
+    if (sfmi_trifocal_normalize(out, NU) != SFM_OK || !sfmi_la_all_finite(out, NU))
         return SFM_E_SINGULAR;
     int m = 0;
     for (int k = 1; k < NU; k++)

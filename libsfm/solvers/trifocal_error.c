@@ -17,7 +17,7 @@
 
 enum { GN_ITERS = 4 };
 
-int sfm_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
+int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
                           double JX[8], double JP[24])
 {
     double p[3];
@@ -50,7 +50,7 @@ static double cost(const double *P[3], const double *x[3], const double X[4], in
     double c = 0, r[2];
     *ok = 1;
     for (int v = 0; v < 3; v++) {
-        if (!sfm_trifocal_residual(P[v], X, x[v], r, NULL, NULL)) {
+        if (!sfmi_trifocal_residual(P[v], X, x[v], r, NULL, NULL)) {
             *ok = 0;
             return HUGE_VAL;
         }
@@ -61,7 +61,7 @@ static double cost(const double *P[3], const double *x[3], const double X[4], in
 
 /* Orthonormal basis B (4x3, columns) of the complement of unit X, from the
  * Householder reflector that maps X to a multiple of e_a. */
-void sfm_trifocal_tangent_basis(const double X[4], double B[12])
+void sfmi_trifocal_tangent_basis(const double X[4], double B[12])
 {
     int a = 0;
     for (int k = 1; k < 4; k++)
@@ -120,10 +120,10 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
         double B[12], H[9] = {0}, g[3] = {0};
-        sfm_trifocal_tangent_basis(X, B);
+        sfmi_trifocal_tangent_basis(X, B);
         for (int v = 0; v < 3; v++) {
             double r[2], J[8], Jb[6];
-            sfm_trifocal_residual(P[v], X, x[v], r, J, NULL);
+            sfmi_trifocal_residual(P[v], X, x[v], r, J, NULL);
             for (int h = 0; h < 2; h++)
                 for (int c = 0; c < 3; c++)
                     Jb[h * 3 + c] = J[h * 4] * B[c] + J[h * 4 + 1] * B[3 + c] +

@@ -3,17 +3,17 @@
 #define SFM_SOLVERS_TRIFOCAL_INTERNAL_H
 
 /* Scales v (n entries) to unit norm; SFM_E_SINGULAR when it is zero. */
-int sfm_trifocal_normalize(double *v, int n);
+int sfmi_trifocal_normalize(double *v, int n);
 
 /* Reprojection residual of x under camera P for the homogeneous point X
  * (x_proj - x, pixels), with d r / d X (2x4, may be NULL) and d r / d P
  * (2x12, row-major P entries, may be NULL). 0 when X projects to infinity. */
-int sfm_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
+int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
                           double JX[8], double JP[24]);
 
 /* Orthonormal basis B (4x3, columns) of the complement of the unit 4-vector
  * X, from the Householder reflector mapping X to a multiple of e_a: the
  * tangent space in which homogeneous points are updated. */
-void sfm_trifocal_tangent_basis(const double X[4], double B[12]);
+void sfmi_trifocal_tangent_basis(const double X[4], double B[12]);
 
 #endif

@@ -61,7 +61,7 @@ static int options_ok(int width, int height, const sfm_stereo_block_options *o)
     return 1;
 }
 
-static void layout(sfm_arena *a, bm *b, int w, int h, const sfm_stereo_block_options *o)
+static void layout(sfmi_arena *a, bm *b, int w, int h, const sfm_stereo_block_options *o)
 {
     int D = o->num_disparities;
     b->w = w;
@@ -84,11 +84,11 @@ size_t sfm_stereo_block_workspace_size(int width, int height, const sfm_stereo_b
 {
     if (!options_ok(width, height, opt))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     bm b;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, &b, width, height, opt);
-    return a.failed ? 0 : sfm_arena_required(&a);
+    return a.failed ? 0 : sfmi_arena_required(&a);
 }
 
 static int clampi(int v, int lo, int hi)
@@ -204,11 +204,11 @@ int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int h
         return SFM_E_ARGUMENT;
     if (!ws)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
+    sfmi_arena a;
     bm b;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, &b, width, height, opt);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     b.dmin = opt->min_disparity;
     const int r = b.r, r2 = 2 * r, D = b.D;

@@ -61,7 +61,7 @@ static int border_box(const sfm_camera *cam, int w, int h, const double *Rr, box
             double ray[3], r[3];
             if (sfm_camera_unproject(cam, px, ray) != SFM_OK)
                 continue;
-            sfm_matvec3(Rr, ray, r);
+            sfmi_matvec3(Rr, ray, r);
             if (!(r[2] > 1e-3 * sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])))
                 continue;
             double x = r[0] / r[2], y = r[1] / r[2];
@@ -135,7 +135,7 @@ int sfm_stereo_rectify(const sfm_camera *cam1, const sfm_camera *cam2, int width
     st = sfm_camera_validate(cam2);
     if (st < 0)
         return st;
-    if (!sfm_all_finite9(R) || !sfm_all_finite3(t) || !isfinite(alpha))
+    if (!sfmi_all_finite9(R) || !sfmi_all_finite3(t) || !isfinite(alpha))
         return SFM_E_NONFINITE;
     if (width < 8 || height < 8 || width > 32767 || height > 32767)
         return SFM_E_ARGUMENT;
@@ -161,25 +161,25 @@ int sfm_stereo_rectify(const sfm_camera *cam1, const sfm_camera *cam2, int width
     double c2[3] = {-(R[0] * t[0] + R[3] * t[1] + R[6] * t[2]),
                     -(R[1] * t[0] + R[4] * t[1] + R[7] * t[2]),
                     -(R[2] * t[0] + R[5] * t[1] + R[8] * t[2])};
-    double B = sqrt(sfm_dot3(c2, c2));
+    double B = sqrt(sfmi_dot3(c2, c2));
     if (!(B > 0.0) || !isfinite(B))
         return SFM_E_SINGULAR;
     double v1[3] = {c2[0] / B, c2[1] / B, c2[2] / B};
     double zm[3] = {R[6], R[7], 1.0 + R[8]};
     double v2[3], v3[3];
-    sfm_cross3(zm, v1, v2);
-    double n2 = sqrt(sfm_dot3(v2, v2)), nz = sqrt(sfm_dot3(zm, zm));
+    sfmi_cross3(zm, v1, v2);
+    double n2 = sqrt(sfmi_dot3(v2, v2)), nz = sqrt(sfmi_dot3(zm, zm));
     /* sin(1 degree): the baseline within a degree of the viewing direction
      * puts the epipoles inside the images. */
     if (!(nz > 1e-6) || !(n2 > 0.0174524 * nz))
         return SFM_E_SINGULAR;
     for (int k = 0; k < 3; k++)
         v2[k] /= n2;
-    sfm_cross3(v1, v2, v3);
+    sfmi_cross3(v1, v2, v3);
     double Rr[9] = {v1[0], v1[1], v1[2], v2[0], v2[1], v2[2], v3[0], v3[1], v3[2]};
     double Rt[9] = {R[0], R[3], R[6], R[1], R[4], R[7], R[2], R[5], R[8]};
     double R2[9];
-    sfm_matmul3(Rr, Rt, R2);
+    sfmi_matmul3(Rr, Rt, R2);
 
     box b1, b2;
     if (!border_box(cam1, width, height, Rr, &b1) || !border_box(cam2, width, height, R2, &b2))
@@ -264,7 +264,7 @@ int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
         return SFM_E_ARGUMENT;
     const double *Rr = view == 1 ? rect->R1 : rect->R2;
     const double *K = view == 1 ? rect->K1 : rect->K2;
-    if (!sfm_all_finite9(Rr) || !sfm_all_finite9(K))
+    if (!sfmi_all_finite9(Rr) || !sfmi_all_finite9(K))
         return SFM_E_NONFINITE;
     if (!(K[0] != 0.0) || !(K[4] != 0.0))
         return SFM_E_ARGUMENT;
@@ -300,7 +300,7 @@ int sfm_stereo_homography_map(const double H[9], int src_width, int src_height, 
         return SFM_E_ARGUMENT;
     if (map_len < 2u * (size_t)out_width * (size_t)out_height)
         return SFM_E_ARGUMENT;
-    if (!sfm_all_finite9(H))
+    if (!sfmi_all_finite9(H))
         return SFM_E_NONFINITE;
     double Hi[9];
     if (sfmi_stereo_inv3(H, Hi) != SFM_OK)
@@ -308,7 +308,7 @@ int sfm_stereo_homography_map(const double H[9], int src_width, int src_height, 
     for (int v = 0; v < out_height; v++) {
         for (int u = 0; u < out_width; u++) {
             double p[3] = {u, v, 1.0}, q[3];
-            sfm_matvec3(Hi, p, q);
+            sfmi_matvec3(Hi, p, q);
             int32_t *m = map + 2 * ((size_t)v * out_width + u);
             if (!(fabs(q[2]) > 1e-300)) {
                 m[0] = m[1] = -1;
@@ -361,7 +361,7 @@ static int rectify_point(const sfm_camera *cam, const double *Rr, const double *
     double b[3], r[3];
     if (sfm_camera_unproject(cam, px, b) != SFM_OK)
         return 0;
-    sfm_matvec3(Rr, b, r);
+    sfmi_matvec3(Rr, b, r);
     if (!(r[2] > 0.0))
         return 0;
     out[0] = K[0] * r[0] / r[2] + K[2];
@@ -372,7 +372,7 @@ static int rectify_point(const sfm_camera *cam, const double *Rr, const double *
 static int apply_h(const double *H, const double *px, double *out)
 {
     double p[3] = {px[0], px[1], 1.0}, q[3];
-    sfm_matvec3(H, p, q);
+    sfmi_matvec3(H, p, q);
     if (!(fabs(q[2]) > 1e-300))
         return 0;
     out[0] = q[0] / q[2];
@@ -391,7 +391,7 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
         return SFM_E_ARGUMENT;
     if (rect && (sfm_camera_validate(cam1) < 0 || sfm_camera_validate(cam2) < 0))
         return SFM_E_ARGUMENT;
-    if (!rect && (!sfm_all_finite9(H1) || !sfm_all_finite9(H2)))
+    if (!rect && (!sfmi_all_finite9(H1) || !sfmi_all_finite9(H2)))
         return SFM_E_NONFINITE;
     for (int i = 0; i < 2 * n; i++)
         if (!isfinite(x1[i]) || !isfinite(x2[i]))

@@ -22,7 +22,7 @@
 static int dehom(const double *H, const double *px, double *out)
 {
     double p[3] = {px[0], px[1], 1.0}, q[3];
-    sfm_matvec3(H, p, q);
+    sfmi_matvec3(H, p, q);
     if (!(fabs(q[2]) > 1e-12 * (fabs(q[0]) + fabs(q[1]) + fabs(q[2]))))
         return 0;
     out[0] = q[0] / q[2];
@@ -36,7 +36,7 @@ int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const d
     if (!F || !x1 || !x2 || !H1 || !H2 || n < 8 || width < 8 || height < 8 ||
         width > 32767 || height > 32767)
         return SFM_E_ARGUMENT;
-    if (!sfm_all_finite9(F))
+    if (!sfmi_all_finite9(F))
         return SFM_E_NONFINITE;
     for (int i = 0; i < 2 * n; i++)
         if (!isfinite(x1[i]) || !isfinite(x2[i]))
@@ -80,20 +80,20 @@ int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const d
     if (fabs(ez) > 1e-12 * r)
         G[6] = ez / r; /* -1 / e with e = -r / ez */
     double GR[9], H2a[9];
-    sfm_matmul3(G, Rm, GR);
-    sfm_matmul3(GR, T, H2a);
+    sfmi_matmul3(G, Rm, GR);
+    sfmi_matmul3(GR, T, H2a);
 
     /* M = [e2]_x F + e2 v^T, v = (1, 1, 1): nonsingular for a general v. */
-    double en = sqrt(sfm_dot3(e2, e2));
+    double en = sqrt(sfmi_dot3(e2, e2));
     double eu[3] = {e2[0] / en, e2[1] / en, e2[2] / en};
     double Ex[9] = {0, -eu[2], eu[1], eu[2], 0, -eu[0], -eu[1], eu[0], 0};
     double M[9];
-    sfm_matmul3(Ex, Fs, M);
+    sfmi_matmul3(Ex, Fs, M);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             M[3 * i + j] += eu[i];
     double H0[9];
-    sfm_matmul3(H2a, M, H0);
+    sfmi_matmul3(H2a, M, H0);
 
     /* Normal equations of min sum (a u1 + b v1 + c - u2)^2. Coordinates are
      * near the image centre, so the 3x3 system is well scaled. */
@@ -117,8 +117,8 @@ int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const d
         return SFM_E_SINGULAR;
     double HA[9] = {rhs[0], rhs[1], rhs[2], 0, 1, 0, 0, 0, 1};
     double H1a[9];
-    sfm_matmul3(HA, H0, H1a);
-    if (!sfm_all_finite9(H1a))
+    sfmi_matmul3(HA, H0, H1a);
+    if (!sfmi_all_finite9(H1a))
         return SFM_E_SINGULAR;
 
     /* The smallest disparity of the matches goes to zero (image 2 moves),
@@ -137,9 +137,9 @@ int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const d
     double Tb1[9] = {1, 0, cx, 0, 1, cy, 0, 0, 1};
     double Tb2[9] = {1, 0, cx + dmin, 0, 1, cy, 0, 0, 1};
     double o1[9], o2[9];
-    sfm_matmul3(Tb1, H1a, o1);
-    sfm_matmul3(Tb2, H2a, o2);
-    if (!sfm_all_finite9(o1) || !sfm_all_finite9(o2))
+    sfmi_matmul3(Tb1, H1a, o1);
+    sfmi_matmul3(Tb2, H2a, o2);
+    if (!sfmi_all_finite9(o1) || !sfmi_all_finite9(o2))
         return SFM_E_SINGULAR;
     memcpy(H1, o1, sizeof o1);
     memcpy(H2, o2, sizeof o2);

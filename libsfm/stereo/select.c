@@ -25,7 +25,7 @@ static int span_of(int D, int dmin)
     return D + 8 + (dmin > 0 ? dmin : -dmin);
 }
 
-void sfmi_stereo_scratch_layout(sfm_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin)
+void sfmi_stereo_scratch_layout(sfmi_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin)
 {
     s->len = w + 2 * span_of(D, dmin);
     s->best_r_cost = SFM_ARENA_ARRAY(a, int16_t, s->len);

@@ -71,7 +71,7 @@ static int options_ok(int width, int height, const sfm_stereo_sgm_options *o)
     return 1;
 }
 
-static void layout(sfm_arena *a, sgm *s, int w, int h, const sfm_stereo_sgm_options *o)
+static void layout(sfmi_arena *a, sgm *s, int w, int h, const sfm_stereo_sgm_options *o)
 {
     int D = o->num_disparities, Dp = D + 2 * PAD;
     s->w = w;
@@ -105,11 +105,11 @@ size_t sfm_stereo_sgm_workspace_size(int width, int height, const sfm_stereo_sgm
 {
     if (!options_ok(width, height, opt))
         return 0;
-    sfm_arena a;
+    sfmi_arena a;
     sgm s;
-    sfm_arena_measure(&a);
+    sfmi_arena_measure(&a);
     layout(&a, &s, width, height, opt);
-    return a.failed ? 0 : sfm_arena_required(&a);
+    return a.failed ? 0 : sfmi_arena_required(&a);
 }
 
 /* Census Hamming costs of row y for every x and disparity dmin + d. The
@@ -316,11 +316,11 @@ int sfm_stereo_sgm(const uint8_t *left, const uint8_t *right, int width, int hei
         return SFM_E_ARGUMENT;
     if (!ws)
         return SFM_E_WORKSPACE;
-    sfm_arena a;
+    sfmi_arena a;
     sgm s;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena_init(&a, ws, ws_size);
     layout(&a, &s, width, height, opt);
-    if (!sfm_arena_ok(&a))
+    if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
     s.dmin = opt->min_disparity;
     s.p1 = opt->p1;

@@ -19,7 +19,7 @@ typedef struct sfmi_stereo_scratch {
     int16_t *best_d, *best_c, *second; /* per left pixel of the row */
 } sfmi_stereo_scratch;
 
-void sfmi_stereo_scratch_layout(sfm_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin);
+void sfmi_stereo_scratch_layout(sfmi_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin);
 
 /* Disparities of one row from its costs (w x D, index d = disparity
  * dmin + d); pixels with invalid[x] set (may be NULL) are NaN. Returns the

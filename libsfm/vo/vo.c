@@ -57,7 +57,7 @@ static size_t ba_reserve(int window, int max_points, int max_obs, int nf)
 }
 
 /* One carving for both measuring and laying out. */
-static sfm_vo *layout(sfm_arena *a, const sfm_vo_dims *d)
+static sfm_vo *layout(sfmi_arena *a, const sfm_vo_dims *d)
 {
     int nf = d->max_features, w = d->window;
     int cap = w * nf;
@@ -95,9 +95,9 @@ static sfm_vo *layout(sfm_arena *a, const sfm_vo_dims *d)
     v->m_j = SFM_ARENA_ARRAY(a, int, nf);
     v->mask = SFM_ARENA_ARRAY(a, uint8_t, nf);
     v->feat_ws_size = feat_reserve(d);
-    v->feat_ws = sfm_arena_alloc(a, v->feat_ws_size);
+    v->feat_ws = sfmi_arena_alloc(a, v->feat_ws_size);
     v->ransac_ws_size = ransac_reserve(nf);
-    v->ransac_ws = sfm_arena_alloc(a, v->ransac_ws_size);
+    v->ransac_ws = sfmi_arena_alloc(a, v->ransac_ws_size);
     v->ba_max_obs = cap;
     v->ba_max_points = cap / 2 > nf ? cap / 2 : nf;
     v->ba_R = SFM_ARENA_ARRAY(a, double, 9 * w);
@@ -113,7 +113,7 @@ static sfm_vo *layout(sfm_arena *a, const sfm_vo_dims *d)
     v->pt_ba = SFM_ARENA_ARRAY(a, int, cap);
     v->pt_tmp = SFM_ARENA_ARRAY(a, int, cap);
     v->ba_ws_size = ba_reserve(w, v->ba_max_points, v->ba_max_obs, nf);
-    v->ba_ws = sfm_arena_alloc(a, v->ba_ws_size);
+    v->ba_ws = sfmi_arena_alloc(a, v->ba_ws_size);
     if (v->feat_ws_size == 0 || v->ransac_ws_size == 0 || v->ba_ws_size == 0)
         a->failed = 1;
     return vo;
@@ -123,12 +123,12 @@ size_t sfm_vo_workspace_size(const sfm_vo_dims *dims)
 {
     if (!dims_ok(dims))
         return 0;
-    sfm_arena a;
-    sfm_arena_measure(&a);
+    sfmi_arena a;
+    sfmi_arena_measure(&a);
     layout(&a, dims);
     if (a.failed)
         return 0;
-    return sfm_arena_required(&a);
+    return sfmi_arena_required(&a);
 }
 
 int sfm_vo_default_params(const sfm_vo_dims *dims, sfm_vo_params *p)
@@ -173,7 +173,7 @@ static int params_check(const sfm_vo_dims *d, const sfm_vo_params *p, size_t fea
                   p->min_parallax_deg, p->keyframe_ratio, p->keyframe_min_parallax_deg,
                   p->point_min_parallax_deg,
                   p->frame_budget};
-    if (!sfm_la_all_finite(f, sizeof f / sizeof f[0]))
+    if (!sfmi_la_all_finite(f, sizeof f / sizeof f[0]))
         return SFM_E_NONFINITE;
     int st = sfm_camera_validate(&p->camera);
     if (st < 0)
@@ -208,10 +208,10 @@ int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, void *ws, 
         return st;
     if (ws_size < sfm_vo_workspace_size(dims))
         return SFM_E_WORKSPACE;
-    sfm_arena a;
-    sfm_arena_init(&a, ws, ws_size);
+    sfmi_arena a;
+    sfmi_arena_init(&a, ws, ws_size);
     sfm_vo *vo = layout(&a, dims);
-    if (!sfm_arena_ok(&a) || vo == NULL)
+    if (!sfmi_arena_ok(&a) || vo == NULL)
         return SFM_E_WORKSPACE;
     vo->dims = *dims;
     vo->p = *params;
@@ -734,7 +734,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
     if (vo->started && timestamp_ns < vo->last_ts)
         return SFM_E_ARGUMENT;
     if (gravity != NULL) {
-        if (!sfm_la_all_finite(gravity, 3))
+        if (!sfmi_la_all_finite(gravity, 3))
             return SFM_E_NONFINITE;
         if (gravity[0] == 0 && gravity[1] == 0 && gravity[2] == 0)
             return SFM_E_ARGUMENT;

@@ -61,7 +61,7 @@ def fundamental_7pt(p1, p2):
     p1, p2: (7, 2) pixels. Returns an (m, 3, 3) array, m <= 3, p2h^T F p1h
     = 0."""
     a, b = _pair(p1, p2, 2, 7, ("p1", "p2"))
-    return _many(lib.sfm_relpose_7pt, a, b, lib.SFM_RELPOSE_7PT_MAX_SOLUTIONS, "fundamental_7pt",
+    return _many(lib.sfm_fundamental_7pt, a, b, lib.SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS, "fundamental_7pt",
                  ("p1", "p2"))
 
 

@@ -27,47 +27,47 @@ SFM_TEST(arena_measure_matches_carve)
 {
     static unsigned char buf[4096 + 64];
     for (int off = 0; off < 16; off++) {
-        sfm_arena m, a;
-        sfm_arena_measure(&m);
-        (void)sfm_arena_alloc(&m, 3);
+        sfmi_arena m, a;
+        sfmi_arena_measure(&m);
+        (void)sfmi_arena_alloc(&m, 3);
         (void)SFM_ARENA_ARRAY(&m, double, 17);
-        (void)sfm_arena_alloc(&m, 1);
-        size_t need = sfm_arena_required(&m);
+        (void)sfmi_arena_alloc(&m, 1);
+        size_t need = sfmi_arena_required(&m);
         SFM_CHECK(need > 0);
         /* exactly enough at any alignment of the caller's pointer */
-        sfm_arena_init(&a, buf + off, need);
-        unsigned char *p1 = sfm_arena_alloc(&a, 3);
+        sfmi_arena_init(&a, buf + off, need);
+        unsigned char *p1 = sfmi_arena_alloc(&a, 3);
         double *p2 = SFM_ARENA_ARRAY(&a, double, 17);
-        unsigned char *p3 = sfm_arena_alloc(&a, 1);
-        SFM_CHECK(sfm_arena_ok(&a));
+        unsigned char *p3 = sfmi_arena_alloc(&a, 1);
+        SFM_CHECK(sfmi_arena_ok(&a));
         SFM_CHECK(p1 && p2 && p3);
         SFM_CHECK(((uintptr_t)p2 % SFM_WS_ALIGN) == 0);
         SFM_CHECK(p3 + 1 <= buf + off + need);
         /* one byte short fails at every alignment */
-        sfm_arena_init(&a, buf + off, need - 1);
-        (void)sfm_arena_alloc(&a, 3);
+        sfmi_arena_init(&a, buf + off, need - 1);
+        (void)sfmi_arena_alloc(&a, 3);
         (void)SFM_ARENA_ARRAY(&a, double, 17);
-        (void)sfm_arena_alloc(&a, 1);
-        SFM_CHECK(!sfm_arena_ok(&a));
+        (void)sfmi_arena_alloc(&a, 1);
+        SFM_CHECK(!sfmi_arena_ok(&a));
     }
 }
 
 SFM_TEST(arena_too_small_is_sticky)
 {
     static unsigned char buf[256];
-    sfm_arena a;
-    sfm_arena_init(&a, buf, 40);
-    void *p = sfm_arena_alloc(&a, 64);
+    sfmi_arena a;
+    sfmi_arena_init(&a, buf, 40);
+    void *p = sfmi_arena_alloc(&a, 64);
     SFM_CHECK(p == NULL);
-    SFM_CHECK(!sfm_arena_ok(&a));
-    SFM_CHECK(sfm_arena_alloc(&a, 1) == NULL);
-    sfm_arena_init(&a, NULL, 100);
-    SFM_CHECK(!sfm_arena_ok(&a));
-    sfm_arena m;
-    sfm_arena_measure(&m);
-    SFM_CHECK(!sfm_arena_ok(&m));
-    (void)sfm_arena_alloc(&m, SIZE_MAX - 3);
-    SFM_CHECK_EQ_INT(sfm_arena_required(&m), 0);
+    SFM_CHECK(!sfmi_arena_ok(&a));
+    SFM_CHECK(sfmi_arena_alloc(&a, 1) == NULL);
+    sfmi_arena_init(&a, NULL, 100);
+    SFM_CHECK(!sfmi_arena_ok(&a));
+    sfmi_arena m;
+    sfmi_arena_measure(&m);
+    SFM_CHECK(!sfmi_arena_ok(&m));
+    (void)sfmi_arena_alloc(&m, SIZE_MAX - 3);
+    SFM_CHECK_EQ_INT(sfmi_arena_required(&m), 0);
 }
 
 SFM_TEST(rng_reference_sequence)

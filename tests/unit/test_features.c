@@ -471,13 +471,13 @@ SFM_TEST(features_brief_pattern_fits_patch)
     for (int i = 0; i < SFM_BRIEF_PAIRS; i++) {
         signed char q[4];
         for (int c = 0; c < 4; c++)
-            q[c] = sfm_brief_pattern[c][i];
+            q[c] = sfmi_brief_pattern[c][i];
         SFM_CHECK(q[0] * q[0] + q[1] * q[1] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
         SFM_CHECK(q[2] * q[2] + q[3] * q[3] <= SFM_BRIEF_RADIUS * SFM_BRIEF_RADIUS);
         SFM_CHECK(q[0] != q[2] || q[1] != q[3]);
         for (int j = 0; j < i; j++)
-            if (sfm_brief_pattern[0][j] == q[0] && sfm_brief_pattern[1][j] == q[1] &&
-                sfm_brief_pattern[2][j] == q[2] && sfm_brief_pattern[3][j] == q[3])
+            if (sfmi_brief_pattern[0][j] == q[0] && sfmi_brief_pattern[1][j] == q[1] &&
+                sfmi_brief_pattern[2][j] == q[2] && sfmi_brief_pattern[3][j] == q[3])
                 distinct = 0;
     }
     SFM_CHECK(distinct);

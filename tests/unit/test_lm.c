@@ -135,7 +135,7 @@ static int rot_residual(const void *user, const double *const *v, int i, double 
 {
     const rot_data *d = user;
     double Ra[3];
-    sfm_matvec3(v[0], d->a + 3 * i, Ra);
+    sfmi_matvec3(v[0], d->a + 3 * i, Ra);
     for (int k = 0; k < 3; k++)
         r[k] = Ra[k] - d->b[3 * i + k];
     if (J) {
@@ -155,12 +155,12 @@ SFM_TEST(lm_dense_so3_block_finds_the_rotation)
     sfm_test_random_rotation(t, Rt);
     for (int i = 0; i < d.n; i++) {
         sfm_test_random_unit(t, d.a + 3 * i);
-        sfm_matvec3(Rt, d.a + 3 * i, d.b + 3 * i);
+        sfmi_matvec3(Rt, d.a + 3 * i, d.b + 3 * i);
     }
     /* start 0.5 rad away */
     double w[3] = {0.3, -0.2, 0.35}, dR[9];
     sfm_rot_from_axis_angle(w, dR);
-    sfm_matmul3(dR, Rt, R);
+    sfmi_matmul3(dR, Rt, R);
     sfmi_lm_block blk = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
     sfmi_lm_problem p = {&blk, 1, d.n, 3, rot_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
     sfmi_lm_options o;

@@ -352,9 +352,9 @@ SFM_TEST(upright_3pt_recovers_truth)
         for (int it = 0; it < iters; it++) {
             double R[9], tr[3], d1[3], d2[3], x1[9], x2[9];
             up_problem(t, kind, R, tr, d1, d2, x1, x2);
-            sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
+            sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS];
             int n = sfm_relpose_upright_3pt(x1, x2, d1, d2, poses);
-            if (n < 0 || n > SFM_UPRIGHT_3PT_MAX_SOLUTIONS) {
+            if (n < 0 || n > SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS) {
                 bad++;
                 continue;
             }
@@ -387,7 +387,7 @@ SFM_TEST(upright_3pt_solutions_are_consistent)
     for (int it = 0; it < iters; it++) {
         double R[9], tr[3], d1[3], d2[3], x1[9], x2[9];
         up_problem(t, UP_GENERAL, R, tr, d1, d2, x1, x2);
-        sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
+        sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS];
         int n = sfm_relpose_upright_3pt(x1, x2, d1, d2, poses);
         for (int s = 0; s < n; s++) {
             const sfm_pose *p = &poses[s];
@@ -434,7 +434,7 @@ SFM_TEST(upright_3pt_degenerate_gives_zero)
     for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
         double R[9], tr[3], d1[3], d2[3], x1[9], x2[9];
         up_problem(t, UP_GENERAL, R, tr, d1, d2, x1, x2);
-        sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
+        sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS];
         /* three identical pairs */
         double y1[9], y2[9];
         for (int i = 0; i < 3; i++) {
@@ -464,7 +464,7 @@ SFM_TEST(upright_3pt_contract)
 {
     double R[9], tr[3], d1[3], d2[3], x1[9], x2[9];
     up_problem(t, UP_GENERAL, R, tr, d1, d2, x1, x2);
-    sfm_pose poses[SFM_UPRIGHT_3PT_MAX_SOLUTIONS];
+    sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS];
     sfm_test_fill_canary(poses, sizeof poses);
     SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(NULL, x2, d1, d2, poses), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_relpose_upright_3pt(x1, NULL, d1, d2, poses), SFM_E_ARGUMENT);

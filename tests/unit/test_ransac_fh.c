@@ -95,9 +95,9 @@ SFM_TEST(fundamental_lm_beats_linear_against_truth)
         SFM_CHECK_EQ_INT(sfm_fundamental_8pt(A1, A2, NF, &L), 1);
         double F[9];
         memcpy(F, L.m, sizeof F);
-        double c0 = sfm_robust_fundamental_cost(A1, A2, NF, 0.0, F);
-        SFM_CHECK(sfm_robust_fundamental_lm(A1, A2, NF, 0.0, 10, F) >= 0);
-        double c1 = sfm_robust_fundamental_cost(A1, A2, NF, 0.0, F);
+        double c0 = sfmi_robust_fundamental_cost(A1, A2, NF, 0.0, F);
+        SFM_CHECK(sfmi_robust_fundamental_lm(A1, A2, NF, 0.0, 10, F) >= 0);
+        double c1 = sfmi_robust_fundamental_cost(A1, A2, NF, 0.0, F);
         SFM_CHECK(c1 <= c0);
         /* rank 2 and unit norm by construction */
         double det = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
@@ -239,9 +239,9 @@ SFM_TEST(homography_lm_beats_linear_against_truth)
         SFM_CHECK_EQ_INT(sfm_homography_dlt(A1, A2, NF, &L), 1);
         double H[9];
         memcpy(H, L.m, sizeof H);
-        double c0 = sfm_robust_homography_cost(A1, A2, NF, 0.0, H);
-        SFM_CHECK(sfm_robust_homography_lm(A1, A2, NF, 0.0, 10, H) >= 0);
-        SFM_CHECK(sfm_robust_homography_cost(A1, A2, NF, 0.0, H) <= c0);
+        double c0 = sfmi_robust_homography_cost(A1, A2, NF, 0.0, H);
+        SFM_CHECK(sfmi_robust_homography_lm(A1, A2, NF, 0.0, 10, H) >= 0);
+        SFM_CHECK(sfmi_robust_homography_cost(A1, A2, NF, 0.0, H) <= c0);
         double dl[NF], dm[NF];
         for (int i = 0; i < NF; i++) {
             dl[i] = transfer(L.m, C1 + 2 * i, C2 + 2 * i);

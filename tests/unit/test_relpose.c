@@ -1,6 +1,6 @@
 /*
  * Relative pose solvers against synthetic problems with known answers:
- * sfm_relpose_5pt, sfm_relpose_7pt, sfm_relpose_8pt, sfm_fundamental_8pt.
+ * sfm_relpose_5pt, sfm_fundamental_7pt, sfm_relpose_8pt, sfm_fundamental_8pt.
  * Convention checked: x_cam2 = R x_cam1 + t, E = [t]x R, x2^T E x1 = 0,
  * F = K2^-T E K1^-1, p2h^T F p1h = 0.
  */
@@ -348,7 +348,7 @@ SFM_TEST(relpose_5pt_contract)
 
 /* ---- 7-point ---------------------------------------------------------- */
 
-SFM_TEST(relpose_7pt_ground_truth_rate)
+SFM_TEST(fundamental_7pt_ground_truth_rate)
 {
     const int iters = SFM_TEST_ITERS(3000);
     for (int kind = 0; kind < SC_COUNT; kind++) {
@@ -357,11 +357,11 @@ SFM_TEST(relpose_7pt_ground_truth_rate)
         for (int it = 0; it < iters; it++) {
             scene s;
             double p1[14], p2[14];
-            sfm_mat3 F[SFM_RELPOSE_7PT_MAX_SOLUTIONS];
+            sfm_mat3 F[SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS];
             make_scene(t, kind, &s);
             make_pixels(t, kind, &s, 7, p1, p2);
-            int n = sfm_relpose_7pt(p1, p2, F);
-            SFM_CHECK(n >= 0 && n <= SFM_RELPOSE_7PT_MAX_SOLUTIONS);
+            int n = sfm_fundamental_7pt(p1, p2, F);
+            SFM_CHECK(n >= 0 && n <= SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS);
             if (n < 0)
                 continue;
             SFM_CHECK(all_finite(F, n));
@@ -376,33 +376,33 @@ SFM_TEST(relpose_7pt_ground_truth_rate)
     }
 }
 
-SFM_TEST(relpose_7pt_degenerate_and_contract)
+SFM_TEST(fundamental_7pt_degenerate_and_contract)
 {
     double p1[14], p2[14];
-    sfm_mat3 F[SFM_RELPOSE_7PT_MAX_SOLUTIONS];
+    sfm_mat3 F[SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS];
     for (int i = 0; i < 7; i++) {
         p1[2 * i] = 100.0; p1[2 * i + 1] = 200.0;
         p2[2 * i] = 110.0; p2[2 * i + 1] = 190.0;
     }
-    SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, p2, F), 0);
+    SFM_CHECK_EQ_INT(sfm_fundamental_7pt(p1, p2, F), 0);
     /* collinear in both images */
     for (int i = 0; i < 7; i++) {
         p1[2 * i] = 10.0 * i; p1[2 * i + 1] = 5.0 * i + 3.0;
         p2[2 * i] = 7.0 * i * i; p2[2 * i + 1] = 2.0 * i;
     }
-    int n = sfm_relpose_7pt(p1, p2, F);
-    SFM_CHECK(n >= 0 && n <= SFM_RELPOSE_7PT_MAX_SOLUTIONS);
+    int n = sfm_fundamental_7pt(p1, p2, F);
+    SFM_CHECK(n >= 0 && n <= SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS);
     SFM_CHECK(all_finite(F, n > 0 ? n : 0));
 
     scene s;
     make_scene(t, SC_GENERAL, &s);
     make_pixels(t, SC_GENERAL, &s, 7, p1, p2);
     sfm_test_fill_canary(F, sizeof F);
-    SFM_CHECK_EQ_INT(sfm_relpose_7pt(NULL, p2, F), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, NULL, F), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, p2, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_fundamental_7pt(NULL, p2, F), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_fundamental_7pt(p1, NULL, F), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_fundamental_7pt(p1, p2, NULL), SFM_E_ARGUMENT);
     p2[3] = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_relpose_7pt(p1, p2, F), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_fundamental_7pt(p1, p2, F), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(F, sizeof F));
 }
 

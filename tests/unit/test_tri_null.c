@@ -69,7 +69,7 @@ SFM_TEST(tri_null_recovers_known_vector)
             if (n > 1)
                 s[n - 1] = (it % 2) ? 0.0 : 1e-3 * s[n - 2];
             tn_build(t, s, m, n, R, V);
-            SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, n, v, scratch), 1);
+            SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, n, v, scratch), 1);
             double nrm = 0.0;
             for (int i = 0; i < n; i++)
                 nrm += v[i] * v[i];
@@ -91,7 +91,7 @@ SFM_TEST(tri_null_slow_contraction_still_converges)
         s[k] = 1.0 - 0.02 * k;
     s[26] = 0.7 * s[25];
     tn_build(t, s, 28, 27, R, V);
-    SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 1);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
     SFM_CHECK(tn_err(v, V, 27) < 1e-11);
 }
 
@@ -107,7 +107,7 @@ SFM_TEST(tri_null_two_vector_phase)
         s[26] = 0.5 * s[24];
         s[25] = s[26] / 0.97;
         tn_build(t, s, 28, 27, R, V);
-        SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 1);
+        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
         double e = tn_err(v, V, 27);
         SFM_CHECK_MSG(e < 1e-11, "error %g", e);
     }
@@ -124,7 +124,7 @@ SFM_TEST(tri_null_exact_zero_pivots)
                 R[i * 27 + j] = j < i ? 0.0 : sfm_test_uniform(t, -1, 1);
         for (int i = 0; i < 27; i++)
             R[i * 27 + i] = (i == zero) ? 0.0 : 1.0 + sfm_test_uniform(t, 0, 1);
-        SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 1);
+        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
         double r2 = 0.0;
         for (int i = 0; i < 27; i++) {
             double acc = 0.0;
@@ -148,15 +148,15 @@ SFM_TEST(tri_null_declines_without_a_gap)
     tn_build(t, s, 28, 27, R, V);
     for (int i = 0; i < 27; i++)
         v[i] = 42.0;
-    int got = sfm_la_tri_smallest_right(R, 27, v, scratch);
+    int got = sfmi_la_tri_smallest_right(R, 27, v, scratch);
     SFM_CHECK_EQ_INT(got, 0);
     for (int i = 0; i < 27; i++)
         SFM_CHECK(v[i] == 42.0);
     memset(R, 0, sizeof(double) * 27 * 27);
-    SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 0);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 0);
     R[5] = (double)NAN;
     R[0] = 1.0;
-    SFM_CHECK_EQ_INT(sfm_la_tri_smallest_right(R, 27, v, scratch), 0);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 0);
     for (int i = 0; i < 27; i++)
         SFM_CHECK(v[i] == 42.0);
 }

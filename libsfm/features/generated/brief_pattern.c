@@ -3,7 +3,7 @@
  * level pixels, inside the disc of radius 15. */
 #include "features/brief_pattern.h"
 
-const signed char sfm_brief_pattern[4][SFM_BRIEF_PAIRS] = {
+const signed char sfmi_brief_pattern[4][SFM_BRIEF_PAIRS] = {
     {
         7, -4, 2, 2, -4, -6, -1, -2, 0, 6, -4, 2, -1, 5, 1, 5,
         -3, -8, -7, 3, 5, 7, -3, 1, 1, -2, 13, -1, -7, 4, 10, -6,

@@ -28,14 +28,14 @@ static void cofactors(const double *A, double C[9])
     C[8] = A[0] * A[4] - A[1] * A[3];
 }
 
-int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F)
+int sfm_fundamental_7pt(const double *p1, const double *p2, sfm_mat3 *F)
 {
     if (!p1 || !p2 || !F)
         return SFM_E_ARGUMENT;
-    if (!sfm_la_all_finite(p1, 14) || !sfm_la_all_finite(p2, 14))
+    if (!sfmi_la_all_finite(p1, 14) || !sfmi_la_all_finite(p2, 14))
         return SFM_E_NONFINITE;
     double t1[3], t2[3];
-    if (sfm__hartley_2d(p1, 7, t1) || sfm__hartley_2d(p2, 7, t2))
+    if (sfmi_hartley_2d(p1, 7, t1) || sfmi_hartley_2d(p2, 7, t2))
         return 0;
     double A[63], N[18];
     for (int i = 0; i < 7; i++) {
@@ -46,7 +46,7 @@ int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F)
         r[3] = b1 * a0; r[4] = b1 * a1; r[5] = b1;
         r[6] = a0;      r[7] = a1;      r[8] = 1.0;
     }
-    if (sfm__null9_exact(A, 7, N))
+    if (sfmi_null9_exact(A, 7, N))
         return 0;
     double C1[9], C2[9];
     cofactors(N, C1);
@@ -69,8 +69,8 @@ int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F)
     if (nr < 0)
         return 0;
     double T1[9], T2[9];
-    sfm__hartley_matrix(t1, T1);
-    sfm__hartley_matrix(t2, T2);
+    sfmi_hartley_matrix(t1, T1);
+    sfmi_hartley_matrix(t2, T2);
     int ns = 0;
     double out[3][9];
     for (int k = 0; k < nr; k++) {
@@ -84,7 +84,7 @@ int sfm_relpose_7pt(const double *p1, const double *p2, sfm_mat3 *F)
         for (int r = 0; r < 3; r++)
             for (int cc = 0; cc < 3; cc++)
                 G[3 * r + cc] = T2[r] * M[cc] + T2[3 + r] * M[3 + cc] + T2[6 + r] * M[6 + cc];
-        if (sfm__normalize9(G))
+        if (sfmi_normalize9(G))
             continue;
         for (int i = 0; i < 9; i++)
             out[ns][i] = G[i];
