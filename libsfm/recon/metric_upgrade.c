@@ -632,8 +632,13 @@ int sfmi_uncal_attempts(sfmi_uncal_once_fn once, void *ctx, const sfm_uncal_opti
         rep->n_input = n;
         rep->attempts = attempt + 1;
         st = once(ctx, &oa, est, f, rep);
-        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) ||
-            rep->stage == SFM_UNCAL_STAGE_RANSAC)
+        /* RANSAC refusing its answer as degenerate (a tensor or F induced by
+         * a dominant plane: the rest of the scene is outside its band) is
+         * the case the next runs are for; any other RANSAC failure is the
+         * data's */
+        if (st >= 0 || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE &&
+                        st != SFM_E_DEGENERATE) ||
+            (rep->stage == SFM_UNCAL_STAGE_RANSAC && st != SFM_E_DEGENERATE))
             break;
     }
     return st;

@@ -128,6 +128,8 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
     return 0;
 }
 
+#define TF_DESIGN_FLOOR_RATIO 4.0
+
 /* The design test of support_check.h on the trifocal point constraints
  * (the rows of sfm_trifocal_7pt: four per triplet, s, t in {0, 1}:
  * sum x^i [x']x[s][q] [x'']x[r][t] T_i^{qr}), Hartley-normalised per view. */
@@ -162,8 +164,30 @@ static int tf_design_degenerate(tf_support_ws *w, int m, double tau)
             }
     }
     const double s = (h[0][0] + h[1][0] + h[2][0]) / 3.0 * tau / 3.0;
-    return sfmi_design_degenerate(w->AtA, 27, 4 * m, s * s, w->V, w->w, w->eig, w->eig_size,
-                                  NULL);
+    double rho;
+    int st = sfmi_design_degenerate(w->AtA, 27, 4 * m, s * s, w->V, w->w, w->eig, w->eig_size,
+                                    &rho);
+    if (st <= 0)
+        return st;
+    /* A trifocal row is a product of three coordinates, so its noise is
+     * several times that of one coordinate and the bound above, in units of
+     * one coordinate's variance, refuses determined scenes at small
+     * baselines (the demo room: 6.6 deg parallax, 29 % of the points off its
+     * dominant plane, the second eigenvalue 9.9 m s2 and 16 times the
+     * smallest). The second eigenvalue is then held instead against the
+     * smallest, the noise floor the data show: a plane leaves several null
+     * directions at that floor (ratio 1 to 3), a determined scene one. */
+    double a = HUGE_VAL, b2 = HUGE_VAL;
+    for (int i = 0; i < 27; i++) {
+        if (w->w[i] < a) {
+            b2 = a;
+            a = w->w[i];
+        } else if (w->w[i] < b2) {
+            b2 = w->w[i];
+        }
+    }
+    const double floor = fmax(a, 0.1 * 4.0 * m * s * s);
+    return !(b2 > TF_DESIGN_FLOOR_RATIO * floor);
 }
 
 double sfmi_trifocal_chance(const double *x2, const double *x3, int n, double tau)

@@ -152,7 +152,8 @@ def test_reconstruct_three_view_pure_rotation_is_an_error():
         xs.append(y[:, :2] / y[:, 2:] + rng.normal(0, 0.3, (100, 2)))
     with pytest.raises(libsfm.SfmError) as e:
         libsfm.reconstruct_three_view(xs[0], xs[1], xs[2], 640, 480)
-    assert e.value.report["stage"] in ("ba", "validate")
+    # refused by the trifocal support test, or later by the metric checks
+    assert e.value.report["stage"] in ("ransac", "ba", "validate")
     with pytest.raises(ValueError):
         libsfm.reconstruct_three_view(xs[0], xs[1][:50], xs[2], 640, 480)
 
