@@ -1,0 +1,64 @@
+/*
+ * The shared back end of the generated action-matrix solvers
+ * (libsfm/solvers/generated/r2r_tmpl_*.c, tools/gen_r2r_templates.py).
+ *
+ * Template rows: A [e; r] + X0 b = 0 over the kept excessive and reducible
+ * monomials (A square) and the basis b. Solving A Y = X0 gives the normal
+ * form of each reducible monomial r = -Y_r b. Row j of the action matrix M
+ * holds a * b_j on the basis, so M B(x) = a(x) B(x): every right eigenvector
+ * is the basis evaluated at one solution, up to scale.
+ */
+#include <math.h>
+
+#include "sfm/sfm_common.h"
+#include "sfm/sfm_linalg.h"
+#include "solvers/generated/r2r_tmpl.h"
+
+/* An eigenvalue is real when its imaginary part is below this share of its
+ * modulus (plus one): near-double real roots split into tiny pairs. */
+#define REAL_TOL 1e-8
+
+int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,
+                     const short *act_src, const short *var_src, int nx, int one,
+                     double *M, double *V, double *wr, double *wi, double *ews,
+                     size_t ews_size /* bytes */, double *sol)
+{
+    int st = sfm_lu_factor(A, nk, piv);
+    if (st < 0)
+        return st;
+    double umax = 0.0, umin = HUGE_VAL;
+    for (int i = 0; i < nk; i++) {
+        double u = fabs(A[i * nk + i]);
+        umax = u > umax ? u : umax;
+        umin = u < umin ? u : umin;
+    }
+    if (!(umin > 1e-14 * umax))
+        return SFM_E_SINGULAR;
+    st = sfm_lu_solve(A, piv, nk, X, nb);
+    if (st < 0)
+        return st;
+    for (int j = 0; j < nb; j++) {
+        int s = act_src[j];
+        for (int k = 0; k < nb; k++)
+            M[j * nb + k] = s >= 0 ? (k == s ? 1.0 : 0.0) : -X[(-1 - s) * nb + k];
+    }
+    st = sfm_eig(M, nb, wr, wi, V, ews, ews_size);
+    if (st < 0)
+        return st;
+    int n = 0;
+    for (int k = 0; k < nb; k++) {
+        if (fabs(wi[k]) > REAL_TOL * (1.0 + fabs(wr[k])))
+            continue;
+        double v1 = V[one * nb + k];
+        if (!(fabs(v1) > 1e-300))
+            continue;
+        int ok = 1;
+        for (int i = 0; i < nx; i++) {
+            double x = var_src[i] < 0 ? wr[k] : V[var_src[i] * nb + k] / v1;
+            ok &= isfinite(x);
+            sol[n * nx + i] = x;
+        }
+        n += ok;
+    }
+    return n;
+}
