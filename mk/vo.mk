@@ -21,7 +21,7 @@ $(VO_SEQ)/ground_truth.txt: tools/gen_demo_scene.py | demo-deps
 	$(PYTHON) tools/gen_demo_scene.py --sequence $(VO_SEQ_FRAMES) $(VO_SEQ)
 
 vo-deps:
-	@$(PYTHON) -c "import numpy, cv2, tqdm, matplotlib" 2>/dev/null || sh tools/setup_deps.sh demo
+	@$(PYTHON) -c "import numpy, cv2, tqdm, matplotlib, cffi" 2>/dev/null || sh tools/setup_deps.sh demo
 
 demo-vo: all vo-deps $(VO_SEQ)/ground_truth.txt
 	@echo "=== visual odometry: $(VO_SEQ_FRAMES) rendered frames 640x480 along a known loop (tools/gen_demo_scene.py --sequence)"

@@ -179,6 +179,20 @@ def _pair(left, right):
     return L, R
 
 
+def _match(size_fn, run_fn, L, R, o, what, where):
+    """Workspace, output and call shared by the two matchers."""
+    h, w = L.shape
+    n = size_fn(w, h, o)
+    if n == 0:
+        raise ValueError("invalid %s options for a %dx%d image" % (what, w, h))
+    _, ws, ws_size = workspace(n)
+    out = np.empty((h, w), dtype=np.float32)
+    check(run_fn(ffi.cast("uint8_t *", ffi.from_buffer(L)), ffi.cast("uint8_t *", ffi.from_buffer(R)),
+                 w, h, w, o, ffi.cast("float *", ffi.from_buffer(out)), ws, ws_size),
+          where)
+    return out
+
+
 def disparity_sgm(left, right, num_disparities=64, min_disparity=0, p1=5, p2=60, paths=5,
                   uniqueness=10, lr_max_diff=1, subpixel=True):
     """Semi-global matching (Hirschmüller 2008, census cost) of a rectified
@@ -191,17 +205,7 @@ def disparity_sgm(left, right, num_disparities=64, min_disparity=0, p1=5, p2=60,
     o.p1, o.p2, o.paths = to_int(p1, "p1"), to_int(p2, "p2"), to_int(paths, "paths")
     o.uniqueness, o.lr_max_diff = to_int(uniqueness, "uniqueness"), to_int(lr_max_diff, "lr_max_diff")
     o.subpixel = int(bool(subpixel))
-    h, w = L.shape
-    n = lib.sfm_stereo_sgm_workspace_size(w, h, o)
-    if n == 0:
-        raise ValueError("invalid SGM options for a %dx%d image" % (w, h))
-    _, ws, ws_size = workspace(n)
-    out = np.empty((h, w), dtype=np.float32)
-    check(lib.sfm_stereo_sgm(ffi.cast("uint8_t *", ffi.from_buffer(L)),
-                             ffi.cast("uint8_t *", ffi.from_buffer(R)), w, h, w, o,
-                             ffi.cast("float *", ffi.from_buffer(out)), ws, ws_size),
-          "sfm_stereo_sgm")
-    return out
+    return _match(lib.sfm_stereo_sgm_workspace_size, lib.sfm_stereo_sgm, L, R, o, "SGM", "sfm_stereo_sgm")
 
 
 def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=2, uniqueness=15,
@@ -216,17 +220,8 @@ def disparity_block(left, right, num_disparities=64, min_disparity=0, radius=2, 
     o.uniqueness, o.lr_max_diff = to_int(uniqueness, "uniqueness"), to_int(lr_max_diff, "lr_max_diff")
     o.texture = to_int(texture, "texture")
     o.subpixel = int(bool(subpixel))
-    h, w = L.shape
-    n = lib.sfm_stereo_block_workspace_size(w, h, o)
-    if n == 0:
-        raise ValueError("invalid block-matching options for a %dx%d image" % (w, h))
-    _, ws, ws_size = workspace(n)
-    out = np.empty((h, w), dtype=np.float32)
-    check(lib.sfm_stereo_block(ffi.cast("uint8_t *", ffi.from_buffer(L)),
-                               ffi.cast("uint8_t *", ffi.from_buffer(R)), w, h, w, o,
-                               ffi.cast("float *", ffi.from_buffer(out)), ws, ws_size),
-          "sfm_stereo_block")
-    return out
+    return _match(lib.sfm_stereo_block_workspace_size, lib.sfm_stereo_block, L, R, o,
+                  "block-matching", "sfm_stereo_block")
 
 
 def _rect_from(rect=None, K=None, baseline=None, doffs=0.0, Q=None):
