@@ -22,5 +22,6 @@
 #include "sfm/sfm_selfcal.h"
 #include "sfm/sfm_uncalibrated.h"
 #include "sfm/sfm_vo.h"
+#include "sfm/sfm_r2r.h"
 
 #endif
