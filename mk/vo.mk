@@ -4,6 +4,8 @@
 #                       per-frame status, ATE (Sim3) / RPE against the known
 #                       trajectory, ms/frame, share per stage; writes
 #                       trajectory.tum, points.ply, trajectory.png beside it
+#   make demo-vo-selfcal  the same without intrinsics (--self-calibrate): the
+#                       focal length found by self-calibration is printed
 #   make test-vo-demo   the same run, ATE and tracking held to bounds
 #   make test-vo-kitti  ../shared/data/kitti-seq1: ATE / RPE over 20 seeds
 #                       beside the OpenCV frame-to-frame baseline
@@ -29,6 +31,13 @@ demo-vo: all vo-deps $(VO_SEQ)/ground_truth.txt
 	  --trajectory $(VO_SEQ)/trajectory.tum --points $(VO_SEQ)/points.ply --plot $(VO_SEQ)/trajectory.png
 	@echo "wrote $(VO_SEQ)/trajectory.tum (camera-to-world), $(VO_SEQ)/points.ply, $(VO_SEQ)/trajectory.png"
 
+# The same sequence started without a camera: the pipeline self-calibrates
+# (the recording's intrinsics ignored) and prints the focal length found.
+demo-vo-selfcal: all vo-deps $(VO_SEQ)/ground_truth.txt
+	@echo "=== visual odometry without intrinsics: self-calibration on the first good keyframe triple"
+	PYTHONPATH=python $(PYTHON) -m libsfm.replay $(VO_SEQ) --self-calibrate --features 500 --window 5 $(VO_DEMO_SET) --every 20 --no-progress \
+	  --trajectory $(VO_SEQ)/trajectory_selfcal.tum --plot $(VO_SEQ)/trajectory_selfcal.png
+
 TEST_STEPS += test-vo-demo test-vo-kitti
 test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt
 	VO_SEQ=$(VO_SEQ) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py tests/vo/test_vo_replay.py
@@ -36,7 +45,7 @@ test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt
 test-vo-kitti: all vo-deps
 	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py
 
-.PHONY: demo-vo vo-deps test-vo-demo test-vo-kitti
+.PHONY: demo-vo demo-vo-selfcal vo-deps test-vo-demo test-vo-kitti
 
 # ---------------------------------------------------------------------------
 # Firmware examples of the VO pipeline.

@@ -27,6 +27,22 @@
  * direction; accepted when the inliers have enough parallax and do not come
  * from a pure rotation. The first baseline has length 1: the scale of the
  * whole trajectory is that of the first pair, carried on by the map.
+ * Unknown intrinsics (params.calibrated = 0): a pinhole camera with unit
+ * aspect ratio and the principal point at the image centre. The
+ * initialisation's relative-pose test runs with the focal guess
+ * params.camera.fx; the first frame passing it becomes the middle keyframe
+ * of a triple, the first later frame with twice its parallax the third, and
+ * their triplets go through sfm_recon_three_view_uncalibrated (at most 256,
+ * evenly spread). A refusal (too little baseline for three views, a focal
+ * length the motion does not determine) moves the middle keyframe on to the
+ * next frame with a quarter more parallax, so both baselines grow; on
+ * success the ordinary initialisation runs on that frame with the focal
+ * length found, which the windowed BA then refines (one focal shared by the
+ * window) over its first `window` adjustments and holds afterwards (a
+ * single window's estimate wanders by a few percent; refined in every
+ * window the errors accumulate). No frame is tracked before the focal
+ * length is known; sfm_vo_frame_result.focal reports it (0 until then).
+ * sfm_vo_reset forgets it.
  * After a loss the pipeline re-initialises from the next frames, starting
  * from the last pose it stood behind (the new segment keeps the old
  * segment's scale only approximately: its baseline is the median keyframe
@@ -110,8 +126,10 @@ typedef double (*sfm_vo_clock_fn)(void *clock_ctx);
 
 typedef struct sfm_vo_params {
     sfm_camera camera;      /* intrinsics of every frame */
-    int calibrated;         /* 1: camera is known; 0: self-calibration
-                               (not implemented: SFM_E_UNSUPPORTED) */
+    int calibrated;         /* 1: camera is known; 0: self-calibration (camera
+                               must be PINHOLE; its fx is only the focal guess,
+                               its principal point is replaced by the image
+                               centre) */
     int max_features;       /* 8..dims.max_features; default dims.max_features */
     int window;             /* SFM_VO_MIN_WINDOW..dims.window; default dims.window */
     sfm_features_params features; /* max_features is overridden per frame */
@@ -161,6 +179,8 @@ typedef struct sfm_vo_frame_result {
     int degraded;         /* SFM_VO_DEGRADED_* bits */
     double stage_seconds[SFM_VO_STAGES]; /* 0 without a clock */
     double median_parallax_deg; /* initialisation: of the relative-pose inliers */
+    double focal;         /* px: the focal length (fx) this frame was processed
+                             with; self-calibrated runs: 0 until found */
 } sfm_vo_frame_result;
 
 typedef struct sfm_vo sfm_vo;
@@ -177,14 +197,16 @@ SFM_API size_t sfm_vo_workspace_size(const sfm_vo_dims *dims);
 /* Lays the pipeline out in ws and returns it in *vo (a pointer into ws; ws
  * must outlive it and not be moved). The parameters are copied.
  * Statuses: SFM_OK, SFM_E_ARGUMENT (NULL, dims or params out of range,
- * invalid camera), SFM_E_NONFINITE (NaN/Inf parameter), SFM_E_WORKSPACE
- * (ws_size < sfm_vo_workspace_size(dims)), SFM_E_UNSUPPORTED
- * (params->calibrated == 0: self-calibration is not in this build).
+ * invalid camera, calibrated not 0 or 1), SFM_E_NONFINITE (NaN/Inf
+ * parameter), SFM_E_WORKSPACE (ws_size < sfm_vo_workspace_size(dims)),
+ * SFM_E_UNSUPPORTED (params->calibrated == 0 with a camera model other than
+ * pinhole: self-calibration does not find distortion).
  * Nothing is written on failure. */
 SFM_API int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, void *ws,
                         size_t ws_size, sfm_vo **vo);
 
-/* Drops the map and starts over (the next frame becomes the origin again). */
+/* Drops the map and starts over (the next frame becomes the origin again; a
+ * self-calibrated focal length is dropped too). */
 SFM_API int sfm_vo_reset(sfm_vo *vo);
 
 /* Processes one frame. image: 8-bit gray of the dims' size. gravity: NULL, or

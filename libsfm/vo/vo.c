@@ -9,6 +9,7 @@
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_triangulate.h"
+#include "sfm/sfm_uncalibrated.h"
 #include "vo/vo_internal.h"
 
 #define VO_PI 3.14159265358979323846
@@ -48,12 +49,31 @@ static size_t ransac_reserve(int n)
     return r > s ? r : s;
 }
 
+/* Triplets handed to the self-calibration (evenly spread over the matches
+ * when there are more: its cost and workspace grow with them). */
+#define VO_CAL_MAX_TRIPLETS 256
+
+static int cal_triplets(int nf)
+{
+    return nf < VO_CAL_MAX_TRIPLETS ? nf : VO_CAL_MAX_TRIPLETS;
+}
+
 static size_t ba_reserve(int window, int max_points, int max_obs, int nf)
 {
     sfm_ba_dims a = {window, max_points, max_obs, SFM_BA_INTRINSICS_FIXED, 0};
     sfm_ba_dims b = {1, nf, nf, SFM_BA_INTRINSICS_FIXED, 0};
+    /* self-calibrated runs refine one shared focal length */
+    sfm_ba_dims c = {window, max_points, max_obs, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL};
     size_t x = sfm_ba_workspace_size(&a), y = sfm_ba_workspace_size(&b);
-    return x > y ? x : y;
+    size_t z = sfm_ba_workspace_size(&c);
+    /* the self-calibration runs before any map exists: it borrows the BA
+     * scratch */
+    size_t u = nf >= 7 ? sfm_recon_three_view_uncalibrated_workspace_size(cal_triplets(nf)) : 1;
+    if (x == 0 || y == 0 || z == 0 || u == 0)
+        return 0;
+    x = x > y ? x : y;
+    x = x > z ? x : z;
+    return x > u ? x : u;
 }
 
 /* One carving for both measuring and laying out. */
@@ -94,6 +114,7 @@ static sfm_vo *layout(sfmi_arena *a, const sfm_vo_dims *d)
     v->m_i = SFM_ARENA_ARRAY(a, int, nf);
     v->m_j = SFM_ARENA_ARRAY(a, int, nf);
     v->mask = SFM_ARENA_ARRAY(a, uint8_t, nf);
+    v->cal_mid = SFM_ARENA_ARRAY(a, int, nf);
     v->feat_ws_size = feat_reserve(d);
     v->feat_ws = sfmi_arena_alloc(a, v->feat_ws_size);
     v->ransac_ws_size = ransac_reserve(nf);
@@ -186,14 +207,16 @@ static int params_check(const sfm_vo_dims *d, const sfm_vo_params *p, size_t fea
         !(p->min_inlier_ratio >= 0 && p->min_inlier_ratio <= 1) || !(p->min_parallax_deg >= 0) ||
         !(p->keyframe_ratio >= 0 && p->keyframe_ratio <= 1) || p->keyframe_max_gap < 1 ||
         !(p->keyframe_min_parallax_deg >= 0) || !(p->point_min_parallax_deg >= 0) ||
-        p->ba_iterations < 0)
+        p->ba_iterations < 0 || (p->calibrated != 0 && p->calibrated != 1))
         return SFM_E_ARGUMENT;
     sfm_features_params fp = p->features;
     fp.max_features = p->max_features;
     size_t need = sfm_features_workspace_size(&fp, d->width, d->height);
     if (need == 0 || need > feat_reserved)
         return SFM_E_ARGUMENT;
-    if (!p->calibrated)
+    /* Self-calibration models a pinhole camera (the uncalibrated
+     * reconstruction's priors): a distortion model cannot be found. */
+    if (!p->calibrated && p->camera.model != SFM_CAMERA_PINHOLE)
         return SFM_E_UNSUPPORTED;
     return SFM_OK;
 }
@@ -215,20 +238,32 @@ int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, void *ws, 
         return SFM_E_WORKSPACE;
     vo->dims = *dims;
     vo->p = *params;
-    vo->pinhole.model = SFM_CAMERA_PINHOLE;
-    vo->pinhole.fx = params->camera.fx;
-    vo->pinhole.fy = params->camera.fy;
-    vo->pinhole.cx = params->camera.cx;
-    vo->pinhole.cy = params->camera.cy;
-    vo->K[0] = params->camera.fx;
-    vo->K[1] = params->camera.fy;
-    vo->K[2] = params->camera.cx;
-    vo->K[3] = params->camera.cy;
+    vo->K_guess[0] = params->camera.fx;
+    vo->K_guess[1] = params->camera.fy;
+    vo->K_guess[2] = params->camera.cx;
+    vo->K_guess[3] = params->camera.cy;
+    if (!params->calibrated) {
+        /* unit aspect ratio, principal point at the centre: the priors of
+         * sfm_recon_three_view_uncalibrated */
+        vo->K_guess[1] = params->camera.fx;
+        vo->K_guess[2] = (dims->width - 1) / 2.0;
+        vo->K_guess[3] = (dims->height - 1) / 2.0;
+    }
     for (int i = 0; i < vo->cap_points; i++)
         vo->pt_ba[i] = vo->pt_tmp[i] = -1;
     sfm_vo_reset(vo);
     *out = vo;
     return SFM_OK;
+}
+
+static void set_intrinsics(sfm_vo *vo, const double K[4])
+{
+    vo->pinhole.model = SFM_CAMERA_PINHOLE;
+    vo->pinhole.fx = K[0];
+    vo->pinhole.fy = K[1];
+    vo->pinhole.cx = K[2];
+    vo->pinhole.cy = K[3];
+    memcpy(vo->K, K, sizeof vo->K);
 }
 
 int sfm_vo_reset(sfm_vo *vo)
@@ -247,6 +282,14 @@ int sfm_vo_reset(sfm_vo *vo)
     vo->feat_count = vo->p.max_features;
     vo->lost_frames = 0;
     vo->next_name = 0;
+    /* a self-calibrated focal length is forgotten with the map */
+    set_intrinsics(vo, vo->K_guess);
+    vo->cal_done = vo->p.calibrated;
+    vo->cal_attempts = 0;
+    vo->cal_mid_parallax = 0.0;
+    vo->cal_next_parallax = 0.0;
+    vo->cal_retry = 0;
+    vo->cal_refinements = 0;
     return SFM_OK;
 }
 
@@ -380,6 +423,9 @@ static void start_reference(sfm_vo *vo, const double *gravity, sfm_vo_frame_resu
     }
 }
 
+static int self_calibrate(sfm_vo *vo, const double *gravity, int want_cov, double t0,
+                          sfm_vo_frame_result *r, int nm, int inl, double med);
+
 static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0,
                       sfm_vo_frame_result *r)
 {
@@ -463,6 +509,8 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
     }
     double med = np > 0 ? sfmi_vo_median(par, np) * 180.0 / VO_PI : 0.0;
     r->median_parallax_deg = med;
+    if (!vo->cal_done)
+        return self_calibrate(vo, gravity, want_cov, t0, r, nm, inl, med);
     if (med < vo->p.min_parallax_deg) {
         r->state = SFM_VO_INSUFFICIENT_PARALLAX;
         return SFM_OK;
@@ -568,6 +616,108 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
             r->has_covariance = 1;
     }
     return SFM_OK;
+}
+
+/* Unknown intrinsics. The relative-pose test of initialise() runs with the
+ * focal guess (its parallax is then only approximate); the first frame that
+ * passes it becomes the middle keyframe of the calibration triple (its
+ * matches to the reference remembered), and the first later frame with
+ * twice that parallax the third. Their triplets (every match of the third
+ * frame to the reference that the middle also matched: the uncalibrated
+ * reconstruction runs its own trifocal RANSAC) give the focal length by
+ * sfm_recon_three_view_uncalibrated; on success the middle keyframe is
+ * dropped and the ordinary initialisation runs on this frame with the found
+ * focal length. A refusal (focal length not determined: translation only,
+ * motion along the axis, too few triplets) starts the triple over from this
+ * frame; until an answer no frame is tracked. */
+static int self_calibrate(sfm_vo *vo, const double *gravity, int want_cov, double t0,
+                          sfm_vo_frame_result *r, int nm, int inl, double med)
+{
+    vo_keyframe *ref = sfmi_vo_kf_at(vo, 0);
+    if (med < vo->p.min_parallax_deg || inl < 2 * vo->p.min_inliers) {
+        r->state = SFM_VO_INSUFFICIENT_PARALLAX;
+        return SFM_OK;
+    }
+    if (vo->kf_count == 1 || (vo->cal_retry && med >= vo->cal_next_parallax)) {
+        vo->kf_count = 1;
+        vo->cal_retry = 0;
+        for (int i = 0; i < ref->n; i++)
+            vo->cal_mid[i] = -1;
+        for (int k = 0; k < nm; k++)
+            vo->cal_mid[vo->m_i[k]] = vo->m_j[k];
+        for (int j = 0; j < vo->n; j++)
+            vo->cur_pid[j] = -1;
+        sfmi_vo_kf_push(vo, ref->R, ref->t, r->timestamp_ns, gravity); /* pose unused */
+        vo->cal_mid_parallax = med;
+        vo->cal_next_parallax = 2.0 * med;
+        r->state = SFM_VO_INITIALISING;
+        return SFM_OK;
+    }
+    if (med < vo->cal_next_parallax) {
+        r->state = SFM_VO_INSUFFICIENT_PARALLAX;
+        return SFM_OK;
+    }
+    vo_keyframe *mid = sfmi_vo_kf_at(vo, 1);
+    int nf = vo->dims.max_features, n3 = 0;
+    double *p1 = vo->ba_xy, *p2 = p1 + 2 * (size_t)nf, *p3 = p2 + 2 * (size_t)nf;
+    for (int k = 0; k < nm; k++) {
+        int i = vo->m_i[k], jm = vo->cal_mid[i];
+        if (jm < 0)
+            continue;
+        p1[2 * n3] = ref->px[2 * i];
+        p1[2 * n3 + 1] = ref->px[2 * i + 1];
+        p2[2 * n3] = mid->px[2 * jm];
+        p2[2 * n3 + 1] = mid->px[2 * jm + 1];
+        p3[2 * n3] = vo->m_b[2 * k];
+        p3[2 * n3 + 1] = vo->m_b[2 * k + 1];
+        n3++;
+    }
+    int cap = cal_triplets(nf);
+    if (n3 > cap) {
+        for (int q = 0; q < cap; q++) {
+            int src = (int)((long)q * n3 / cap);
+            for (int d = 0; d < 2; d++) {
+                p1[2 * q + d] = p1[2 * src + d];
+                p2[2 * q + d] = p2[2 * src + d];
+                p3[2 * q + d] = p3[2 * src + d];
+            }
+        }
+        n3 = cap;
+    }
+    int st = SFM_E_NO_CONVERGENCE;
+    sfm_uncal_report rep;
+    double Kc[27];
+    sfm_pose poses[3];
+    if (n3 >= 2 * vo->p.min_inliers) {
+        sfm_uncal_options uo;
+        sfm_uncal_default_options(&uo);
+        uo.ransac.threshold = vo->p.threshold;
+        uo.ransac.seed = vo->p.seed ^ (0x9e3779b97f4a7c15ull * (uint64_t)(vo->frame_index + 1));
+        st = sfm_recon_three_view_uncalibrated(p1, p2, p3, n3, vo->dims.width, vo->dims.height, &uo,
+                                               Kc, poses, NULL, NULL, &rep, vo->ba_ws,
+                                               vo->ba_ws_size);
+        vo->cal_attempts++;
+    }
+    if (st < 0) {
+        if (st != SFM_E_NO_CONVERGENCE && st != SFM_E_SINGULAR && st != SFM_E_DEGENERATE &&
+            st != SFM_E_NO_MODEL)
+            return st;
+        /* Too little baseline for three views (a degenerate trifocal
+         * support: the middle keyframe too near the reference) or a focal
+         * length the motion does not determine so far: this frame becomes
+         * the middle keyframe at the next frame with a quarter more
+         * parallax (so both baselines grow); initialise() starts over when
+         * the reference no longer overlaps. */
+        vo->cal_next_parallax = 1.25 * med;
+        vo->cal_retry = 1;
+        r->state = SFM_VO_INSUFFICIENT_PARALLAX;
+        return SFM_OK;
+    }
+    double K[4] = {Kc[0], Kc[4], Kc[2], Kc[5]};
+    set_intrinsics(vo, K);
+    vo->cal_done = 1;
+    vo->kf_count = 1; /* the middle keyframe holds no map point */
+    return initialise(vo, gravity, want_cov, t0, r);
 }
 
 /* Guided 2D-3D matching: every live point projected with (R, t) and looked
@@ -815,6 +965,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
     vo->started = 1;
     vo->last_ts = timestamp_ns;
     vo->frame_index++;
+    r.focal = vo->cal_done ? vo->K[0] : 0.0;
     *out = r;
     return SFM_OK;
 }

@@ -104,6 +104,18 @@ struct sfm_vo {
     int feat_count;    /* features asked of the detector this frame */
     int lost_frames;
     int ever_mapped;
+
+    /* self-calibration (params.calibrated == 0) */
+    double K_guess[4];  /* the focal guess before self-calibration */
+    int cal_done;       /* the focal length is known (self-calibrated) */
+    int cal_attempts;   /* self-calibrations tried */
+    int *cal_mid;       /* reference keypoint -> its match in the middle
+                           keyframe of the calibration triple, -1 */
+    double cal_mid_parallax; /* median parallax (deg) reference -> middle */
+    double cal_next_parallax; /* parallax of the next calibration attempt */
+    int cal_refinements; /* windowed BAs that refined the focal length */
+    int cal_retry;      /* the last attempt failed: the next frame past
+                           cal_next_parallax becomes the middle keyframe */
 };
 
 /* ---- geometry helpers (vo_geom.c) ---- */

@@ -7,7 +7,10 @@ Reads, directly:
     radial-tangential distortion; DIR may be the folder holding mav0 or cam0),
   * KITTI odometry folders (image_0, image_2 or image_l, calib.txt for K,
     times.txt when present, else frame i at i x 0.1 s, KITTI's 10 Hz).
---camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] overrides K; --gt FILE (KITTI poses.txt,
+--camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] overrides K; without a camera (none
+given, none in the recording) or with --self-calibrate (the recording's
+ignored) the pipeline self-calibrates a pinhole camera on the first good
+keyframe triple and prints the focal length found; --gt FILE (KITTI poses.txt,
 TUM, or the project's ground_truth.txt) adds the error report: ATE after a
 similarity (Sim3, Umeyama) alignment and the relative pose error between
 consecutive frames; --trajectory OUT.tum writes one row per frame with a pose
@@ -361,8 +364,8 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
     when ground truth is there) plus 'rows' (timestamp_ns, R_wc, c_w) and
     'points' (ids -> xyz) and per-frame results."""
     from .vo import STAGES, VisualOdometry
-    if rec.camera is None:
-        raise ValueError("%s: no camera intrinsics (use --camera fx,fy,cx,cy)" % rec.name)
+    # No intrinsics (none given, none in the recording, or --self-calibrate):
+    # the pipeline self-calibrates a pinhole camera.
     frames = rec.frames[:max_frames] if max_frames else rec.frames
     first = _load_gray(frames[0][1])
     h, w = first.shape
@@ -419,7 +422,11 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
            "with_pose": len(rows), "keyframes": sum(r.is_keyframe for r in results),
            "ms_median": float(np.median(ms)), "ms_p95": float(np.percentile(ms, 95)),
            "stage_share": {s: stage[s] / max(sum(stage.values()), 1e-12) for s in STAGES},
-           "rows": rows, "points": points, "results": results}
+           "rows": rows, "points": points, "results": results,
+           "self_calibrated": rec.camera is None,
+           "focal": float(results[-1].focal) if results else 0.0,
+           "focal_first": next((float(r.focal) for r in results if r.focal > 0), 0.0),
+           "focal_frame": next((r.frame_index for r in results if r.focal > 0), -1)}
     if est_pairs:
         rep.update(evaluate(est_pairs, gt_pairs))
     rep["est_raw"] = np.array([c for _, _, c in rows]) if rows else None
@@ -435,6 +442,12 @@ def summary_lines(rep):
                    % (rep["ate_rmse"], rep["ate_median"], rep["ate_max"], rep["scale"], rep["count"]))
         out.append("RPE between consecutive frames: translation RMSE %.4f, rotation median %.4f deg, mean %.4f deg"
                    % (rep["rpe_trans_rmse"], rep["rpe_rot_median_deg"], rep["rpe_rot_mean_deg"]))
+    if rep.get("self_calibrated"):
+        if rep["focal_frame"] >= 0:
+            out.append("self-calibrated focal length: %.2f px at frame %d, %.2f px after the windowed BA"
+                       % (rep["focal_first"], rep["focal_frame"], rep["focal"]))
+        else:
+            out.append("self-calibration: no focal length found (no frame tracked)")
     out.append("ms/frame: median %.2f, p95 %.2f" % (rep["ms_median"], rep["ms_p95"]))
     out.append("share per stage: " + ", ".join("%s %.0f%%" % (k, 100 * v) for k, v in rep["stage_share"].items()))
     return out
@@ -442,7 +455,7 @@ def summary_lines(rep):
 
 CSV_FIELDS = ("name", "frames", "tracked", "lost", "with_pose", "keyframes", "ate_rmse",
               "ate_median", "rpe_trans_rmse", "rpe_rot_median_deg", "ms_median", "ms_p95",
-              "status", "error")
+              "focal", "status", "error")
 
 
 def _report_row(rep):
@@ -508,6 +521,8 @@ def main(argv=None):
     ap.add_argument("dirs", nargs="+", help="recording directories")
     ap.add_argument("--camera", type=_parse_camera, help="fx,fy,cx,cy[,k1,k2,p1,p2,k3]")
     ap.add_argument("--calib", help="file with fx fy cx cy [dist...] (or a KITTI calib.txt)")
+    ap.add_argument("--self-calibrate", action="store_true",
+                    help="ignore the recording's intrinsics: self-calibrate a pinhole camera")
     ap.add_argument("--gt", help="ground truth: KITTI poses.txt or TUM")
     ap.add_argument("--trajectory", help="write the trajectory (TUM, camera-to-world)")
     ap.add_argument("--points", help="write the sparse points (PLY)")
@@ -553,6 +568,10 @@ def main(argv=None):
         return 1 if any(r.get("status") != "ok" for r in rows) else 0
     try:
         rec = open_recording(a.dirs[0], cam)
+        if a.self_calibrate:
+            if cam is not None:
+                ap.error("--self-calibrate excludes --camera / --calib")
+            rec.camera = None
         if a.gt:
             if a.gt.endswith(".txt") and open(a.gt).readline().count(" ") >= 11 and not a.gt.endswith(".tum"):
                 rec.gt_index = read_kitti_poses(a.gt)

@@ -36,7 +36,7 @@ class FrameResult:
     __slots__ = ("timestamp_ns", "frame_index", "state", "quality", "has_pose", "is_keyframe",
                  "R_cw", "t_cw", "R_wc", "c_w", "covariance", "n_features", "n_matches",
                  "n_inliers", "n_map_points", "n_keyframes", "degraded", "stage_seconds",
-                 "median_parallax_deg")
+                 "median_parallax_deg", "focal")
 
     def __init__(self, r):
         self.timestamp_ns = int(r.timestamp_ns)
@@ -58,6 +58,7 @@ class FrameResult:
         self.degraded = int(r.degraded)
         self.stage_seconds = dict(zip(STAGES, list(r.stage_seconds)))
         self.median_parallax_deg = float(r.median_parallax_deg)
+        self.focal = float(r.focal)
 
 
 @ffi.callback("double(void *)")
@@ -82,15 +83,18 @@ class VisualOdometry:
 
     camera: (fx, fy, cx, cy) or (fx, fy, cx, cy, k1, k2, p1, p2, k3) (Brown,
     as OpenCV's), with model="fisheye" for (fx, fy, cx, cy, k1, k2, k3, k4).
-    camera=None asks for self-calibration, which this build does not have:
-    SfmError (unsupported). Keyword arguments set sfm_vo_params fields
+    camera=None asks for self-calibration (a pinhole camera, principal point
+    at the image centre, focal length found on the first good keyframe triple
+    and refined by the windowed BA; FrameResult.focal reports it, 0 until
+    found); focal_guess (px, default the image width) only steers the
+    parallax tests before that. Keyword arguments set sfm_vo_params fields
     (threshold, min_inliers, ba_iterations, use_trifocal, seed, ...);
     frame_budget (seconds) turns the timed degradation on; timing=True reads
     a clock for the per-stage seconds.
     """
 
     def __init__(self, width, height, camera, max_features=1000, window=5, model="pinhole",
-                 timing=True, n_levels=None, fast_threshold=None, **params):
+                 timing=True, n_levels=None, fast_threshold=None, focal_guess=None, **params):
         dims = ffi.new("sfm_vo_dims *")
         dims.width, dims.height = int(width), int(height)
         dims.max_features, dims.window = int(max_features), int(window)
@@ -98,6 +102,9 @@ class VisualOdometry:
         check(lib.sfm_vo_default_params(dims, p), "sfm_vo_default_params")
         if camera is None:
             p.calibrated = 0
+            p.camera.model = _MODELS[model]
+            if focal_guess is not None:
+                p.camera.fx = p.camera.fy = float(focal_guess)
         else:
             p.camera = _camera(camera, model)[0]
         if n_levels is not None:

@@ -9,9 +9,14 @@ import libsfm
 from libsfm import replay
 
 
-def test_self_calibration_is_unsupported():
+def test_self_calibration_of_a_fisheye_is_unsupported():
+    """Without a camera the pipeline self-calibrates a pinhole camera; a
+    distortion model cannot be found that way: unsupported, not a guess."""
+    vo = libsfm.VisualOdometry(320, 240, None, max_features=200, window=3)
+    r = vo.push(np.zeros((240, 320), np.uint8), 0)
+    assert r.focal == 0.0  # nothing self-calibrated yet
     with pytest.raises(libsfm.SfmError) as e:
-        libsfm.VisualOdometry(320, 240, None, max_features=200, window=3)
+        libsfm.VisualOdometry(320, 240, None, max_features=200, window=3, model="fisheye")
     assert e.value.status == libsfm.lib.SFM_E_UNSUPPORTED
 
 

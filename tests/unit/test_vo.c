@@ -13,7 +13,7 @@
 #define VPAD 64
 #define VNF 200
 #define VWIN 3
-#define VWS (900u * 1024u)
+#define VWS (1024u * 1024u)
 
 static unsigned char g_vo_ws[VWS];
 static uint8_t g_tex[VH * (VW + 2 * VPAD)];
@@ -101,7 +101,12 @@ SFM_TEST(vo_contract)
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, NULL, need, &vo), SFM_E_ARGUMENT);
     sfm_vo_params q = p;
     q.calibrated = 0;
+    q.camera.model = SFM_CAMERA_FISHEYE; /* self-calibration finds a pinhole camera only */
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_UNSUPPORTED);
+    SFM_CHECK(vo == NULL);
+    q = p;
+    q.calibrated = 2;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
     q = p;
     q.threshold = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_NONFINITE);
@@ -264,4 +269,28 @@ SFM_TEST(vo_time_budget_degrades)
                  "%d initialising, %d tracking, %d lost, %d parallax, %d rotation",
                  min_feat, VNF, skipped, kf_tracked, states[0], states[1], states[2], states[3],
                  states[4]);
+}
+
+/* Unknown intrinsics on the sideways slide: a pure translation does not
+ * determine the focal length (every focal explains the two planes' shifts),
+ * so the self-calibration must refuse and no frame may claim a tracked pose
+ * or a focal length. */
+SFM_TEST(vo_self_calibration_refuses_pure_translation)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    p.calibrated = 0;
+    sfm_vo *vo;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    make_texture(t);
+    sfm_image_u8 img = {g_frame, VW, VH, VW};
+    for (int k = 0; k < 20; k++) {
+        crop2(VPAD - 40, 4 * k);
+        sfm_vo_frame_result r;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(vo, &img, k * 1000, NULL, 0, &r), SFM_OK);
+        SFM_CHECK_MSG(r.state != SFM_VO_TRACKING, "frame %d tracked without a focal length", k);
+        SFM_CHECK_MSG(r.focal == 0.0, "frame %d: focal %g from a pure translation", k, r.focal);
+        SFM_CHECK(!r.has_pose || k == 0);
+    }
 }
