@@ -6,6 +6,7 @@ file the demo program reads.
 
     python3 tools/gen_demo_scene.py OUT_DIR
     python3 tools/gen_demo_scene.py --sequence N OUT_DIR
+    python3 tools/gen_demo_scene.py --sequence N --fisheye OUT_DIR
 
 Sequence mode renders N frames (30 Hz timestamps) along a known smooth
 trajectory through the same room (a loop that sways left and right and
@@ -14,6 +15,16 @@ little roll and pitch), one sample per pixel plus a slight blur to stand in
 for the optics, and writes the pose and the gravity direction (in camera
 coordinates, the world's +y) of every frame to ground_truth.txt, plus the
 trajectory as a TUM file (camera-to-world) in ground_truth.tum.
+
+--fisheye renders the same loop through an equidistant fisheye lens with
+Kannala-Brandt distortion (J. Kannala, S. Brandt, "A generic camera model and
+calibration method for conventional, wide-angle, and fish-eye lenses", PAMI
+2006: theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8),
+pixel = f theta_d (x, y) / r + c, OpenCV's fisheye model), FISHEYE_F and
+FISHEYE_K below, about 150 degrees across the diagonal; each pixel's ray is
+found by inverting theta_d(theta) with Newton's method here, independently of
+the library's camera model. ground_truth.txt then carries a
+`camera_model 1 fisheye` line and the camera line lists fx fy cx cy k1..k4.
 
 Deterministic: the textures come from a fixed seed and the rendering is plain
 ray casting (nearest quad per ray, bilinear texture lookup, 3x3 supersampling
@@ -41,6 +52,9 @@ CX, CY = (WIDTH - 1) / 2.0, (HEIGHT - 1) / 2.0
 SUPERSAMPLE = 3
 TEXELS_PER_M = 256
 NOISE_SIGMA = 1.5  # gray levels
+FISHEYE_F = 300.0
+FISHEYE_K = (0.03, -0.01, 0.002, 0.0)
+LENS = {"fisheye": False}
 
 
 def rot_y(deg):
@@ -147,13 +161,16 @@ def bilinear(tex, s, t):
     return (a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy
 
 
-def _quad_bbox(o, qu, qv, R, t):
+def _quad_bbox(o, qu, qv, R, t, normalised=False):
     """Pixel box (x0, x1, y0, y1) holding the quad's image when all its
     corners are in front of the camera, else None (test every ray)."""
     corners = np.array([o, o + qu, o + qv, o + qu + qv])
     xc = corners @ R.T + t
     if np.any(xc[:, 2] < 0.05):
         return None
+    if normalised:
+        x, y = xc[:, 0] / xc[:, 2], xc[:, 1] / xc[:, 2]
+        return x.min() - 0.01, x.max() + 0.01, y.min() - 0.01, y.max() + 0.01
     u = FX * xc[:, 0] / xc[:, 2] + CX
     v = FY * xc[:, 1] / xc[:, 2] + CY
     return u.min() - 2, u.max() + 2, v.min() - 2, v.max() + 2
@@ -168,16 +185,27 @@ def render(quads, textures, R, t, return_depth=False):
     v = (np.arange(HEIGHT)[:, None, None, None] + offs[None, None, :, None])
     u, v = [a.ravel() for a in np.broadcast_arrays(u, v)]
     # World ray directions R^T [(u - cx) / fx, (v - cy) / fy, 1] from the centre C.
-    xn, yn = (u - CX) / FX, (v - CY) / FY
+    if LENS["fisheye"]:
+        xn, yn = fisheye_rays(u, v)
+    else:
+        xn, yn = (u - CX) / FX, (v - CY) / FY
     d = [R[0, k] * xn + R[1, k] * yn + R[2, k] for k in range(3)]
     C = -R.T @ t
     best = np.full(u.shape, np.inf)
     out = np.full(u.shape, 128.0, np.float32)
     for (o, qu, qv), tex in zip(quads, textures):
         n = np.cross(qu, qv)
-        bb = _quad_bbox(o, qu, qv, R, t)
+        if LENS["fisheye"]:
+            # perspective keeps lines straight: a quad in front of the camera
+            # covers the box of its corners on the z = 1 plane, where the
+            # fisheye pixels' rays are given
+            bb = _quad_bbox(o, qu, qv, R, t, normalised=True)
+            uu, vv = xn, yn
+        else:
+            bb = _quad_bbox(o, qu, qv, R, t)
+            uu, vv = u, v
         if bb is not None:
-            sel = np.flatnonzero((u >= bb[0]) & (u <= bb[1]) & (v >= bb[2]) & (v <= bb[3]))
+            sel = np.flatnonzero((uu >= bb[0]) & (uu <= bb[1]) & (vv >= bb[2]) & (vv <= bb[3]))
             if sel.size == 0:
                 continue
         else:
@@ -199,6 +227,25 @@ def render(quads, textures, R, t, return_depth=False):
         return img
     # d has unit z in the camera frame, so the ray parameter is the depth.
     return img, best.reshape(HEIGHT, WIDTH, ss, ss)[:, :, ss // 2, ss // 2]
+
+
+def fisheye_rays(u, v):
+    """Normalised ray (x/z, y/z) of each fisheye pixel: theta_d = r_d / f
+    inverted for theta by Newton's method (theta_d(theta) is increasing over
+    the image for FISHEYE_K), then tan(theta) along the pixel's direction."""
+    xd, yd = (u - CX) / FISHEYE_F, (v - CY) / FISHEYE_F
+    td = np.hypot(xd, yd)
+    k1, k2, k3, k4 = FISHEYE_K
+    th = td.copy()
+    for _ in range(20):
+        t2 = th * th
+        f = th * (1 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4)))) - td
+        df = 1 + t2 * (3 * k1 + t2 * (5 * k2 + t2 * (7 * k3 + t2 * 9 * k4)))
+        th = th - f / df
+    assert float(th.max()) < np.radians(86.0), "fisheye rays beyond the forward half-space"
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s = np.where(td > 1e-12, np.tan(th) / td, 1.0)
+    return xd * s, yd * s
 
 
 def write_pgm(path, img):
@@ -270,7 +317,12 @@ def main_sequence(n, out):
         f.write("# libsfm demo sequence ground truth (tools/gen_demo_scene.py --sequence %d, seed %d)\n" % (n, SEED))
         f.write("# camera <view> fx fy cx cy; pose <view> R (row-major) t, x_cam = R X + t (world = view 1);\n")
         f.write("# gravity <view> g: the direction of gravity in that camera's coordinates\n")
-        f.write("camera 1 %.17g %.17g %.17g %.17g\n" % (FX, FY, CX, CY))
+        if LENS["fisheye"]:
+            f.write("camera_model 1 fisheye\n")
+            f.write("camera 1 %.17g %.17g %.17g %.17g %s\n" % (FISHEYE_F, FISHEYE_F, CX, CY,
+                                                           " ".join("%.17g" % k for k in FISHEYE_K)))
+        else:
+            f.write("camera 1 %.17g %.17g %.17g %.17g\n" % (FX, FY, CX, CY))
         for i, (R, t, g) in enumerate(gts):
             f.write("pose %d %s\n" % (i + 1, " ".join("%.17g" % x for x in list(R.ravel()) + list(t))))
         for i, (R, t, g) in enumerate(gts):
@@ -287,8 +339,11 @@ def main_sequence(n, out):
 def main():
     if len(sys.argv) == 4 and sys.argv[1] == "--sequence":
         return main_sequence(int(sys.argv[2]), sys.argv[3])
+    if len(sys.argv) == 5 and sys.argv[1] == "--sequence" and sys.argv[3] == "--fisheye":
+        LENS["fisheye"] = True
+        return main_sequence(int(sys.argv[2]), sys.argv[4])
     if len(sys.argv) != 2:
-        sys.exit("usage: gen_demo_scene.py OUT_DIR | --sequence N OUT_DIR")
+        sys.exit("usage: gen_demo_scene.py OUT_DIR | --sequence N [--fisheye] OUT_DIR")
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     rng = np.random.default_rng(SEED)

@@ -230,6 +230,16 @@ SFM_API int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t tim
  * (NULL vo or xyz, capacity < 0). */
 SFM_API int sfm_vo_map_points(const sfm_vo *vo, double *xyz, uint32_t *ids, int capacity);
 
+/* Where each live map point was first seen, in the order of
+ * sfm_vo_map_points (the same ids): px (n x 2) the image pixel of its first
+ * observation (the keypoint, mapped back through the camera model; NaN when
+ * the model cannot), frame the index of that frame (frames pushed before it;
+ * a keyframe). For a colour map a caller samples its copy of that frame.
+ * ids may be NULL. Returns the number written, or SFM_E_ARGUMENT (NULL vo,
+ * px or frame, capacity < 0). */
+SFM_API int sfm_vo_map_points_first_seen(const sfm_vo *vo, uint32_t *ids, double *px, int *frame,
+                                         int capacity);
+
 /* Short constant name of a state ("tracking", ...); never NULL. */
 SFM_API const char *sfm_vo_state_str(int state);
 

@@ -95,6 +95,8 @@ static sfm_vo *layout(sfmi_arena *a, const sfm_vo_dims *d)
     v->pdesc = SFM_ARENA_ARRAY(a, uint8_t, (size_t)SFM_FEATURES_DESC_BYTES * cap);
     v->pobs = SFM_ARENA_ARRAY(a, int, cap);
     v->pname = SFM_ARENA_ARRAY(a, uint32_t, cap);
+    v->pfirst_px = SFM_ARENA_ARRAY(a, double, 2 * (size_t)cap);
+    v->pfirst_frame = SFM_ARENA_ARRAY(a, int, cap);
     v->free_list = SFM_ARENA_ARRAY(a, int, cap);
     v->kps = SFM_ARENA_ARRAY(a, sfm_keypoint, nf);
     v->desc = SFM_ARENA_ARRAY(a, uint8_t, SFM_FEATURES_DESC_BYTES * nf);
@@ -314,6 +316,34 @@ int sfm_vo_map_points(const sfm_vo *vo, double *xyz, uint32_t *ids, int capacity
         if (vo->pobs[i] <= 0)
             continue;
         memcpy(xyz + 3 * (size_t)n, vo->X + 3 * (size_t)i, 3 * sizeof(double));
+        if (ids != NULL)
+            ids[n] = vo->pname[i];
+        n++;
+    }
+    return n;
+}
+
+int sfm_vo_map_points_first_seen(const sfm_vo *vo, uint32_t *ids, double *px, int *frame,
+                                 int capacity)
+{
+    if (vo == NULL || px == NULL || frame == NULL || capacity < 0)
+        return SFM_E_ARGUMENT;
+    const sfm_camera *cam = &vo->p.camera;
+    int n = 0;
+    for (int i = 0; i < vo->cap_points && n < capacity; i++) {
+        if (vo->pobs[i] <= 0)
+            continue;
+        /* ideal pinhole pixel back to the image through the camera model
+         * (the identity for a pinhole or a self-calibrated camera) */
+        double u = vo->pfirst_px[2 * i], v = vo->pfirst_px[2 * i + 1], uv[2] = {u, v};
+        if (vo->p.calibrated && cam->model != SFM_CAMERA_PINHOLE) {
+            double f[3] = {(u - cam->cx) / cam->fx, (v - cam->cy) / cam->fy, 1.0};
+            if (sfm_camera_project(cam, f, uv, NULL) != SFM_OK)
+                uv[0] = uv[1] = (double)NAN;
+        }
+        px[2 * n] = uv[0];
+        px[2 * n + 1] = uv[1];
+        frame[n] = vo->pfirst_frame[i];
         if (ids != NULL)
             ids[n] = vo->pname[i];
         n++;
@@ -554,7 +584,8 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
             continue;
         if (sfmi_vo_ray_angle(c0, c1, X) < min_par)
             continue;
-        int pid = sfmi_vo_point_new(vo, X, vo->desc + (size_t)SFM_FEATURES_DESC_BYTES * vo->m_j[k]);
+        int pid = sfmi_vo_point_new(vo, X, vo->desc + (size_t)SFM_FEATURES_DESC_BYTES * vo->m_j[k],
+                                    vo->m_c + 2 * k, ref->frame_index);
         if (pid < 0)
             break;
         ref->pid[vo->m_i[k]] = pid;

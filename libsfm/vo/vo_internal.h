@@ -50,6 +50,8 @@ struct sfm_vo {
     uint8_t *pdesc;   /* cap x 32, newest keyframe observation */
     int *pobs;        /* keyframe observations in the window; 0: free slot */
     uint32_t *pname;  /* running id, unique over the run */
+    double *pfirst_px; /* cap x 2, ideal pixel of the first observation */
+    int *pfirst_frame; /* cap, frame index of the first observation */
     int *free_list;
     int n_free;
     uint32_t next_name;
@@ -167,7 +169,9 @@ void sfmi_vo_ba_problem(sfm_vo *vo, int m, int np, int no, sfm_ba_problem *pr);
 
 /* ---- map and keyframes (vo_map.c) ---- */
 vo_keyframe *sfmi_vo_kf_at(sfm_vo *vo, int i); /* i-th oldest, 0 <= i < kf_count */
-int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc);
+/* A new point; px (ideal pixels) and frame: its first observation. */
+int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc, const double px[2],
+                      int frame);
 void sfmi_vo_point_unref(sfm_vo *vo, int pid);
 /* Appends the current frame as a keyframe (evicting the oldest when full);
  * its observations are the current frame's cur_pid. */

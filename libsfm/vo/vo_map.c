@@ -20,7 +20,8 @@ vo_keyframe *sfmi_vo_kf_at(sfm_vo *vo, int i)
     return &vo->kf[(vo->kf_head + i) % vo->p.window];
 }
 
-int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc)
+int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc, const double px[2],
+                      int frame)
 {
     if (vo->n_free == 0)
         return -1;
@@ -29,6 +30,9 @@ int sfmi_vo_point_new(sfm_vo *vo, const double X[3], const uint8_t *desc)
     memcpy(vo->pdesc + (size_t)SFM_FEATURES_DESC_BYTES * pid, desc, SFM_FEATURES_DESC_BYTES);
     vo->pobs[pid] = 0;
     vo->pname[pid] = vo->next_name++;
+    vo->pfirst_px[2 * pid] = px[0];
+    vo->pfirst_px[2 * pid + 1] = px[1];
+    vo->pfirst_frame[pid] = frame;
     return pid;
 }
 
@@ -173,7 +177,8 @@ int sfmi_vo_triangulate_new(sfm_vo *vo)
             continue;
         if (sfmi_vo_ray_angle(ca, cb, X) < min_par)
             continue;
-        int pid = sfmi_vo_point_new(vo, X, b->desc + (size_t)SFM_FEATURES_DESC_BYTES * j);
+        int pid = sfmi_vo_point_new(vo, X, b->desc + (size_t)SFM_FEATURES_DESC_BYTES * j,
+                                    a->px + 2 * i, a->frame_index);
         if (pid < 0)
             break;
         a->pid[i] = pid;

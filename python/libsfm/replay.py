@@ -43,8 +43,10 @@ class Recording:
     (R_wc 3x3, c 3) or None; gt_by_index: list aligned with frames or None;
     gravity: per-frame gravity in camera coordinates or None."""
 
-    def __init__(self, name, frames, camera=None, gt_index=None, gravity=None, kind=""):
+    def __init__(self, name, frames, camera=None, gt_index=None, gravity=None, kind="",
+                 model="pinhole"):
         self.name = name
+        self.model = model  # camera model of camera: "pinhole" (Brown with dist), "fisheye"
         self.frames = frames
         self.camera = camera
         self.gt_index = gt_index
@@ -71,7 +73,8 @@ def _read_manifest(path):
 
 def read_project_gt(path):
     """The demo's ground_truth.txt: camera lines and world-to-camera pose
-    lines. Returns (camera tuple or None, {view: (R_cw, t_cw)}, gravity dict)."""
+    lines. Returns (camera tuple or None, {view: (R_cw, t_cw)}, gravity dict);
+    read_project_model names the camera model."""
     cam, poses, grav = None, {}, {}
     with open(path) as f:
         for line in f:
@@ -86,6 +89,17 @@ def read_project_gt(path):
             elif p[0] == "gravity":
                 grav[int(p[1])] = np.array([float(x) for x in p[2:5]])
     return cam, poses, grav
+
+
+def read_project_model(path):
+    """The camera model of a ground_truth.txt: its `camera_model <view> NAME`
+    line (the fisheye sequence writes one), else "pinhole"."""
+    with open(path) as f:
+        for line in f:
+            p = line.split()
+            if len(p) >= 3 and p[0] == "camera_model":
+                return p[2]
+    return "pinhole"
 
 
 def _kitti_calib(path):
@@ -187,12 +201,12 @@ def open_recording(path, camera=None):
             if not os.path.exists(full):
                 full = os.path.join(path, "data", f)
             frames.append((t, full))
-        cam, gt, grav = camera, None, None
+        cam, gt, grav, model = camera, None, None, "pinhole"
         gtp = os.path.join(path, "ground_truth.txt")
         if os.path.exists(gtp):
             c, poses, g = read_project_gt(gtp)
             if cam is None:
-                cam = c
+                cam, model = c, read_project_model(gtp)
             if poses:
                 gt = []
                 for i in range(len(frames)):
@@ -206,7 +220,7 @@ def open_recording(path, camera=None):
         camp = os.path.join(path, "camera.txt")
         if cam is None and os.path.exists(camp):
             cam = tuple(float(v) for v in open(camp).read().replace(",", " ").split())
-        return Recording(name, frames, cam, gt, grav, "replay")
+        return Recording(name, frames, cam, gt, grav, "replay", model)
     raise FileNotFoundError("%s: not a replay directory (manifest.csv), EuRoC or KITTI folder" % path)
 
 
@@ -320,6 +334,18 @@ def write_ply(path, xyz, rgb=None):
                 f.write("%.6f %.6f %.6f\n" % tuple(p))
 
 
+def write_points(path, rep):
+    """The run's points as PLY: with RGB (from the frame where each point was
+    first seen) when the frames were colour; a point that never got a
+    colour (first seen outside the image after the camera model) is gray."""
+    ids = list(rep["points"].keys())
+    xyz = np.array([rep["points"][k] for k in ids]) if ids else np.zeros((0, 3))
+    rgb = None
+    if rep.get("colours") is not None:
+        rgb = [rep["colours"].get(k, (128, 128, 128)) for k in ids]
+    write_ply(path, xyz, rgb)
+
+
 def write_plot(path, report, title=""):
     import matplotlib
     matplotlib.use("Agg")
@@ -358,6 +384,37 @@ def _load_gray(path):
     return img
 
 
+def _load_frame(path):
+    """(gray, colour or None): colour (RGB, uint8) only when the file has
+    three channels; the pipeline sees the gray image either way."""
+    import cv2
+    img = cv2.imread(path, cv2.IMREAD_UNCHANGED)
+    if img is None:
+        raise OSError("cannot read image %s" % path)
+    if img.ndim == 3 and img.shape[2] >= 3:
+        bgr = np.ascontiguousarray(img[:, :, :3])
+        if bgr.dtype != np.uint8:
+            bgr = (bgr >> 8).astype(np.uint8) if bgr.dtype == np.uint16 else bgr.astype(np.uint8)
+        return cv2.cvtColor(bgr, cv2.COLOR_BGR2GRAY), bgr[:, :, ::-1]
+    return _load_gray(path), None
+
+
+def _sample_colours(vo, keep, colours, images):
+    """Colour of every live point not coloured yet, from the frame where it
+    was first seen (its image in images, keyed by frame index)."""
+    ids, px, frame = vo.map_points_first_seen()
+    for k, (u, v), f in zip(ids.tolist(), px, frame.tolist()):
+        if k in colours or f not in images or not np.all(np.isfinite((u, v))):
+            continue
+        img = images[f]
+        x, y = int(round(u)), int(round(v))
+        if 0 <= x < img.shape[1] and 0 <= y < img.shape[0]:
+            colours[k] = tuple(int(c) for c in img[y, x])
+    # images of frames no live point can still name are dropped
+    for f in [f for f in images if f < keep]:
+        del images[f]
+
+
 def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=None,
         frame_budget=0.0, use_gravity=True, max_frames=None, **params):
     """Runs the pipeline over a Recording. Returns a dict report (metrics
@@ -367,13 +424,14 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
     # No intrinsics (none given, none in the recording, or --self-calibrate):
     # the pipeline self-calibrates a pinhole camera.
     frames = rec.frames[:max_frames] if max_frames else rec.frames
-    first = _load_gray(frames[0][1])
+    first, first_rgb = _load_frame(frames[0][1])
     h, w = first.shape
     if seed is not None:
         params["seed"] = int(seed)
     if frame_budget:
         params["frame_budget"] = float(frame_budget)
-    vo = VisualOdometry(w, h, rec.camera, max_features=max_features, window=window, **params)
+    vo = VisualOdometry(w, h, rec.camera, max_features=max_features, window=window,
+                        model=getattr(rec, "model", "pinhole"), **params)
     it = range(len(frames))
     bar = None
     if progress:
@@ -383,11 +441,12 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
         except ImportError:
             bar = None
     rows, results, points = [], [], {}
+    colours, images = {}, {}  # point id -> RGB; keyframe index -> RGB image
     ms, stage = [], {s: 0.0 for s in STAGES}
     est_pairs, gt_pairs = [], []
     for i in it:
         ts, path = frames[i]
-        img = first if i == 0 else _load_gray(path)
+        img, rgb = (first, first_rgb) if i == 0 else _load_frame(path)
         g = rec.gravity[i] if (use_gravity and rec.gravity is not None) else None
         t0 = time.perf_counter()
         r = vo.push(img, ts, gravity=g)
@@ -405,6 +464,10 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
             ids, xyz = vo.map_points()
             for k, p in zip(ids.tolist(), xyz):
                 points[k] = p
+            if rgb is not None:
+                images[i] = rgb
+                _, _, seen = vo.map_points_first_seen()
+                _sample_colours(vo, int(seen.min()) if len(seen) else i, colours, images)
         if print_every and (i % print_every == 0 or i == len(frames) - 1):
             print("frame %4d  %-22s %-8s features %4d matches %4d inliers %4d map %5d  %.1f ms"
                   % (i, r.state, r.quality, r.n_features, r.n_matches, r.n_inliers,
@@ -416,6 +479,8 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
     ids, xyz = vo.map_points()
     for k, p in zip(ids.tolist(), xyz):
         points[k] = p
+    if images:
+        _sample_colours(vo, 0, colours, images)
     states = [r.state for r in results]
     rep = {"name": rec.name, "frames": len(frames), "width": w, "height": h,
            "tracked": states.count("tracking"), "lost": states.count("lost"),
@@ -423,6 +488,7 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
            "ms_median": float(np.median(ms)), "ms_p95": float(np.percentile(ms, 95)),
            "stage_share": {s: stage[s] / max(sum(stage.values()), 1e-12) for s in STAGES},
            "rows": rows, "points": points, "results": results,
+           "colours": colours if first_rgb is not None else None,
            "self_calibrated": rec.camera is None,
            "focal": float(results[-1].focal) if results else 0.0,
            "focal_first": next((float(r.focal) for r in results if r.focal > 0), 0.0),
@@ -593,7 +659,7 @@ def main(argv=None):
     if a.trajectory:
         write_tum(a.trajectory, rep["rows"])
     if a.points:
-        write_ply(a.points, np.array(list(rep["points"].values())) if rep["points"] else np.zeros((0, 3)))
+        write_points(a.points, rep)
     if a.plot:
         write_plot(a.plot, rep, rec.name)
     if rep["with_pose"] < 2:

@@ -133,6 +133,8 @@ class VisualOdometry:
         self._cap = int(max_features) * int(window)
         self._xyz = np.empty((self._cap, 3))
         self._ids = np.empty(self._cap, np.uint32)
+        self._px = np.empty((self._cap, 2))
+        self._frame = np.empty(self._cap, np.int32)
 
     def push(self, image, timestamp_ns, gravity=None, covariance=False):
         img = np.ascontiguousarray(image)
@@ -157,6 +159,15 @@ class VisualOdometry:
         n = check(lib.sfm_vo_map_points(self._vo[0], ffi.cast("double *", ffi.from_buffer(self._xyz)),
                                         ffi.cast("uint32_t *", ffi.from_buffer(self._ids)), self._cap))
         return self._ids[:n].copy(), self._xyz[:n].copy()
+
+    def map_points_first_seen(self):
+        """(ids (n,) uint32, px (n, 2), frame (n,) int32): where each live map
+        point was first seen (image pixel, frame index), in map_points' order."""
+        n = check(lib.sfm_vo_map_points_first_seen(
+            self._vo[0], ffi.cast("uint32_t *", ffi.from_buffer(self._ids)),
+            ffi.cast("double *", ffi.from_buffer(self._px)),
+            ffi.cast("int *", ffi.from_buffer(self._frame)), self._cap))
+        return self._ids[:n].copy(), self._px[:n].copy(), self._frame[:n].copy()
 
     def reset(self):
         check(lib.sfm_vo_reset(self._vo[0]), "sfm_vo_reset")

@@ -147,6 +147,12 @@ SFM_TEST(vo_contract)
     double xyz[3];
     SFM_CHECK_EQ_INT(sfm_vo_map_points(vo, NULL, NULL, 1), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_vo_map_points(vo, xyz, NULL, -1), SFM_E_ARGUMENT);
+    double fpx[2];
+    int ff;
+    SFM_CHECK_EQ_INT(sfm_vo_map_points_first_seen(NULL, NULL, fpx, &ff, 1), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_map_points_first_seen(vo, NULL, NULL, &ff, 1), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_map_points_first_seen(vo, NULL, fpx, NULL, 1), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_map_points_first_seen(vo, NULL, fpx, &ff, -1), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_vo_reset(NULL), SFM_E_ARGUMENT);
     SFM_CHECK(strcmp(sfm_vo_state_str(SFM_VO_PURE_ROTATION), "pure_rotation") == 0);
     SFM_CHECK(strcmp(sfm_vo_state_str(99), "unknown") == 0);
@@ -206,6 +212,21 @@ SFM_TEST(vo_sideways_slide_known_answer)
         }
     }
     SFM_CHECK_MSG(tracked >= n - 6, "tracked %d of %d", tracked, n);
+    /* Where each live point was first seen: an earlier frame, inside the
+     * image, and the same order and ids as sfm_vo_map_points. */
+    {
+        static double pxy[VNF * VWIN * 2], pts[VNF * VWIN * 3];
+        static int pf[VNF * VWIN];
+        static uint32_t id1[VNF * VWIN], id2[VNF * VWIN];
+        int m1 = sfm_vo_map_points(vo, pts, id1, VNF * VWIN);
+        int m2 = sfm_vo_map_points_first_seen(vo, id2, pxy, pf, VNF * VWIN);
+        SFM_CHECK(m1 > 0 && m1 == m2);
+        for (int q = 0; q < m2 && q < m1; q++) {
+            SFM_CHECK(id1[q] == id2[q]);
+            SFM_CHECK(pf[q] >= 0 && pf[q] < n);
+            SFM_CHECK(pxy[2 * q] >= 0 && pxy[2 * q] < VW && pxy[2 * q + 1] >= 0 && pxy[2 * q + 1] < VH);
+        }
+    }
     /* Equal steps: c(k) / c(k_last) = k / k_last (scale-free). */
     int last = n - 1;
     SFM_CHECK(have[last]);

@@ -148,3 +148,53 @@ def test_replay_many_survives_a_killed_worker(cuts):
     finally:
         client.close()
         cluster.close()
+
+
+def test_points_carry_colour_from_the_first_frame_that_saw_them(tmp_path):
+    """Colour frames (R = the rendered gray, G = the frame's index, B = 255 -
+    gray) give a coloured PLY: every point's G names a keyframe, R + B = 255,
+    and R is the gray that frame shows where the point projects under the
+    pipeline's own pose of it (within the 3x3 neighbourhood: the point is a
+    corner seen within a pixel or two)."""
+    import cv2
+    d = str(tmp_path / "colour")
+    _cut(d, 60, 60)
+    man = replay._read_manifest(os.path.join(d, "manifest.csv"))
+    with open(os.path.join(d, "manifest.csv"), "w") as f:
+        f.write("sequence,timestamp_ns,file\n")
+        for k, (t, name) in enumerate(man):
+            g = cv2.imread(os.path.join(d, name), cv2.IMREAD_GRAYSCALE)
+            os.remove(os.path.join(d, name))
+            bgr = np.dstack([255 - g, np.full_like(g, k), g])
+            png = name.replace(".pgm", ".png")
+            cv2.imwrite(os.path.join(d, png), bgr)
+            f.write("%d,%d,%s\n" % (k, t, png))
+    rec = replay.open_recording(d)
+    rep = replay.run(rec, progress=False, max_features=500)
+    assert rep["colours"] is not None and len(rep["colours"]) >= 0.9 * len(rep["points"])
+    keyframes = {r.frame_index for r in rep["results"] if r.is_keyframe}
+    poses = {r.frame_index: (r.R_cw, r.t_cw) for r in rep["results"] if r.has_pose}
+    fx, fy, cx, cy = rec.camera[:4]
+    grays = {}
+    ok = n = 0
+    for pid, (r_, g_, b_) in rep["colours"].items():
+        assert g_ in keyframes and r_ + b_ == 255, (pid, r_, g_, b_)
+        if g_ not in poses:
+            continue
+        R, t = poses[g_]
+        x = R @ rep["points"][pid] + t
+        u, v = fx * x[0] / x[2] + cx, fy * x[1] / x[2] + cy
+        if g_ not in grays:
+            grays[g_] = cv2.imread(os.path.join(d, man[g_][1].replace(".pgm", ".png")))[:, :, 2]
+        ui, vi = int(round(u)), int(round(v))
+        if not (1 <= ui < 639 and 1 <= vi < 479):
+            continue
+        patch = grays[g_][vi - 1:vi + 2, ui - 1:ui + 2].astype(int)
+        n += 1
+        ok += patch.min() <= r_ <= patch.max()
+    assert n >= 200 and ok >= 0.9 * n, (ok, n)
+    ply = str(tmp_path / "p.ply")
+    replay.write_points(ply, rep)
+    with open(ply) as f:
+        head = f.read(400)
+    assert "property uchar red" in head
