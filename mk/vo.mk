@@ -6,7 +6,8 @@
 #                       trajectory.tum, points.ply, trajectory.png beside it
 #   make demo-vo-selfcal  the same without intrinsics (--self-calibrate): the
 #                       focal length found by self-calibration is printed
-#   make test-vo-demo   the same run, ATE and tracking held to bounds
+#   make test-vo-demo   the same run, ATE and tracking held to bounds; the
+#                       self-calibrated start; the fisheye sequence
 #   make test-vo-kitti  ../shared/data/kitti-seq1: ATE / RPE over 20 seeds
 #                       beside the OpenCV frame-to-frame baseline
 
@@ -17,10 +18,17 @@ VO_SEQ_FRAMES ?= 240
 # 4 levels, 0.5 deg, since its points near the focus of expansion move little).
 VO_DEMO_SET := --set n_levels=3 --set point_min_parallax_deg=1.0
 VO_KITTI ?= ../shared/data/kitti-seq1
+# The same loop through a Kannala-Brandt fisheye lens (gen_demo_scene.py --fisheye).
+VO_FISH := $(BUILD)/demo/sequence_fisheye
+VO_FISH_FRAMES ?= 120
 
 $(VO_SEQ)/ground_truth.txt: tools/gen_demo_scene.py | demo-deps
 	@rm -rf $(VO_SEQ)
 	$(PYTHON) tools/gen_demo_scene.py --sequence $(VO_SEQ_FRAMES) $(VO_SEQ)
+
+$(VO_FISH)/ground_truth.txt: tools/gen_demo_scene.py | demo-deps
+	@rm -rf $(VO_FISH)
+	$(PYTHON) tools/gen_demo_scene.py --sequence $(VO_FISH_FRAMES) --fisheye $(VO_FISH)
 
 vo-deps:
 	@$(PYTHON) -c "import numpy, cv2, tqdm, matplotlib, cffi" 2>/dev/null || sh tools/setup_deps.sh demo
@@ -39,8 +47,8 @@ demo-vo-selfcal: all vo-deps $(VO_SEQ)/ground_truth.txt
 	  --trajectory $(VO_SEQ)/trajectory_selfcal.tum --plot $(VO_SEQ)/trajectory_selfcal.png
 
 TEST_STEPS += test-vo-demo test-vo-kitti
-test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt
-	VO_SEQ=$(VO_SEQ) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py tests/vo/test_vo_replay.py
+test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt $(VO_FISH)/ground_truth.txt
+	VO_SEQ=$(VO_SEQ) VO_FISH=$(VO_FISH) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py tests/vo/test_vo_replay.py tests/vo/test_vo_fisheye.py
 
 test-vo-kitti: all vo-deps
 	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py

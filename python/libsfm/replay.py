@@ -587,6 +587,8 @@ def main(argv=None):
     ap.add_argument("dirs", nargs="+", help="recording directories")
     ap.add_argument("--camera", type=_parse_camera, help="fx,fy,cx,cy[,k1,k2,p1,p2,k3]")
     ap.add_argument("--calib", help="file with fx fy cx cy [dist...] (or a KITTI calib.txt)")
+    ap.add_argument("--model", choices=("pinhole", "fisheye"),
+                    help="camera model of --camera / --calib (fisheye: fx,fy,cx,cy,k1,k2,k3,k4)")
     ap.add_argument("--self-calibrate", action="store_true",
                     help="ignore the recording's intrinsics: self-calibrate a pinhole camera")
     ap.add_argument("--gt", help="ground truth: KITTI poses.txt or TUM")
@@ -634,6 +636,8 @@ def main(argv=None):
         return 1 if any(r.get("status") != "ok" for r in rows) else 0
     try:
         rec = open_recording(a.dirs[0], cam)
+        if a.model is not None:
+            rec.model = a.model
         if a.self_calibrate:
             if cam is not None:
                 ap.error("--self-calibrate excludes --camera / --calib")
