@@ -43,10 +43,15 @@
  * window the errors accumulate). No frame is tracked before the focal
  * length is known; sfm_vo_frame_result.focal reports it (0 until then).
  * sfm_vo_reset forgets it.
- * After a loss the pipeline re-initialises from the next frames, starting
- * from the last pose it stood behind (the new segment keeps the old
- * segment's scale only approximately: its baseline is the median keyframe
- * baseline of the old one).
+ * After a loss (VO_LOST_RESET = 3 lost frames in a row) the map is dropped
+ * and the pipeline re-initialises from the next frames: a new segment
+ * (sfm_vo_frame_result.segment + 1). Its reference frame is placed where the
+ * last tracked motion, continued, puts it, and its first baseline is the
+ * speed of that motion (units per frame) times the frames between the pair:
+ * scale and origin are carried over only as far as the motion stayed steady
+ * through the gap, nothing measured ties the two segments. A caller that
+ * needs one scale aligns each segment on its own (or fuses another sensor).
+ * Frames of the gap are LOST, with no pose.
  *
  * Poses. world-to-camera T_cw: x_cam = R_cw X_world + t_cw (the library's
  * convention); camera-to-world T_wc: X_world = R_wc x_cam + c_w, with
@@ -181,6 +186,10 @@ typedef struct sfm_vo_frame_result {
     double median_parallax_deg; /* initialisation: of the relative-pose inliers */
     double focal;         /* px: the focal length (fx) this frame was processed
                              with; self-calibrated runs: 0 until found */
+    int segment;          /* the map this pose belongs to: 0 for the first,
+                             + 1 at each re-initialisation after a loss (a new
+                             segment: its scale and origin are only guessed
+                             from the motion before the loss) */
 } sfm_vo_frame_result;
 
 typedef struct sfm_vo sfm_vo;

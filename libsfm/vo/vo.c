@@ -281,6 +281,8 @@ int sfm_vo_reset(sfm_vo *vo)
     vo->frames_since_kf = 0;
     vo->kf_tracked = 0;
     vo->base_len = 1.0;
+    vo->segment = 0;
+    vo->seg_speed = 0.0;
     vo->feat_count = vo->p.max_features;
     vo->lost_frames = 0;
     vo->next_name = 0;
@@ -436,6 +438,16 @@ static void start_reference(sfm_vo *vo, const double *gravity, sfm_vo_frame_resu
 {
     double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, t[3] = {0, 0, 0};
     sfmi_vo_map_clear(vo);
+    if (vo->ever_mapped && vo->mapped && vo->have_prev) {
+        /* The map is lost: the speed of the last tracked motion (units per
+         * frame) carries the scale over to the next segment's first pair. */
+        double c0[3], c1[3];
+        sfmi_vo_centre(vo->R_prev, vo->t_prev, c0);
+        sfmi_vo_centre(vo->R_last, vo->t_last, c1);
+        int span = vo->last_frame_index - vo->prev_frame_index;
+        vo->seg_speed = span > 0 ? sfmi_hypot(sfmi_hypot(c1[0] - c0[0], c1[1] - c0[1]), c1[2] - c0[2]) / span
+                                 : 0.0;
+    }
     if (vo->ever_mapped && vo->have_last)
         predict(vo, R, t);
     for (int i = 0; i < vo->n; i++)
@@ -549,7 +561,10 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
         return SFM_OK;
     /* World poses of the pair: the reference's, and the relative pose on it
      * with the run's unit baseline. */
-    double s = vo->base_len, R1[9], t1[3], ts[3] = {s * rel.t[0], s * rel.t[1], s * rel.t[2]};
+    double s = vo->base_len;
+    if (vo->ever_mapped && vo->seg_speed > 0 && vo->frame_index > ref->frame_index)
+        s = vo->seg_speed * (vo->frame_index - ref->frame_index);
+    double R1[9], t1[3], ts[3] = {s * rel.t[0], s * rel.t[1], s * rel.t[2]};
     sfmi_vo_compose(rel.R, ts, ref->R, ref->t, R1, t1);
     double P[24];
     {
@@ -614,6 +629,8 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
         start_reference(vo, gravity, r);
         return SFM_OK;
     }
+    if (vo->ever_mapped)
+        vo->segment++;
     vo->mapped = 1;
     vo->ever_mapped = 1;
     vo->frames_since_kf = 0;
@@ -997,6 +1014,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
     vo->last_ts = timestamp_ns;
     vo->frame_index++;
     r.focal = vo->cal_done ? vo->K[0] : 0.0;
+    r.segment = vo->segment;
     *out = r;
     return SFM_OK;
 }

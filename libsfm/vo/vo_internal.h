@@ -106,6 +106,8 @@ struct sfm_vo {
     int feat_count;    /* features asked of the detector this frame */
     int lost_frames;
     int ever_mapped;
+    int segment;       /* maps initialised after the first (re-initialisations) */
+    double seg_speed;  /* units per frame of the last tracked motion before a loss */
 
     /* self-calibration (params.calibrated == 0) */
     double K_guess[4];  /* the focal guess before self-calibration */

@@ -490,6 +490,7 @@ def run(rec, max_features=1000, window=5, progress=True, print_every=0, seed=Non
            "rows": rows, "points": points, "results": results,
            "colours": colours if first_rgb is not None else None,
            "self_calibrated": rec.camera is None,
+           "segments": (max(r.segment for r in results) + 1) if results else 0,
            "focal": float(results[-1].focal) if results else 0.0,
            "focal_first": next((float(r.focal) for r in results if r.focal > 0), 0.0),
            "focal_frame": next((r.frame_index for r in results if r.focal > 0), -1)}
@@ -503,6 +504,9 @@ def summary_lines(rep):
     out = ["%s: %d frames %dx%d, %d tracking, %d lost, %d with a pose, %d keyframes"
            % (rep["name"], rep["frames"], rep["width"], rep["height"], rep["tracked"], rep["lost"],
               rep["with_pose"], rep["keyframes"])]
+    if rep.get("segments", 1) > 1:
+        out.append("%d segments (re-initialised after a loss): scale and origin of each later segment "
+                   "only continued from the motion before the gap" % rep["segments"])
     if "ate_rmse" in rep:
         out.append("ATE after Sim3 alignment: RMSE %.4f, median %.4f, max %.4f (scale %.4f, %d poses)"
                    % (rep["ate_rmse"], rep["ate_median"], rep["ate_max"], rep["scale"], rep["count"]))

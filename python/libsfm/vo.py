@@ -36,7 +36,7 @@ class FrameResult:
     __slots__ = ("timestamp_ns", "frame_index", "state", "quality", "has_pose", "is_keyframe",
                  "R_cw", "t_cw", "R_wc", "c_w", "covariance", "n_features", "n_matches",
                  "n_inliers", "n_map_points", "n_keyframes", "degraded", "stage_seconds",
-                 "median_parallax_deg", "focal")
+                 "median_parallax_deg", "focal", "segment")
 
     def __init__(self, r):
         self.timestamp_ns = int(r.timestamp_ns)
@@ -59,6 +59,7 @@ class FrameResult:
         self.stage_seconds = dict(zip(STAGES, list(r.stage_seconds)))
         self.median_parallax_deg = float(r.median_parallax_deg)
         self.focal = float(r.focal)
+        self.segment = int(r.segment)
 
 
 @ffi.callback("double(void *)")

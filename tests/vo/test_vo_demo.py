@@ -97,3 +97,40 @@ def test_demo_self_calibrated(rec):
     assert r["ate_rmse"] < 0.08, r["ate_rmse"]
     # before the focal length is known no frame is tracked
     assert all(x.state != "tracking" for x in r["results"][:r["focal_frame"]])
+
+
+def test_demo_loss_and_new_segment(rec):
+    """Frames 100-107 blanked (a covered lens): those frames are lost, with
+    no pose; three lost frames drop the map; once the frames come back the
+    pipeline re-initialises and reports a new segment (result.segment 1),
+    which it tracks again. Each segment on its own matches the truth after
+    its own Sim3 alignment; the second's scale, carried over from the speed
+    before the gap, is compared with the first's (measured: ratio 1.008 on
+    this steady loop, segment ATE RMSE 0.0037 / 0.0043 over 97 / 88 poses)."""
+    from libsfm import VisualOdometry
+    vo = VisualOdometry(640, 480, rec.camera[:4], max_features=500, window=5,
+                        n_levels=3, point_min_parallax_deg=1.0)
+    res = []
+    for i, (ts, path) in enumerate(rec.frames[:200]):
+        img = replay._load_gray(path)
+        if 100 <= i < 108:
+            img = np.zeros_like(img)
+        res.append(vo.push(img, ts, gravity=rec.gravity[i]))
+    assert all(r.state == "lost" and not r.has_pose for r in res[100:103])
+    assert all(not r.has_pose for r in res[100:108])
+    assert all(r.segment == 0 for r in res[:100])
+    back = [r for r in res[108:] if r.state == "tracking"]
+    assert len(back) >= 70 and all(r.segment == 1 for r in back)
+    # never a pose of the new segment before it is initialised
+    assert all(r.segment == 1 for r in res[108:] if r.has_pose and r.state == "tracking")
+    scales = []
+    for seg, sel in ((0, res[:100]), (1, back)):
+        est = [(r.R_wc, r.c_w) for r in sel if r.has_pose]
+        gt = [rec.gt_index[r.frame_index] for r in sel if r.has_pose]
+        ev = replay.evaluate(est, gt)
+        print("\nsegment %d: %d poses, ATE RMSE %.4f" % (seg, ev["count"], ev["ate_rmse"]))
+        assert ev["ate_rmse"] < 0.08, (seg, ev["ate_rmse"])
+        scales.append(ev["scale"])
+    ratio = scales[1] / scales[0]
+    print("\nsegment scales %.4f %.4f ratio %.3f" % (scales[0], scales[1], ratio))
+    assert 0.5 < ratio < 2.0, ratio
