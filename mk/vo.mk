@@ -51,7 +51,7 @@ test-vo-demo: all vo-deps $(VO_SEQ)/ground_truth.txt $(VO_FISH)/ground_truth.txt
 	VO_SEQ=$(VO_SEQ) VO_FISH=$(VO_FISH) PYTHONPATH=python $(PYTHON) -m pytest -q tests/vo/test_vo_demo.py tests/vo/test_vo_replay.py tests/vo/test_vo_fisheye.py
 
 test-vo-kitti: all vo-deps
-	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py
+	VO_KITTI=$(VO_KITTI) PYTHONPATH=python $(PYTHON) -m pytest -q -s tests/vo/test_vo_kitti.py tests/vo/test_vo_stills.py
 
 .PHONY: demo-vo demo-vo-selfcal vo-deps test-vo-demo test-vo-kitti
 
