@@ -108,6 +108,82 @@ SFM_API int sfm_r2r_solve(const sfm_r2r_step *steps, int n_steps,
                           sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS],
                           void *ws, size_t ws_size);
 
+/* ---- Refinement ------------------------------------------------------------
+ * sfm_r2r_refine: maximum-likelihood (C, p) from an initial transform over
+ * every measurement of a sequence (any number of steps, at least six scalar
+ * equations in all), by Levenberg-Marquardt through the library's one driver.
+ * Residuals, whitened by the measurement's standard deviation:
+ *   distance  (|w| - d) / sigma_d,                w = C t2 + p - t1;
+ *   bearing   (e1 . u, e2 . u) / sigma_b,          u the predicted unit
+ *             bearing (R1^T w / |w| for b1, R2^T (C^T (t1 - p) - t2) / |w|
+ *             for b2), e1, e2 an orthonormal basis of the tangent plane of
+ *             the measured bearing: two residuals per bearing, the sine of
+ *             the angular error along each (radians for small errors).
+ * Parameters: C on SO(3), updated on the left, C <- exp([w]x) C (w radians,
+ * expressed in {1}); p in R^3 (units of the positions).
+ * cov (may be NULL): the 6 x 6 row-major covariance of (w, p) in that order,
+ * the inverse of the Gauss-Newton matrix J^T J of the whitened residuals at
+ * the solution (so it is in the units of sigma_d and sigma_b; with squared
+ * loss and correct sigmas it is the Cramer-Rao bound at the estimate).
+ * The truth then lies at w = log(C_true C^T), p_true - p.
+ * opt may be NULL (sfm_r2r_refine_default_options). out may alias init;
+ * cov and stats may be NULL.
+ * Returns: SFM_OK; SFM_E_ARGUMENT (NULL steps/init/out, n_steps < 1, a has
+ * mask with other bits, fewer than six equations, a zero bearing, a distance
+ * not positive, R1, R2 or init->C not a rotation within 1e-6, sigma_d or
+ * sigma_b not positive, a bad option); SFM_E_NONFINITE (NaN/Inf in a
+ * measured step, init or options); SFM_E_SINGULAR (the robots coincide at a
+ * step under init: no bearing, no distance gradient); SFM_E_NO_CONVERGENCE
+ * (the result left SO(3)); SFM_E_DEGENERATE (the measurements do
+ * not determine (C, p) at the solution: the Gauss-Newton matrix is singular,
+ * as when the robots stand still); nothing is written on failure.
+ * Stack: under 4 KiB; no workspace. */
+
+/* Why the refinement stopped (values pinned, the driver's order). */
+typedef enum sfm_r2r_stop {
+    SFM_R2R_STOP_NONE = 0,
+    SFM_R2R_STOP_GRADIENT = 1,       /* max |gradient| <= gradient_tolerance */
+    SFM_R2R_STOP_FUNCTION = 2,       /* relative cost change <= function_tolerance */
+    SFM_R2R_STOP_STEP = 3,           /* relative step <= step_tolerance */
+    SFM_R2R_STOP_MAX_ITERATIONS = 4, /* max_iterations steps tried */
+    SFM_R2R_STOP_TRUST_REGION = 5,   /* the damping could not be lowered further */
+    SFM_R2R_STOP_INT_SIZE_ = 0x7fffffff
+} sfm_r2r_stop;
+
+/* Robust losses of the refinement (values pinned, as sfm_ba_options.loss). */
+#define SFM_R2R_LOSS_SQUARED 0
+#define SFM_R2R_LOSS_HUBER 1
+#define SFM_R2R_LOSS_CAUCHY 2
+
+typedef struct sfm_r2r_refine_options {
+    double sigma_d;            /* distance standard deviation, > 0 (units of t1, t2) */
+    double sigma_b;            /* bearing standard deviation, > 0 (radians) */
+    int max_iterations;        /* >= 0 (0: cost and covariance at init) */
+    double function_tolerance; /* >= 0, relative cost change */
+    double gradient_tolerance; /* >= 0, max |gradient| of the whitened cost */
+    double step_tolerance;     /* >= 0, relative step */
+    int loss;                  /* SFM_R2R_LOSS_* on the whitened residuals of a
+                                  measurement (|r|^2: 1 or 2 entries) */
+    double loss_scale;         /* > 0 for a robust loss (in sigmas) */
+} sfm_r2r_refine_options;
+
+typedef struct sfm_r2r_refine_stats {
+    int iterations;        /* steps tried */
+    int successful_steps;  /* steps accepted */
+    double initial_cost;   /* 1/2 sum of rho(|r|^2) over the measurements, at init */
+    double final_cost;     /* the same at the result */
+    sfm_r2r_stop stop_reason;
+    int n_equations;       /* scalar residuals (1 per distance, 2 per bearing) */
+} sfm_r2r_refine_stats;
+
+/* sigma_d 0.01, sigma_b 0.01 rad, 50 iterations, tolerances 1e-12 (function),
+ * 1e-12 (gradient), 1e-12 (step), squared loss, loss_scale 3.
+ * Returns SFM_OK, SFM_E_ARGUMENT (NULL). */
+SFM_API int sfm_r2r_refine_default_options(sfm_r2r_refine_options *opt);
+SFM_API int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transform *init,
+                           const sfm_r2r_refine_options *opt, sfm_r2r_transform *out,
+                           double *cov, sfm_r2r_refine_stats *stats);
+
 #ifdef __cplusplus
 }
 #endif
