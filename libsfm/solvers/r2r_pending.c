@@ -1,0 +1,56 @@
+/*
+ * PLACEHOLDERS, to be deleted when the base-system solvers are merged.
+ *
+ * One descriptor per base system whose solver file (libsfm/solvers/
+ * r2r_<name>.c) is not on this branch yet, so that the registry table in
+ * r2r_solve.c links. Each returns SFM_E_UNSUPPORTED; sfm_r2r_solve passes
+ * that status on. Remove an entry when its r2r_<name>.c lands (the two
+ * definitions would otherwise collide at link time).
+ */
+#include "sfm/sfm_common.h"
+#include "solvers/r2r_internal.h"
+
+static int sfmi_r2r_pending_solve(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
+{
+    (void)steps;
+    (void)out;
+    (void)ws;
+    return SFM_E_UNSUPPORTED;
+}
+
+#define SFMI_R2R_PENDING(var, sys, n, p0, p1, p2, p3, p4, p5, nsol)                         \
+    const sfmi_r2r_system_desc var = {sys, n, {p0, p1, p2, p3, p4, p5}, nsol, 0,           \
+                                      sfmi_r2r_pending_solve, "pending"}
+
+#define D_ SFM_R2R_D
+#define B1_ SFM_R2R_B1
+#define B2_ SFM_R2R_B2
+
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1b2_d, SFM_R2R_SYS_DB1B2_D, 2, D_ | B1_ | B2_, D_, 0, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_b1b2_b1, SFM_R2R_SYS_B1B2_B1, 2, B1_ | B2_, B1_, 0, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_b1b2_d_d, SFM_R2R_SYS_B1B2_D_D, 3, B1_ | B2_, D_, D_, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1_db1, SFM_R2R_SYS_DB1_DB1, 2, D_ | B1_, D_ | B1_, 0, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1_db2, SFM_R2R_SYS_DB1_DB2, 2, D_ | B1_, D_ | B2_, 0, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1_b1_d, SFM_R2R_SYS_DB1_B1_D, 3, D_ | B1_, B1_, D_, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1_b2_d, SFM_R2R_SYS_DB1_B2_D, 3, D_ | B1_, B2_, D_, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-a */
+SFMI_R2R_PENDING(sfmi_r2r_db1_d_d_d, SFM_R2R_SYS_DB1_D_D_D, 4, D_ | B1_, D_, D_, D_, 0, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_b1_b1_b1, SFM_R2R_SYS_B1_B1_B1, 3, B1_, B1_, B1_, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_b1_b1_b2, SFM_R2R_SYS_B1_B1_B2, 3, B1_, B1_, B2_, 0, 0, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_b1_b1_d_d, SFM_R2R_SYS_B1_B1_D_D, 4, B1_, B1_, D_, D_, 0, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_b1_b2_d_d, SFM_R2R_SYS_B1_B2_D_D, 4, B1_, B2_, D_, D_, 0, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_b1_d_d_d_d, SFM_R2R_SYS_B1_D_D_D_D, 5, B1_, D_, D_, D_, D_, 0, 0);
+/* PLACEHOLDER r2r-b */
+SFMI_R2R_PENDING(sfmi_r2r_d6, SFM_R2R_SYS_D6, 6, D_, D_, D_, D_, D_, D_, 0);
