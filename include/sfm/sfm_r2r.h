@@ -28,6 +28,7 @@
 #define SFM_R2R_H
 
 #include "sfm/sfm_common.h"
+#include "sfm/sfm_ransac.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -183,6 +184,57 @@ SFM_API int sfm_r2r_refine_default_options(sfm_r2r_refine_options *opt);
 SFM_API int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transform *init,
                            const sfm_r2r_refine_options *opt, sfm_r2r_transform *out,
                            double *cov, sfm_r2r_refine_stats *stats);
+
+/* ---- Robust estimation -----------------------------------------------------
+ * sfm_r2r_ransac: (C, p) from a sequence whose measurements may hold gross
+ * outliers, by the library's RANSAC engine (sfm_ransac.h: SPRT, MSAC, LO).
+ * A datum is one measurement of one step (a distance, a bearing b1 or a
+ * bearing b2). A sample draws six distinct measurements (all of them when
+ * there are fewer) and takes them in drawn order while their equations add
+ * up to at most six, skipping a bearing that would overshoot; a sample that
+ * does not reach exactly six is degenerate. The measurements taken form the
+ * sub-sequence handed to sfm_r2r_solve, whose every solution is a hypothesis.
+ * Scoring: the normalised residual of each measurement under the
+ * hypothesis, |d_pred - d| / sigma_d for a distance, |b_pred - b| / sigma_b
+ * for a bearing (unit vectors; the angle for small errors), against
+ * opt->ransac.threshold (in sigmas). Local optimisation: sfm_r2r_refine on
+ * the inliers under a Cauchy loss of scale threshold. Final model:
+ * sfm_r2r_refine (squared loss) on the inliers of the winner, inliers
+ * re-collected and refit until they stop changing (at most 4 refits).
+ * The engine's stopping rule counts samples of six measurements, which
+ * overestimates the draws needed when fewer are taken (bearings): the
+ * iteration count errs on the safe side.
+ * inliers (may be NULL): n_steps has-masks, the inlier measurements of each
+ * step. cov (may be NULL): the final refit's 6 x 6 covariance of (w, p) as
+ * for sfm_r2r_refine; stats->covariance holds it too (cov_dim 6), and
+ * stats->num_inliers counts inlier measurements.
+ * opt may be NULL (sfm_r2r_ransac_default_options).
+ * Returns the number of inlier measurements (>= 1), or SFM_E_ARGUMENT (as for
+ * sfm_r2r_refine, bad RANSAC options), SFM_E_NONFINITE, SFM_E_WORKSPACE,
+ * SFM_E_UNSUPPORTED (every sample fell on a base system this build does not
+ * solve), SFM_E_NO_CONVERGENCE (no hypothesis found), SFM_E_NO_MODEL (the
+ * winner's inliers carry no equation beyond a minimal sample: nothing
+ * confirms it), SFM_E_DEGENERATE (the inliers do not determine (C, p)).
+ * Nothing is written on failure. */
+typedef struct sfm_r2r_ransac_options {
+    sfm_r2r_refine_options refine; /* sigmas; the refits' iterations and tolerances
+                                      (refine.loss is ignored) */
+    sfm_ransac_options ransac;     /* threshold in sigmas; wide_mult and polish
+                                      are not used */
+} sfm_r2r_ransac_options;
+
+/* refine: sfm_r2r_refine_default_options; ransac: sfm_ransac_default_options
+ * with threshold 3 sigmas and 2000 iterations at most.
+ * Returns SFM_OK, SFM_E_ARGUMENT (NULL). */
+SFM_API int sfm_r2r_ransac_default_options(sfm_r2r_ransac_options *opt);
+/* Bytes of ws for n_steps steps (any has masks); 0 when n_steps is out of
+ * range (1..SFM_R2R_RANSAC_MAX_STEPS). */
+#define SFM_R2R_RANSAC_MAX_STEPS 100000
+SFM_API size_t sfm_r2r_ransac_workspace_size(int n_steps);
+SFM_API int sfm_r2r_ransac(const sfm_r2r_step *steps, int n_steps,
+                           const sfm_r2r_ransac_options *opt, sfm_r2r_transform *out,
+                           unsigned *inliers, double *cov, sfm_ransac_stats *stats, void *ws,
+                           size_t ws_size);
 
 #ifdef __cplusplus
 }
