@@ -10,9 +10,11 @@
  * three bilinear equations in C alone. On the Cayley form of C they are
  * three quadrics with 8 common roots (the Bezout bound, reached for generic
  * data): the generated action-matrix solver sfmi_tmpl_sys10 returns them.
- * Rotations by exactly pi have no Cayley vector; one that close to pi is
- * recovered with a correspondingly large vector (and lost only within about
- * 1e-6 rad of pi).
+ * Rotations by exactly pi have no Cayley vector; near pi the vector is
+ * large and the template's roots lose digits, as they do when two roots
+ * nearly meet. Each root is therefore polished by two Gauss-Newton steps
+ * on the three equations over a rotation increment, C <- cay(delta/2) C,
+ * whose Jacobian rows are (C v_k) x u_k.
  * Stack: the template's, about 10.5 KB; no workspace.
  */
 #include <math.h>
@@ -20,6 +22,47 @@
 #include "solvers/generated/r2r_tmpl.h"
 #include "solvers/r2r_axis.h"
 #include "solvers/r2r_internal.h"
+
+/* Cayley rotation (1 + s's) C = (1 - s's) I + 2 [s]x + 2 s s^T. */
+static void cayley(const double s[3], double C[9])
+{
+    double ss = sfmi_dot3(s, s);
+    double S[9] = {0.0, -s[2], s[1], s[2], 0.0, -s[0], -s[1], s[0], 0.0};
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[3 * r + c] = ((r == c ? 1.0 - ss : 0.0) + 2.0 * S[3 * r + c] + 2.0 * s[r] * s[c]) /
+                           (1.0 + ss);
+}
+
+/* Gauss-Newton on u_k^T C v_k = c_k (inputs as packed for the template). */
+static void polish(const double *in, double C[9])
+{
+    for (int iter = 0; iter < 2; iter++) {
+        double J[3][3], f[3];
+        for (int k = 0; k < 3; k++) {
+            const double *u = in + 7 * k, *v = u + 3;
+            double w[3];
+            sfmi_matvec3(C, v, w);
+            f[k] = sfmi_dot3(u, w) - u[6];
+            sfmi_cross3(w, u, J[k]);
+        }
+        double a[3], b[3], c[3];
+        sfmi_cross3(J[1], J[2], a);
+        sfmi_cross3(J[2], J[0], b);
+        sfmi_cross3(J[0], J[1], c);
+        double det = sfmi_dot3(J[0], a);
+        double jn = sfmi_dot3(J[0], J[0]) + sfmi_dot3(J[1], J[1]) + sfmi_dot3(J[2], J[2]);
+        if (!(fabs(det) > 1e-9 * jn * sqrt(jn)))
+            return;
+        double h[3], R[9], Cn[9];
+        for (int i = 0; i < 3; i++)
+            h[i] = -0.5 * (f[0] * a[i] + f[1] * b[i] + f[2] * c[i]) / det;
+        cayley(h, R);
+        sfmi_matmul3(R, C, Cn);
+        for (int i = 0; i < 9; i++)
+            C[i] = Cn[i];
+    }
+}
 
 static int solve_db1_d_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
 {
@@ -41,13 +84,9 @@ static int solve_db1_d_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, do
         return m;
     int n = 0;
     for (int j = 0; j < m; j++) {
-        const double *sv = sol + 3 * j;
-        double ss = sfmi_dot3(sv, sv), C[9];
-        double S[9] = {0.0, -sv[2], sv[1], sv[2], 0.0, -sv[0], -sv[1], sv[0], 0.0};
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                C[3 * r + c] = ((r == c ? 1.0 - ss : 0.0) + 2.0 * S[3 * r + c] +
-                                2.0 * sv[r] * sv[c]) / (1.0 + ss);
+        double C[9];
+        cayley(sol + 3 * j, C);
+        polish(in, C);
         sfmi_r2r_emit(steps, 4, C, p, out, &n);
     }
     return n;
