@@ -79,6 +79,37 @@ def problems():
         "Three equations u_k^T C v_k = c_k on a rotation C in Cayley form,\n"
         " * (1 + s's) C = (1 - s's) I + 2 [s]x + 2 s s^T (8 solutions, Bezout bound).\n"
         " * Inputs per equation k: u_k[3], v_k[3], c_k."))
+    # --- r2r B1_B1_B1: bearings b1 at three steps (p = l u0) ---
+    l, m1, m2 = sp.symbols("l m1 m2")
+    a = sp.symbols("a0:4")
+    b = sp.symbols("b0:4")
+    c = sp.symbols("c0:7")
+    eqs = [m1**2 + l**2 + a[0] * l * m1 + a[1] * l + a[2] * m1 + a[3],
+           m2**2 + l**2 + b[0] * l * m2 + b[1] * l + b[2] * m2 + b[3],
+           l**2 + c[0] * l * m1 + c[1] * l * m2 + c[2] * m1 * m2 + c[3] * l + c[4] * m1 +
+           c[5] * m2 + c[6]]
+    out.append(Problem(
+        "b1_b1_b1", [l, m1, m2], list(a) + list(b) + list(c), eqs,
+        "Robot-to-robot B1_B1_B1 after eliminating C: with p = l u0 and\n"
+        " * a_k = t1_k - l u0 + m_k u_k = C t2_k, the equations |a_1|^2 = |t2_1|^2,\n"
+        " * |a_2|^2 = |t2_2|^2, a_1.a_2 = t2_1.t2_2 (unit u's), coefficients as inputs:\n"
+        " * m1^2 + l^2 + a0 l m1 + a1 l + a2 m1 + a3, m2^2 + l^2 + b0 l m2 + b1 l + b2 m2 + b3,\n"
+        " * l^2 + c0 l m1 + c1 l m2 + c2 m1 m2 + c3 l + c4 m1 + c5 m2 + c6."))
+    # --- r2r B1_B1_B2: b1 at steps 0 and 1, b2 at step 2 ---
+    l, m, n_ = sp.symbols("l m n")
+    a = sp.symbols("a0:4")
+    b = sp.symbols("b0:3")
+    c = sp.symbols("c0:5")
+    eqs = [m**2 + l**2 + a[0] * l * m + a[1] * l + a[2] * m + a[3],
+           l**2 - n_**2 + b[0] * l + b[1] * n_ + b[2],
+           l**2 + c[0] * l * m + c[1] * l + c[2] * m + c[3] * n_ + c[4]]
+    out.append(Problem(
+        "b1_b1_b2", [l, m, n_], list(a) + list(b) + list(c), eqs,
+        "Robot-to-robot B1_B1_B2 after eliminating C: with p = l u0,\n"
+        " * a = t1_1 - l u0 + m u1 = C t2_1 and b = t1_2 - l u0 = C (t2_2 + n w),\n"
+        " * the equations |a|^2 = |t2_1|^2, |b|^2 = |t2_2 + n w|^2, a.b = t2_1.(t2_2 + n w)\n"
+        " * (unit u's and w), coefficients as inputs: m^2 + l^2 + a0 l m + a1 l + a2 m + a3,\n"
+        " * l^2 - n^2 + b0 l + b1 n + b2, l^2 + c0 l m + c1 l + c2 m + c3 n + c4."))
     return out
 
 

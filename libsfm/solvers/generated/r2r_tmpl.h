@@ -24,6 +24,16 @@ int sfmi_tmpl_upright3pt(const double *in, double *sol);
 #define SFMI_TMPL_SYS10_NIN 21
 int sfmi_tmpl_sys10(const double *in, double *sol);
 
+#define SFMI_TMPL_B1_B1_B1_NSOL 8 /* basis size */
+#define SFMI_TMPL_B1_B1_B1_NX 3
+#define SFMI_TMPL_B1_B1_B1_NIN 15
+int sfmi_tmpl_b1_b1_b1(const double *in, double *sol);
+
+#define SFMI_TMPL_B1_B1_B2_NSOL 8 /* basis size */
+#define SFMI_TMPL_B1_B1_B2_NX 3
+#define SFMI_TMPL_B1_B1_B2_NIN 12
+int sfmi_tmpl_b1_b1_b2(const double *in, double *sol);
+
 /* The shared back end (libsfm/solvers/r2r_template.c): LU-solve the
  * template, form the action matrix, eigendecompose, read the real solutions. */
 int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,

@@ -1,0 +1,37 @@
+/*
+ * The bearing/distance-only robot-to-robot base systems (B1_B1_B1,
+ * B1_B1_B2, B1_B1_D_D, B1_B2_D_D, B1_D_D_D_D) on random noise-free scenes:
+ * the true (C, p) must be among the returned solutions in at least 99.9 %
+ * of the instances, every returned solution must be a rotation that
+ * reproduces the measurements, and no more solutions than the complex count.
+ */
+#include "r2r_sim.h"
+
+static void check_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
+                         double *ws)
+{
+    r2r_sim_stats st = r2r_sim_run(t, desc, trials, 1e-6, ws);
+    SFM_TEST_LOG("%s: truth in %d of %d (%.3f %%), status failures %d, most solutions %d, "
+                 "bad solutions %d, worst error %.2g",
+                 desc->name, st.found, st.trials, 100.0 * st.found / st.trials, st.failed_status,
+                 st.most, st.spurious, st.worst_found);
+    SFM_CHECK_MSG(st.found * 1000 >= st.trials * 999, "%s: truth in %d of %d", desc->name,
+                  st.found, st.trials);
+    SFM_CHECK(st.most <= desc->max_solutions);
+    SFM_CHECK_EQ_INT(st.spurious, 0);
+}
+
+SFM_TEST(r2r_b1_b1_b1_truth_among_solutions)
+{
+    check_system(t, &sfmi_r2r_b1_b1_b1, SFM_TEST_ITERS(3000), NULL);
+}
+
+SFM_TEST(r2r_b1_b1_b2_truth_among_solutions)
+{
+    check_system(t, &sfmi_r2r_b1_b1_b2, SFM_TEST_ITERS(3000), NULL);
+}
+
+SFM_TEST(r2r_b1_b1_d_d_truth_among_solutions)
+{
+    check_system(t, &sfmi_r2r_b1_b1_d_d, SFM_TEST_ITERS(3000), NULL);
+}
