@@ -26,28 +26,6 @@ static int sfmi_r2r_pending_solve(const sfm_r2r_step *steps, sfm_r2r_transform *
 #define B1_ SFM_R2R_B1
 #define B2_ SFM_R2R_B2
 
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1b2_d, SFM_R2R_SYS_DB1B2_D, 2, D_ | B1_ | B2_, D_, 0, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_b1b2_b1, SFM_R2R_SYS_B1B2_B1, 2, B1_ | B2_, B1_, 0, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_b1b2_d_d, SFM_R2R_SYS_B1B2_D_D, 3, B1_ | B2_, D_, D_, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1_db1, SFM_R2R_SYS_DB1_DB1, 2, D_ | B1_, D_ | B1_, 0, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1_db2, SFM_R2R_SYS_DB1_DB2, 2, D_ | B1_, D_ | B2_, 0, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1_b1_d, SFM_R2R_SYS_DB1_B1_D, 3, D_ | B1_, B1_, D_, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1_b2_d, SFM_R2R_SYS_DB1_B2_D, 3, D_ | B1_, B2_, D_, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-a */
-SFMI_R2R_PENDING(sfmi_r2r_db1_d_d_d, SFM_R2R_SYS_DB1_D_D_D, 4, D_ | B1_, D_, D_, D_, 0, 0, 0);
-/* PLACEHOLDER r2r-b */
-SFMI_R2R_PENDING(sfmi_r2r_b1_b1_b1, SFM_R2R_SYS_B1_B1_B1, 3, B1_, B1_, B1_, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-b */
-SFMI_R2R_PENDING(sfmi_r2r_b1_b1_b2, SFM_R2R_SYS_B1_B1_B2, 3, B1_, B1_, B2_, 0, 0, 0, 0);
-/* PLACEHOLDER r2r-b */
-SFMI_R2R_PENDING(sfmi_r2r_b1_b1_d_d, SFM_R2R_SYS_B1_B1_D_D, 4, B1_, B1_, D_, D_, 0, 0, 0);
 /* PLACEHOLDER r2r-b */
 SFMI_R2R_PENDING(sfmi_r2r_b1_b2_d_d, SFM_R2R_SYS_B1_B2_D_D, 4, B1_, B2_, D_, D_, 0, 0, 0);
 /* PLACEHOLDER r2r-b */
