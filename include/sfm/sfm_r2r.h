@@ -83,26 +83,54 @@ typedef enum sfm_r2r_system {
 
 /* ---- The measurement model ---------------------------------------------
  * Predicted distance and bearings of one step under (C, p), as defined
- * above (unit bearings). Any output may be NULL.
+ * above (unit bearings). Any output may be NULL; step->has is ignored and
+ * R1, R2 are used as given (not checked to be rotations).
  * Returns: SFM_OK, SFM_E_ARGUMENT (NULL step or T), SFM_E_NONFINITE,
- * SFM_E_SINGULAR (the robots coincide: no bearing). */
+ * SFM_E_SINGULAR (the robots coincide: no bearing; a distance alone is
+ * still written, 0). Nothing is written on failure. */
 SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T,
                             double *d, sfm_vec3 *b1, sfm_vec3 *b2);
 
 /* ---- Minimal solvers -----------------------------------------------------
+ * Input checks of both functions: steps != NULL, n_steps >= 1; has only
+ * SFM_R2R_D | SFM_R2R_B1 | SFM_R2R_B2 bits (a step with has == 0 is
+ * ignored); R1, R2 rotations (|R R^T - I| <= 1e-6 entrywise, det > 0);
+ * distances > 0; bearings nonzero. steps[0] is usually the identity
+ * ego-motion (it defines frames {1}, {2}), but nothing requires it: the
+ * answer is (C, p) in the frames the ego-motions are expressed in.
+ * Steps where both robots are at the same positions (t1 and t2 within 1e-9
+ * of the scene's scale) observe one relative vector and are merged first: a
+ * measurement repeated there adds no equation.
+ *
  * sfm_r2r_classify: the base system a sequence of exactly six scalar
  * equations reduces to. Returns the sfm_r2r_system (>= 1), SFM_E_ARGUMENT
- * (NULL, n_steps < 1, not six equations), SFM_E_NONFINITE.
+ * (bad input, not six equations), SFM_E_NONFINITE, SFM_E_DEGENERATE (fewer
+ * than six once repeated measurements at the same positions are merged).
  *
- * sfm_r2r_solve: every real (C, p) consistent with the measurements.
- * With exactly six equations, the base system's solutions; with more, a
- * minimal subset is solved and the candidates are verified on the rest
- * (ordered by their residual on all measurements, best first; candidates
- * that contradict the rest beyond the noise are dropped). Degenerate motion
- * (robots standing still, parallel lines with distances only, ...) is
- * SFM_E_DEGENERATE, never an answer.
+ * sfm_r2r_solve: every real (C, p) consistent with the measurements, best
+ * first (RMS of the residuals (d_pred - d) / d and |b_pred - b| over the
+ * scalar equations, through sfm_r2r_predict). With exactly six equations,
+ * the base system's real solutions (a candidate scoring above 1e-4 is a
+ * numerical artefact and dropped). With more, a minimal subset is solved
+ * (base systems in enum order, each step the one farthest from the steps
+ * already chosen: see libsfm/solvers/r2r_solve.c) and its candidates are
+ * kept when they score at most 0.05 and at most 4 times the best; when none
+ * is kept the next subset is tried, and 0 is returned when no subset
+ * yields one. Degenerate motion is SFM_E_DEGENERATE, never an answer:
+ * fewer than six equations once steps at the same positions are merged
+ * (both robots standing still, only turning), distances only with either
+ * robot's positions on one straight line (parallel straight-line motion,
+ * one robot still: a turn about that line keeps every distance), a base
+ * system whose equations are rank-deficient (DB1_DB1, DB1_DB2) or whose
+ * template is singular for these data. A base system not built in this
+ * library is SFM_E_UNSUPPORTED.
+ * out must hold SFM_R2R_MAX_SOLUTIONS; ws at least
+ * sfm_r2r_solve_workspace_size(n_steps) bytes (0 for n_steps < 1); out may
+ * not alias steps or ws. Nothing is written to out on failure. Stack:
+ * under 4 KiB plus the base solver's (at most 16 KiB).
  * Returns: the number of transforms written (0..SFM_R2R_MAX_SOLUTIONS),
- * SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE. */
+ * SFM_E_ARGUMENT (bad input, NULL out or ws, fewer than six equations),
+ * SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE, SFM_E_UNSUPPORTED. */
 SFM_API int sfm_r2r_classify(const sfm_r2r_step *steps, int n_steps);
 SFM_API size_t sfm_r2r_solve_workspace_size(int n_steps);
 SFM_API int sfm_r2r_solve(const sfm_r2r_step *steps, int n_steps,

@@ -9,6 +9,11 @@
 
 #include "sfm/sfm_r2r.h"
 
+static inline double sfmi_r2r_max(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 static inline double sfmi_r2r_dot(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

@@ -1,0 +1,788 @@
+/*
+ * The robot-to-robot dispatcher (sfm_r2r_predict, sfm_r2r_classify,
+ * sfm_r2r_solve) against scenes built from world geometry: both robots get
+ * world orientations and positions at every step; ego-motions, the truth
+ * (C, p) and the measurements are derived from those, never from the
+ * library's formulas.
+ *
+ * The reduction is checked without the base-system solvers: the truth
+ * mapped into the canonical frames must satisfy the canonical steps, and an
+ * oracle registry (each "solver" knows the world truth and finds the
+ * canonical frame by trying every re-referencing and exchange, then adds
+ * decoys) drives sfm_r2r_solve end to end. The solvers present on this
+ * build are run on every combination too; absent ones are skipped, with a
+ * line saying so.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "sfm/sfm_r2r.h"
+#include "sfm_test.h"
+#include "solvers/r2r_solve_internal.h"
+
+#define MAXS 20
+#define D_ SFM_R2R_D
+#define B1_ SFM_R2R_B1
+#define B2_ SFM_R2R_B2
+
+typedef struct scene {
+    int n;
+    double W1[MAXS][9], P1[MAXS][3], W2[MAXS][9], P2[MAXS][3]; /* body-to-world */
+    sfm_r2r_transform T;
+    sfm_r2r_step s[MAXS];
+} scene;
+
+static void mul(const double *A, const double *B, double *C)
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+}
+
+static void tmul(const double *A, const double *B, double *C) /* A^T B */
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            C[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
+}
+
+static void tmv(const double *A, const double *x, double *y) /* A^T x */
+{
+    for (int c = 0; c < 3; c++)
+        y[c] = A[c] * x[0] + A[3 + c] * x[1] + A[6 + c] * x[2];
+}
+
+static void mvec(const double *A, const double *x, double *y)
+{
+    for (int r = 0; r < 3; r++)
+        y[r] = A[3 * r] * x[0] + A[3 * r + 1] * x[1] + A[3 * r + 2] * x[2];
+}
+
+static double nrm(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/* Ego-motions, truth and measurements from the world poses in sc. */
+static void derive(scene *sc, const unsigned *has)
+{
+    tmul(sc->W1[0], sc->W2[0], sc->T.C.m);
+    double d0[3] = {sc->P2[0][0] - sc->P1[0][0], sc->P2[0][1] - sc->P1[0][1], sc->P2[0][2] - sc->P1[0][2]};
+    tmv(sc->W1[0], d0, sc->T.p.v);
+    for (int k = 0; k < sc->n; k++) {
+        sfm_r2r_step *s = sc->s + k;
+        memset(s, 0, sizeof *s);
+        double a[3], b[3], v[3];
+        tmul(sc->W1[0], sc->W1[k], s->R1.m);
+        tmul(sc->W2[0], sc->W2[k], s->R2.m);
+        for (int i = 0; i < 3; i++) {
+            a[i] = sc->P1[k][i] - sc->P1[0][i];
+            b[i] = sc->P2[k][i] - sc->P2[0][i];
+            v[i] = sc->P2[k][i] - sc->P1[k][i];
+        }
+        tmv(sc->W1[0], a, s->t1.v);
+        tmv(sc->W2[0], b, s->t2.v);
+        double d = nrm(v);
+        s->has = has[k];
+        s->d = d;
+        tmv(sc->W1[k], v, s->b1.v);
+        tmv(sc->W2[k], v, s->b2.v);
+        for (int i = 0; i < 3; i++) {
+            s->b1.v[i] /= d;
+            s->b2.v[i] /= -d;
+        }
+    }
+}
+
+/* Random poses a few metres apart (robots at least 0.5 m from each other). */
+static void make_scene(sfm_test_ctx *t, scene *sc, int n, const unsigned *has)
+{
+    sc->n = n;
+    for (int k = 0; k < n; k++) {
+        sfm_test_random_rotation(t, sc->W1[k]);
+        sfm_test_random_rotation(t, sc->W2[k]);
+        double dd;
+        do {
+            for (int i = 0; i < 3; i++) {
+                sc->P1[k][i] = sfm_test_uniform(t, -3.0, 3.0);
+                sc->P2[k][i] = sfm_test_uniform(t, -3.0, 3.0);
+            }
+            double v[3] = {sc->P2[k][0] - sc->P1[k][0], sc->P2[k][1] - sc->P1[k][1], sc->P2[k][2] - sc->P1[k][2]};
+            dd = nrm(v);
+        } while (dd < 0.5);
+    }
+    derive(sc, has);
+}
+
+static double terr(const sfm_r2r_transform *a, const sfm_r2r_transform *b)
+{
+    double e = 0.0;
+    for (int i = 0; i < 9; i++)
+        e = fmax(e, fabs(a->C.m[i] - b->C.m[i]));
+    for (int i = 0; i < 3; i++)
+        e = fmax(e, fabs(a->p.v[i] - b->p.v[i]));
+    return e;
+}
+
+/* max deviation of the predicted measurements from a step's own */
+static double step_residual(const sfm_r2r_step *s, const sfm_r2r_transform *T)
+{
+    double d;
+    sfm_vec3 b1, b2;
+    if (sfm_r2r_predict(s, T, &d, &b1, &b2) != SFM_OK)
+        return HUGE_VAL;
+    double e = 0.0;
+    if (s->has & D_)
+        e = fmax(e, fabs(d - s->d));
+    for (int i = 0; i < 3; i++) {
+        if (s->has & B1_)
+            e = fmax(e, fabs(b1.v[i] - s->b1.v[i] / nrm(s->b1.v)));
+        if (s->has & B2_)
+            e = fmax(e, fabs(b2.v[i] - s->b2.v[i] / nrm(s->b2.v)));
+    }
+    return e;
+}
+
+/* ---- The 14 patterns as the header names them, and every combination ---- */
+
+static const char *const sys_names[SFM_R2R_SYS_COUNT_] = {
+    "", "DB1B2_D", "B1B2_B1", "B1B2_D_D", "DB1_DB1", "DB1_DB2", "DB1_B1_D", "DB1_B2_D",
+    "DB1_D_D_D", "B1_B1_B1", "B1_B1_B2", "B1_B1_D_D", "B1_B2_D_D", "B1_D_D_D_D", "D6"};
+
+/* Parses "DB1_B2_D" into masks; returns the step count. */
+static int parse_name(const char *nm, unsigned *m)
+{
+    int n = 0;
+    if (!strcmp(nm, "D6")) { /* six distances */
+        for (int k = 0; k < 6; k++)
+            m[k] = D_;
+        return 6;
+    }
+    m[0] = 0;
+    for (const char *c = nm; *c; c++) {
+        if (*c == '_') {
+            m[++n] = 0;
+        } else if (*c == 'D') {
+            m[n] |= D_;
+        } else if (*c == 'B') {
+            m[n] |= c[1] == '1' ? B1_ : B2_;
+            c++;
+        }
+    }
+    return n + 1;
+}
+
+static int eqs(unsigned m) { return (m & 1u) + ((m & 2u) ? 2 : 0) + ((m & 4u) ? 2 : 0); }
+
+/* Histogram of the measured masks: the orbit key under reordering. */
+static void histogram(const unsigned *m, int n, int swap, int h[8])
+{
+    memset(h, 0, 8 * sizeof(int));
+    for (int i = 0; i < n; i++) {
+        unsigned x = m[i];
+        if (swap)
+            x = (x & 1u) | ((x & 2u) << 1) | ((x & 4u) >> 1);
+        if (x)
+            h[x]++;
+    }
+}
+
+/* The class of a six-equation sequence by definition: the named pattern
+ * whose histogram equals the sequence's, robots as given or exchanged.
+ * Writes how many patterns matched (1 for a partition). */
+static int expected_class(const unsigned *m, int n, int *matches)
+{
+    int hs[8], found = 0;
+    *matches = 0;
+    histogram(m, n, 0, hs);
+    for (int s = 1; s < SFM_R2R_SYS_COUNT_; s++) {
+        unsigned pm[6];
+        int pn = parse_name(sys_names[s], pm), h0[8], h1[8];
+        histogram(pm, pn, 0, h0);
+        histogram(pm, pn, 1, h1);
+        if (!memcmp(hs, h0, sizeof hs) || !memcmp(hs, h1, sizeof hs)) {
+            (*matches)++;
+            found = s;
+        }
+    }
+    return found;
+}
+
+/* Every has-mask sequence over six steps (steps may be empty) carrying six
+ * equations, in a fixed order (1391 of them), packed three bits per step. */
+#define MAX_COMBOS 1400
+static int combo_list[MAX_COMBOS], combo_count = -1;
+
+static int n_combos(void)
+{
+    if (combo_count < 0) {
+        combo_count = 0;
+        for (int code = 0; code < 8 * 8 * 8 * 8 * 8 * 8; code++) {
+            int e = 0, c = code;
+            for (int k = 0; k < 6; k++, c >>= 3)
+                e += eqs((unsigned)(c & 7));
+            if (e == 6 && combo_count < MAX_COMBOS)
+                combo_list[combo_count++] = code;
+        }
+    }
+    return combo_count;
+}
+
+static void combo(int i, unsigned m[6])
+{
+    int c = combo_list[i];
+    for (int k = 0; k < 6; k++, c >>= 3)
+        m[k] = (unsigned)(c & 7);
+}
+
+/* ---- An oracle registry ---------------------------------------------------- */
+
+static sfm_r2r_transform oracle_truth;
+static const sfm_r2r_step *oracle_steps;
+static int oracle_n, oracle_calls, oracle_singular;
+
+/* Canonical truth if the dispatcher re-referenced to step j (exchanged or
+ * not): the maps written out from the conventions. */
+static void oracle_map(int j, int swap, sfm_r2r_transform *o)
+{
+    const sfm_r2r_step *s = oracle_steps + j;
+    double Cs[9], ps[3], q[3], M[9];
+    const double *R1 = swap ? s->R2.m : s->R1.m, *t1 = swap ? s->t2.v : s->t1.v;
+    const double *R2 = swap ? s->R1.m : s->R2.m, *t2 = swap ? s->t1.v : s->t2.v;
+    if (swap) {
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                Cs[3 * r + c] = oracle_truth.C.m[3 * c + r];
+        mvec(Cs, oracle_truth.p.v, ps);
+        for (int i = 0; i < 3; i++)
+            ps[i] = -ps[i];
+    } else {
+        memcpy(Cs, oracle_truth.C.m, sizeof Cs);
+        memcpy(ps, oracle_truth.p.v, sizeof ps);
+    }
+    tmul(R1, Cs, M);
+    mul(M, R2, o->C.m);
+    mvec(Cs, t2, q);
+    for (int i = 0; i < 3; i++)
+        q[i] += ps[i] - t1[i];
+    tmv(R1, q, o->p.v);
+}
+
+static int oracle_solve(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws, int n)
+{
+    (void)ws;
+    oracle_calls++;
+    if (oracle_singular)
+        return SFM_E_SINGULAR;
+    if (!(steps[0].R1.m[0] == 1.0 && steps[0].R1.m[4] == 1.0 && steps[0].R2.m[8] == 1.0 &&
+          steps[0].t1.v[0] == 0.0 && steps[0].t2.v[2] == 0.0))
+        return 0; /* the canonical first step must be the identity */
+    for (int j = 0; j < oracle_n; j++)
+        for (int swap = 0; swap < 2; swap++) {
+            sfm_r2r_transform c;
+            oracle_map(j, swap, &c);
+            double e = 0.0;
+            for (int i = 0; i < n; i++)
+                e = fmax(e, step_residual(steps + i, &c));
+            if (e < 1e-9) {
+                /* two decoys around the truth, then the truth */
+                out[0] = c;
+                out[1] = c;
+                out[0].p.v[0] += 0.3;
+                out[1].C.m[0] = -out[1].C.m[0];
+                out[1].C.m[1] = -out[1].C.m[1];
+                out[1].C.m[2] = -out[1].C.m[2];
+                out[2] = c;
+                return 3;
+            }
+        }
+    return 0;
+}
+
+#define ORACLE(name, sys, n)                                                                     \
+    static int oracle_##name(const sfm_r2r_step *s, sfm_r2r_transform *o, double *ws)           \
+    {                                                                                            \
+        return oracle_solve(s, o, ws, n);                                                        \
+    }                                                                                            \
+    static const sfmi_r2r_system_desc odesc_##name = {sys, n, {0}, 3, 4, oracle_##name, #name}
+ORACLE(s1, 1, 2);
+ORACLE(s2, 2, 2);
+ORACLE(s3, 3, 3);
+ORACLE(s4, 4, 2);
+ORACLE(s5, 5, 2);
+ORACLE(s6, 6, 3);
+ORACLE(s7, 7, 3);
+ORACLE(s8, 8, 4);
+ORACLE(s9, 9, 3);
+ORACLE(s10, 10, 3);
+ORACLE(s11, 11, 4);
+ORACLE(s12, 12, 4);
+ORACLE(s13, 13, 5);
+ORACLE(s14, 14, 6);
+static const sfmi_r2r_system_desc *const oracle_table[SFM_R2R_SYS_COUNT_] = {
+    NULL, &odesc_s1, &odesc_s2, &odesc_s3, &odesc_s4, &odesc_s5, &odesc_s6, &odesc_s7,
+    &odesc_s8, &odesc_s9, &odesc_s10, &odesc_s11, &odesc_s12, &odesc_s13, &odesc_s14};
+
+static void oracle_set(const scene *sc)
+{
+    oracle_truth = sc->T;
+    oracle_steps = sc->s;
+    oracle_n = sc->n;
+    oracle_singular = 0;
+}
+
+static double ws_buf[4096];
+
+/* ---- Tests ------------------------------------------------------------------ */
+
+SFM_TEST(r2r_predict_matches_world_geometry)
+{
+    static scene sc;
+    unsigned has[MAXS];
+    for (int k = 0; k < MAXS; k++)
+        has[k] = 7;
+    double worst = 0.0;
+    for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
+        make_scene(t, &sc, 6, has);
+        for (int k = 0; k < 6; k++)
+            worst = fmax(worst, step_residual(sc.s + k, &sc.T));
+    }
+    SFM_CHECK_MSG(worst < 1e-12, "predicted vs world measurements: %g", worst);
+}
+
+SFM_TEST(r2r_predict_bad_inputs)
+{
+    static scene sc;
+    unsigned has[1] = {7};
+    make_scene(t, &sc, 1, has);
+    double d = -1.0;
+    sfm_vec3 b1 = {{9, 9, 9}}, b2 = {{9, 9, 9}};
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(NULL, &sc.T, &d, &b1, &b2), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(sc.s, NULL, &d, &b1, &b2), SFM_E_ARGUMENT);
+    sfm_r2r_transform bad = sc.T;
+    bad.p.v[1] = (double)NAN;
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(sc.s, &bad, &d, &b1, &b2), SFM_E_NONFINITE);
+    sfm_r2r_step st = sc.s[0];
+    st.t2.v[0] = HUGE_VAL;
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(&st, &sc.T, &d, &b1, &b2), SFM_E_NONFINITE);
+    /* robots at one place: a distance of zero, no bearing */
+    st = sc.s[0];
+    bad = sc.T;
+    for (int i = 0; i < 3; i++)
+        st.t1.v[i] = bad.C.m[3 * i] * st.t2.v[0] + bad.C.m[3 * i + 1] * st.t2.v[1] +
+                     bad.C.m[3 * i + 2] * st.t2.v[2] + bad.p.v[i];
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(&st, &bad, &d, &b1, NULL), SFM_E_SINGULAR);
+    SFM_CHECK(d == -1.0 && b1.v[0] == 9.0 && b2.v[0] == 9.0);
+    SFM_CHECK_EQ_INT(sfm_r2r_predict(&st, &bad, &d, NULL, NULL), SFM_OK);
+    SFM_CHECK(d < 1e-12);
+}
+
+SFM_TEST(r2r_classify_every_combination)
+{
+    static scene sc;
+    int total = n_combos(), bad_partition = 0, wrong = 0, per[SFM_R2R_SYS_COUNT_] = {0};
+    for (int i = 0; i < total; i++) {
+        unsigned m[6];
+        combo(i, m);
+        int matches, want = expected_class(m, 6, &matches);
+        bad_partition += matches != 1;
+        make_scene(t, &sc, 6, m);
+        int got = sfm_r2r_classify(sc.s, 6);
+        if (got != want)
+            wrong++;
+        else
+            per[got]++;
+    }
+    SFM_TEST_LOG("%d six-equation combinations over six steps", total);
+    SFM_CHECK_EQ_INT(bad_partition, 0);
+    SFM_CHECK_EQ_INT(wrong, 0);
+    for (int s = 1; s < SFM_R2R_SYS_COUNT_; s++)
+        SFM_CHECK_MSG(per[s] > 0, "no combination classified as %s", sys_names[s]);
+}
+
+SFM_TEST(r2r_classify_bad_inputs)
+{
+    static scene sc;
+    unsigned has[4] = {D_ | B1_, D_, D_, D_};
+    make_scene(t, &sc, 4, has);
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 4), SFM_R2R_SYS_DB1_D_D_D);
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(NULL, 4), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 0), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 3), SFM_E_ARGUMENT); /* five equations */
+    sc.s[3].has = D_ | B2_;
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 4), SFM_E_ARGUMENT); /* eight */
+    sc.s[3].has = D_;
+    sc.s[2].d = (double)NAN;
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 4), SFM_E_NONFINITE);
+    sc.s[2].d = -1.0;
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 4), SFM_E_ARGUMENT);
+    sc.s[2].d = 1.0;
+    /* the same distance twice where both robots stand: five equations */
+    sc.s[2].t1 = sc.s[1].t1;
+    sc.s[2].t2 = sc.s[1].t2;
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 4), SFM_E_DEGENERATE);
+}
+
+SFM_TEST(r2r_canonical_frames_hold_the_truth)
+{
+    static scene sc;
+    int total = n_combos(), stride = SFM_TEST_ITERS(10) == 10 ? 1 : 10, checked = 0;
+    double worst = 0.0, worst_back = 0.0;
+    int bad_pattern = 0, bad_ident = 0;
+    for (int i = 0; i < total; i += stride) {
+        unsigned m[6];
+        combo(i, m);
+        make_scene(t, &sc, 6, m);
+        sfmi_r2r_canon c;
+        int sys = sfmi_r2r_canonicalize(sc.s, m, 6, &c);
+        SFM_CHECK_EQ_INT(sys, sfm_r2r_classify(sc.s, 6));
+        if (sys < 1)
+            continue;
+        unsigned pm[6];
+        int pn = parse_name(sys_names[sys], pm);
+        bad_pattern += pn != c.n;
+        for (int k = 0; k < c.n && k < pn; k++)
+            bad_pattern += c.steps[k].has != pm[k];
+        for (int r = 0; r < 9; r++)
+            bad_ident += c.steps[0].R1.m[r] != (r % 4 == 0 ? 1.0 : 0.0) ||
+                         c.steps[0].R2.m[r] != (r % 4 == 0 ? 1.0 : 0.0);
+        bad_ident += nrm(c.steps[0].t1.v) != 0.0 || nrm(c.steps[0].t2.v) != 0.0;
+        sfm_r2r_transform Tc, Tb;
+        sfmi_r2r_to_canonical(&c, &sc.T, &Tc);
+        for (int k = 0; k < c.n; k++) {
+            worst = fmax(worst, step_residual(c.steps + k, &Tc));
+            if (c.steps[k].has & B1_)
+                worst = fmax(worst, fabs(nrm(c.steps[k].b1.v) - 1.0));
+        }
+        sfmi_r2r_from_canonical(&c, &Tc, &Tb);
+        worst_back = fmax(worst_back, terr(&Tb, &sc.T));
+        checked++;
+    }
+    SFM_TEST_LOG("%d combinations: canonical residual of the truth %.2g, round trip %.2g", checked,
+                 worst, worst_back);
+    SFM_CHECK_EQ_INT(bad_pattern, 0);
+    SFM_CHECK_EQ_INT(bad_ident, 0);
+    SFM_CHECK(worst < 1e-10);
+    SFM_CHECK(worst_back < 1e-12);
+}
+
+SFM_TEST(r2r_registry_matches_the_patterns)
+{
+    for (int s = 1; s < SFM_R2R_SYS_COUNT_; s++) {
+        const sfmi_r2r_system_desc *d = sfmi_r2r_table[s];
+        SFM_CHECK(d != NULL);
+        if (!d)
+            continue;
+        unsigned pm[6];
+        int pn = parse_name(sys_names[s], pm);
+        SFM_CHECK_EQ_INT(d->id, s);
+        SFM_CHECK_EQ_INT(d->n_steps, pn);
+        for (int k = 0; k < pn; k++)
+            SFM_CHECK_MSG(d->pattern[k] == pm[k], "%s step %d", sys_names[s], k);
+        SFM_CHECK(d->solve != NULL);
+    }
+}
+
+SFM_TEST(r2r_solve_oracle_every_combination)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    int total = n_combos(), stride = SFM_TEST_ITERS(10) == 10 ? 1 : 10, ok = 0, runs = 0;
+    size_t wsz = sfmi_r2r_solve_ws_size_with(oracle_table, 6);
+    SFM_CHECK(wsz <= sizeof ws_buf);
+    for (int i = 0; i < total; i += stride) {
+        unsigned m[6];
+        combo(i, m);
+        make_scene(t, &sc, 6, m);
+        oracle_set(&sc);
+        int n = sfmi_r2r_solve_with(oracle_table, sc.s, 6, out, ws_buf, wsz);
+        runs++;
+        /* the decoys fail the six equations: only the truth comes back */
+        if (n == 1 && terr(out, &sc.T) < 1e-9)
+            ok++;
+    }
+    SFM_TEST_LOG("truth alone returned in %d of %d", ok, runs);
+    SFM_CHECK_EQ_INT(ok, runs);
+}
+
+SFM_TEST(r2r_solve_oracle_long_sequences)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    unsigned has[MAXS];
+    int ok = 0, runs = 0, calls = 0;
+    for (int it = 0; it < SFM_TEST_ITERS(300); it++) {
+        int n = 7 + (int)(sfm_rng_uniform(&t->rng) * 14.0); /* 7..20 */
+        if (n > MAXS)
+            n = MAXS;
+        int all = it % 2 == 0;
+        for (int k = 0; k < n; k++)
+            has[k] = all ? 7u : 1u + (unsigned)(sfm_rng_uniform(&t->rng) * 7.0) % 7u;
+        make_scene(t, &sc, n, has);
+        oracle_set(&sc);
+        oracle_calls = 0;
+        size_t wsz = sfmi_r2r_solve_ws_size_with(oracle_table, n);
+        int r = sfmi_r2r_solve_with(oracle_table, sc.s, n, out, ws_buf, wsz);
+        runs++;
+        calls += oracle_calls;
+        if (r == 1 && terr(out, &sc.T) < 1e-9)
+            ok++;
+    }
+    SFM_TEST_LOG("7-20 steps: truth alone in %d of %d (%.2f subsets solved per call)", ok, runs,
+                 (double)calls / runs);
+    SFM_CHECK_EQ_INT(ok, runs);
+}
+
+/* A registry where only some systems are built: the subset search must
+ * reach them. */
+SFM_TEST(r2r_solve_oracle_partial_registry)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    static const sfmi_r2r_system_desc pend = {SFM_R2R_SYS_NONE, 0, {0}, 0, 0, NULL, "absent"};
+    const sfmi_r2r_system_desc *tab[SFM_R2R_SYS_COUNT_];
+    unsigned has[MAXS];
+    int ok = 0, runs = 0;
+    for (int only = 1; only < SFM_R2R_SYS_COUNT_; only++) {
+        for (int s = 0; s < SFM_R2R_SYS_COUNT_; s++)
+            tab[s] = s == only ? oracle_table[s] : &pend;
+        for (int it = 0; it < SFM_TEST_ITERS(10); it++) {
+            int n = 8 + it % 5;
+            for (int k = 0; k < n; k++)
+                has[k] = 7u;
+            make_scene(t, &sc, n, has);
+            oracle_set(&sc);
+            int r = sfmi_r2r_solve_with(tab, sc.s, n, out, ws_buf, sizeof ws_buf);
+            runs++;
+            if (r == 1 && terr(out, &sc.T) < 1e-9)
+                ok++;
+            else
+                SFM_TEST_LOG("only %s present: %d", sys_names[only], r);
+        }
+    }
+    SFM_CHECK_EQ_INT(ok, runs);
+    /* nothing present: unsupported, not zero solutions */
+    for (int s = 0; s < SFM_R2R_SYS_COUNT_; s++)
+        tab[s] = &pend;
+    SFM_CHECK_EQ_INT(sfmi_r2r_solve_with(tab, sc.s, sc.n, out, ws_buf, sizeof ws_buf), SFM_E_UNSUPPORTED);
+}
+
+SFM_TEST(r2r_solve_bad_inputs_write_nothing)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    unsigned has[4] = {D_ | B1_, D_, D_, D_};
+    make_scene(t, &sc, 4, has);
+    size_t wsz = sfm_r2r_solve_workspace_size(4);
+    SFM_CHECK(wsz > 0 && wsz <= sizeof ws_buf);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve_workspace_size(0), 0);
+    SFM_CHECK(sfm_r2r_solve_workspace_size(20) > wsz);
+    sfm_test_fill_canary(out, sizeof out);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(NULL, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 0, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, NULL, ws_buf, wsz), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, NULL, wsz), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 3, out, ws_buf, wsz), SFM_E_ARGUMENT); /* five equations */
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz - 1), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, 0), SFM_E_WORKSPACE);
+    sfm_r2r_step keep = sc.s[1];
+    sc.s[1].d = (double)NAN;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_NONFINITE);
+    sc.s[1] = keep;
+    sc.s[1].R2.m[4] = HUGE_VAL;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_NONFINITE);
+    sc.s[1] = keep;
+    sc.s[1].d = -2.0;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    sc.s[1].d = 0.0;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    sc.s[1] = keep;
+    keep = sc.s[0];
+    sc.s[0].b1.v[0] = sc.s[0].b1.v[1] = sc.s[0].b1.v[2] = 0.0;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    sc.s[0] = keep;
+    sc.s[0].has |= 8u;
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    sc.s[0] = keep;
+    sc.s[2].R1.m[0] *= 1.01; /* not a rotation */
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    sc.s[2].R1.m[0] /= 1.01;
+    for (int i = 0; i < 9; i++) /* a reflection */
+        sc.s[2].R2.m[i] = -sc.s[2].R2.m[i];
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 4, out, ws_buf, wsz), SFM_E_ARGUMENT);
+    SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
+}
+
+SFM_TEST(r2r_solve_degenerate_motion)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    unsigned has[MAXS];
+    sfm_test_fill_canary(out, sizeof out);
+
+    /* both robots standing still, turning: three bearings of one vector */
+    for (int k = 0; k < 3; k++)
+        has[k] = B1_;
+    make_scene(t, &sc, 3, has);
+    for (int k = 1; k < 3; k++) {
+        memcpy(sc.P1[k], sc.P1[0], sizeof sc.P1[0]);
+        memcpy(sc.P2[k], sc.P2[0], sizeof sc.P2[0]);
+    }
+    derive(&sc, has);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 3, out, ws_buf, sizeof ws_buf), SFM_E_DEGENERATE);
+    SFM_CHECK_EQ_INT(sfm_r2r_classify(sc.s, 3), SFM_E_DEGENERATE);
+
+    /* standing still over twelve steps with every measurement */
+    for (int k = 0; k < 12; k++)
+        has[k] = 7u;
+    make_scene(t, &sc, 12, has);
+    for (int k = 1; k < 12; k++) {
+        memcpy(sc.P1[k], sc.P1[0], sizeof sc.P1[0]);
+        memcpy(sc.P2[k], sc.P2[0], sizeof sc.P2[0]);
+    }
+    derive(&sc, has);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 12, out, ws_buf, sizeof ws_buf), SFM_E_DEGENERATE);
+
+    /* six distances, both robots on parallel straight lines */
+    for (int k = 0; k < 6; k++)
+        has[k] = D_;
+    make_scene(t, &sc, 6, has);
+    double u[3];
+    sfm_test_random_unit(t, u);
+    for (int k = 1; k < 6; k++)
+        for (int i = 0; i < 3; i++) {
+            sc.P1[k][i] = sc.P1[0][i] + 0.7 * k * u[i];
+            sc.P2[k][i] = sc.P2[0][i] + (0.3 + 0.2 * k * k) * u[i];
+        }
+    derive(&sc, has);
+    oracle_set(&sc);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 6, out, ws_buf, sizeof ws_buf), SFM_E_DEGENERATE);
+    SFM_CHECK_EQ_INT(sfmi_r2r_solve_with(oracle_table, sc.s, 6, out, ws_buf, sizeof ws_buf),
+                     SFM_E_DEGENERATE);
+
+    /* six distances, only robot 2 on a line (robot 1 anywhere) */
+    make_scene(t, &sc, 6, has);
+    for (int k = 1; k < 6; k++)
+        for (int i = 0; i < 3; i++)
+            sc.P2[k][i] = sc.P2[0][i] + (0.5 * k - 1.2) * u[i];
+    derive(&sc, has);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 6, out, ws_buf, sizeof ws_buf), SFM_E_DEGENERATE);
+
+    /* twenty distances on parallel lines */
+    for (int k = 0; k < 20; k++)
+        has[k] = D_;
+    make_scene(t, &sc, 20, has);
+    for (int k = 1; k < 20; k++)
+        for (int i = 0; i < 3; i++) {
+            sc.P1[k][i] = sc.P1[0][i] + 0.2 * k * u[i];
+            sc.P2[k][i] = sc.P2[0][i] - 0.1 * k * u[i];
+        }
+    derive(&sc, has);
+    SFM_CHECK_EQ_INT(sfm_r2r_solve(sc.s, 20, out, ws_buf, sizeof ws_buf), SFM_E_DEGENERATE);
+
+    /* a template singular for these data */
+    for (int k = 0; k < 4; k++)
+        has[k] = k ? D_ : D_ | B1_;
+    make_scene(t, &sc, 4, has);
+    oracle_set(&sc);
+    oracle_singular = 1;
+    SFM_CHECK_EQ_INT(sfmi_r2r_solve_with(oracle_table, sc.s, 4, out, ws_buf, sizeof ws_buf),
+                     SFM_E_DEGENERATE);
+    oracle_singular = 0;
+    SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
+
+    /* control: the same six distances with general motion are answered */
+    for (int k = 0; k < 6; k++)
+        has[k] = D_;
+    make_scene(t, &sc, 6, has);
+    oracle_set(&sc);
+    SFM_CHECK_EQ_INT(sfmi_r2r_solve_with(oracle_table, sc.s, 6, out, ws_buf, sizeof ws_buf), 1);
+}
+
+/* The base-system solvers of this build on every combination; systems still
+ * pending (SFM_E_UNSUPPORTED) are skipped with a line naming them. Systems
+ * whose six equations have rank five (descriptor max_solutions 0, e.g.
+ * DB1_DB1) must say SFM_E_DEGENERATE every time. */
+SFM_TEST(r2r_solve_present_systems_every_combination)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    int total = n_combos(), stride = SFM_TEST_ITERS(10) == 10 ? 1 : 10;
+    int runs[SFM_R2R_SYS_COUNT_] = {0}, found[SFM_R2R_SYS_COUNT_] = {0};
+    int absent[SFM_R2R_SYS_COUNT_] = {0}, degen[SFM_R2R_SYS_COUNT_] = {0}, skipped = 0;
+    size_t wsz = sfm_r2r_solve_workspace_size(6);
+    SFM_CHECK(wsz <= sizeof ws_buf);
+    for (int i = 0; i < total; i += stride) {
+        unsigned m[6];
+        combo(i, m);
+        make_scene(t, &sc, 6, m);
+        int sys = sfm_r2r_classify(sc.s, 6);
+        SFM_CHECK(sys >= 1);
+        if (sys < 1)
+            continue;
+        int n = sfm_r2r_solve(sc.s, 6, out, ws_buf, wsz);
+        if (n == SFM_E_UNSUPPORTED) {
+            absent[sys] = 1;
+            skipped++;
+            continue;
+        }
+        runs[sys]++;
+        if (sfmi_r2r_table[sys]->max_solutions == 0) {
+            degen[sys] += n == SFM_E_DEGENERATE;
+            continue;
+        }
+        for (int j = 0; j < n; j++)
+            if (terr(out + j, &sc.T) < 1e-6) {
+                found[sys]++;
+                break;
+            }
+    }
+    char names[256] = "";
+    for (int s = 1; s < SFM_R2R_SYS_COUNT_; s++) {
+        if (absent[s]) {
+            strcat(names, " ");
+            strcat(names, sys_names[s]);
+            continue;
+        }
+        if (sfmi_r2r_table[s]->max_solutions == 0) {
+            SFM_TEST_LOG("%s: rank-deficient, SFM_E_DEGENERATE in %d of %d", sys_names[s], degen[s], runs[s]);
+            SFM_CHECK_EQ_INT(degen[s], runs[s]);
+            continue;
+        }
+        SFM_TEST_LOG("%s: truth among the solutions in %d of %d", sys_names[s], found[s], runs[s]);
+        SFM_CHECK_MSG(found[s] * 1000 >= runs[s] * 990, "%s: %d of %d", sys_names[s], found[s], runs[s]);
+    }
+    if (skipped)
+        SFM_TEST_LOG("SKIP: %d combinations of systems not on this build:%s", skipped, names);
+}
+
+/* 7-20 steps through the solvers of this build: all measurements, or a
+ * random subset at each step; the truth must come back first. */
+SFM_TEST(r2r_solve_present_long_sequences)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    unsigned has[MAXS];
+    int ok = 0, runs = 0, unsupported = 0, zero = 0, other = 0;
+    for (int it = 0; it < SFM_TEST_ITERS(500); it++) {
+        int n = 7 + (int)(sfm_rng_uniform(&t->rng) * 14.0);
+        if (n > MAXS)
+            n = MAXS;
+        int all = it % 2 == 0;
+        for (int k = 0; k < n; k++)
+            has[k] = all ? 7u : 1u + (unsigned)(sfm_rng_uniform(&t->rng) * 7.0) % 7u;
+        make_scene(t, &sc, n, has);
+        int r = sfm_r2r_solve(sc.s, n, out, ws_buf, sfm_r2r_solve_workspace_size(n));
+        if (r == SFM_E_UNSUPPORTED) {
+            unsupported++;
+            continue;
+        }
+        runs++;
+        if (r >= 1 && terr(out, &sc.T) < 1e-6)
+            ok++;
+        else if (r == 0)
+            zero++;
+        else if (r < 0 || r > 1)
+            other++;
+    }
+    SFM_TEST_LOG("7-20 steps: truth first in %d of %d (%d none kept, %d other), %d unsupported", ok,
+                 runs, zero, other, unsupported);
+    SFM_CHECK(ok * 1000 >= runs * 990);
+}
