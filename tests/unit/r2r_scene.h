@@ -153,4 +153,31 @@ static inline double r2r_scene_error(const sfm_r2r_transform *est, const sfm_r2r
     return sqrt(aa[0] * aa[0] + aa[1] * aa[1] + aa[2] * aa[2]);
 }
 
+/* The canonical pattern of each base system, from its name in sfm_r2r.h
+ * (index = sfm_r2r_system): step count, then each step's has-mask. */
+#define R2R_D_ SFM_R2R_D
+#define R2R_B1_ SFM_R2R_B1
+#define R2R_B2_ SFM_R2R_B2
+static const struct {
+    const char *name;
+    int n;
+    unsigned has[6];
+} r2r_scene_systems[SFM_R2R_SYS_COUNT_] = {
+    {"", 0, {0}},
+    {"DB1B2_D", 2, {R2R_D_ | R2R_B1_ | R2R_B2_, R2R_D_}},
+    {"B1B2_B1", 2, {R2R_B1_ | R2R_B2_, R2R_B1_}},
+    {"B1B2_D_D", 3, {R2R_B1_ | R2R_B2_, R2R_D_, R2R_D_}},
+    {"DB1_DB1", 2, {R2R_D_ | R2R_B1_, R2R_D_ | R2R_B1_}},
+    {"DB1_DB2", 2, {R2R_D_ | R2R_B1_, R2R_D_ | R2R_B2_}},
+    {"DB1_B1_D", 3, {R2R_D_ | R2R_B1_, R2R_B1_, R2R_D_}},
+    {"DB1_B2_D", 3, {R2R_D_ | R2R_B1_, R2R_B2_, R2R_D_}},
+    {"DB1_D_D_D", 4, {R2R_D_ | R2R_B1_, R2R_D_, R2R_D_, R2R_D_}},
+    {"B1_B1_B1", 3, {R2R_B1_, R2R_B1_, R2R_B1_}},
+    {"B1_B1_B2", 3, {R2R_B1_, R2R_B1_, R2R_B2_}},
+    {"B1_B1_D_D", 4, {R2R_B1_, R2R_B1_, R2R_D_, R2R_D_}},
+    {"B1_B2_D_D", 4, {R2R_B1_, R2R_B2_, R2R_D_, R2R_D_}},
+    {"B1_D_D_D_D", 5, {R2R_B1_, R2R_D_, R2R_D_, R2R_D_, R2R_D_}},
+    {"D6", 6, {R2R_D_, R2R_D_, R2R_D_, R2R_D_, R2R_D_, R2R_D_}},
+};
+
 #endif
