@@ -464,8 +464,9 @@ SFM_TEST(r2r_refine_accuracy_per_system)
                      "solution)",
                      name, ok, trials, r_b, r_a, p_b, p_a, mpb, mpa, none);
         /* noisy minimal data may have no real solution (a distance the
-         * circle of candidate positions cannot reach): 10-15 % here */
-        SFM_CHECK_MSG(ok >= trials * 3 / 4, "%s solved %d of %d", name, ok, trials);
+         * circle of candidate positions cannot reach): 3-15 % of 200 here;
+         * the bound only keeps the averages below meaningful */
+        SFM_CHECK_MSG(ok >= trials / 2, "%s solved %d of %d", name, ok, trials);
         SFM_CHECK_MSG(mra < mrb && mpa < mpb && r_a < r_b && p_a < p_b,
                       "%s: refinement did not lower the error", name);
     }
