@@ -242,8 +242,9 @@ SFM_API int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r
  * SFM_E_UNSUPPORTED (every sample fell on a base system this build does not
  * solve), SFM_E_NO_CONVERGENCE (no hypothesis found), SFM_E_NO_MODEL (the
  * winner's inliers carry no equation beyond a minimal sample: nothing
- * confirms it), SFM_E_DEGENERATE (the inliers do not determine (C, p)).
- * Nothing is written on failure. */
+ * confirms it), SFM_E_DEGENERATE (the inliers do not determine (C, p), or
+ * sfm_r2r_solve found every sample degenerate: robots standing still,
+ * distances along parallel lines). Nothing is written on failure. */
 typedef struct sfm_r2r_ransac_options {
     sfm_r2r_refine_options refine; /* sigmas; the refits' iterations and tolerances
                                       (refine.loss is ignored) */

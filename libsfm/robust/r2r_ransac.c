@@ -39,6 +39,7 @@ typedef struct r2r_ctx {
     double tau;
     int solved;      /* samples sfm_r2r_solve answered (>= 0) */
     int unsupported; /* samples it answered SFM_E_UNSUPPORTED */
+    int degenerate;  /* samples it answered SFM_E_DEGENERATE */
 } r2r_ctx;
 
 static int eqs(unsigned kind)
@@ -88,6 +89,8 @@ static int r2r_solve_sample(void *vctx, const int *sample, double *models)
     int n = sfm_r2r_solve(c->sub, ns, c->sol, c->solve_ws, c->solve_ws_size);
     if (n == SFM_E_UNSUPPORTED)
         c->unsupported++;
+    if (n == SFM_E_DEGENERATE)
+        c->degenerate++;
     if (n < 0) /* degenerate motion, singular template, unbuilt system */
         return 0;
     c->solved++;
@@ -351,6 +354,9 @@ int sfm_r2r_ransac(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_ransac_
     sfm_ransac_stats es;
     int ni = sfm_ransac_run(&est, nm, &eo, model, NULL, &es, L.eng, L.eng_size);
     if (ni < 0) {
+        /* no sample gave a hypothesis: say why, when every answer agreed */
+        if (ni == SFM_E_NO_CONVERGENCE && c.solved == 0 && c.degenerate > 0 && c.unsupported == 0)
+            return SFM_E_DEGENERATE;
         if (ni == SFM_E_NO_CONVERGENCE && c.solved == 0 && c.unsupported > 0)
             return SFM_E_UNSUPPORTED;
         return ni;

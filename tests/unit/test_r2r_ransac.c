@@ -120,7 +120,7 @@ SFM_TEST(r2r_ransac_bad_inputs)
 {
     sfm_r2r_transform T, out;
     sfm_r2r_step s[4], b[4];
-    unsigned inl[4];
+    unsigned inl[8];
     double cov[36];
     sfm_ransac_stats st;
     r2r_scene_truth(t, &T);
@@ -174,5 +174,13 @@ SFM_TEST(r2r_ransac_bad_inputs)
     b[0].has = SFM_R2R_D | SFM_R2R_B1 | SFM_R2R_B2;
     b[1].has = SFM_R2R_D;
     EXPECT(sfm_r2r_ransac(b, 2, &o, &out, inl, cov, &st, g_ws, need), SFM_E_NO_MODEL);
+    /* both robots standing still: every measurement repeats the first */
+    sfm_r2r_step still[8];
+    for (int k = 0; k < 8; k++) {
+        still[k] = s[0];
+        still[k].has = k % 2 ? SFM_R2R_D : SFM_R2R_D | SFM_R2R_B1;
+    }
+    size_t need8 = sfm_r2r_ransac_workspace_size(8);
+    EXPECT(sfm_r2r_ransac(still, 8, &o, &out, inl, cov, &st, g_ws, need8), SFM_E_DEGENERATE);
 #undef EXPECT
 }
