@@ -1,4 +1,5 @@
-# firmware_examples/r2r_calibration: two simulated robots exchanging ranges
+# Robot-to-robot refinement and RANSAC beyond the library: the example
+# firmware_examples/r2r_calibration, two simulated robots exchanging ranges
 # and bearings, calibrated by sfm_r2r_ransac (solve + refine); built for
 # Linux and for a bare-metal Cortex-M7 run under qemu-system-arm.
 R2R_FW := firmware_examples/r2r_calibration
@@ -27,3 +28,10 @@ test-cortex-m-r2r: $(BUILD)/cortex-m7/examples/r2r_calibration.elf
 	@arm-none-eabi-size $<
 
 .PHONY: test-r2r-calibration test-cortex-m-r2r
+
+# make bench: sfm_r2r_refine beside scipy least_squares on the same cost, and
+# sfm_r2r_ransac on sequences with outlier measurements (bench/README.md).
+BENCH_STEPS += bench-r2r-refine
+bench-r2r-refine: all
+	PYTHONPATH=python $(PYTHON) bench/r2r_refine_bench.py
+.PHONY: bench-r2r-refine
