@@ -1,4 +1,4 @@
-# Robot-to-robot refinement and RANSAC beyond the library: the example
+# Robot-to-robot calibration example and benchmark: the example
 # firmware_examples/r2r_calibration, two simulated robots exchanging ranges
 # and bearings, calibrated by sfm_r2r_ransac (solve + refine); built for
 # Linux and for a bare-metal Cortex-M7 run under qemu-system-arm.
