@@ -124,7 +124,7 @@ static int is_rotation(const double *C)
 /* Runs n instances of the system; checks and logs truth rate and counts. */
 static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
 {
-    static double ws[4096];
+    static double ws[16]; /* these systems need none */
     SFM_CHECK(sys->ws_doubles <= sizeof ws / sizeof ws[0]);
     int found = 0, bad_fit = 0, errors = 0, hist[SFM_R2R_MAX_SOLUTIONS + 1] = {0};
     for (int it = 0; it < n; it++) {
@@ -257,7 +257,7 @@ SFM_TEST(r2r_a_no_ego_motion)
     const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
                                          &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
                                          &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d};
-    static double ws[4096];
+    static double ws[16];
     for (unsigned k = 0; k < sizeof sys / sizeof sys[0]; k++) {
         r2r_truth T;
         sfm_r2r_step steps[6];
