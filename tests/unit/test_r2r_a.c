@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sfm_test.h"
+#include "sfm/sfm_linalg.h"
 #include "solvers/r2r_internal.h"
 
 typedef struct r2r_truth {
@@ -273,5 +274,77 @@ SFM_TEST(r2r_a_no_ego_motion)
         for (int j = 0; j < m; j++)
             for (int i = 0; i < 9; i++)
                 SFM_CHECK(isfinite(out[j].C.m[i]));
+    }
+}
+
+/* Stacked measurements of the steps under (C, p): d, then b1 and b2 in
+ * full (a bearing's three components carry its two equations). */
+static int measurement_vector(const sfm_r2r_step *steps, int n, const double *C, const double *p,
+                              double *z)
+{
+    int m = 0;
+    for (int k = 0; k < n; k++) {
+        double d, b1[3], b2[3];
+        measure(&steps[k], C, p, &d, b1, b2);
+        if (steps[k].has & SFM_R2R_D)
+            z[m++] = d;
+        for (int i = 0; i < 3; i++)
+            if (steps[k].has & SFM_R2R_B1)
+                z[m++] = b1[i];
+        for (int i = 0; i < 3; i++)
+            if (steps[k].has & SFM_R2R_B2)
+                z[m++] = b2[i];
+    }
+    return m;
+}
+
+/* Minimality, independently of the solvers: the Jacobian of the
+ * measurements with respect to (rotation increment, p) at the truth has
+ * rank 6 for the six finite systems (so the truth is an isolated solution)
+ * and rank 5 for DB1_DB1 and DB1_DB2. */
+SFM_TEST(r2r_a_jacobian_rank)
+{
+    const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
+                                         &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
+                                         &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d,
+                                         &sfmi_r2r_db1_db1,  &sfmi_r2r_db1_db2};
+    static double svd_ws[4096];
+    SFM_CHECK(sfm_svd_workspace_size(42, 6) <= sizeof svd_ws);
+    for (unsigned s = 0; s < sizeof sys / sizeof sys[0]; s++) {
+        int want = sys[s]->max_solutions > 0 ? 6 : 5, agree = 0, n = SFM_TEST_ITERS(100);
+        for (int it = 0; it < n; it++) {
+            r2r_truth T;
+            sfm_r2r_step steps[6];
+            make_instance(t, sys[s], &T, steps);
+            double J[42 * 6], zp[42], zm[42], S[6], h = 1e-6;
+            int m = 0;
+            for (int c = 0; c < 6; c++) {
+                double Cp[9], Cm[9], pp[3], pm[3];
+                memcpy(Cp, T.C, sizeof Cp);
+                memcpy(Cm, T.C, sizeof Cm);
+                memcpy(pp, T.p, sizeof pp);
+                memcpy(pm, T.p, sizeof pm);
+                if (c < 3) {
+                    double axis[3] = {0.0, 0.0, 0.0};
+                    axis[c] = 1.0;
+                    turn_about(axis, h, T.C, Cp);
+                    turn_about(axis, -h, T.C, Cm);
+                } else {
+                    pp[c - 3] += h;
+                    pm[c - 3] -= h;
+                }
+                m = measurement_vector(steps, sys[s]->n_steps, Cp, pp, zp);
+                measurement_vector(steps, sys[s]->n_steps, Cm, pm, zm);
+                for (int r = 0; r < m; r++)
+                    J[6 * r + c] = (zp[r] - zm[r]) / (2.0 * h);
+            }
+            if (sfm_svd(J, m, 6, NULL, S, NULL, svd_ws, sizeof svd_ws) != SFM_OK)
+                continue;
+            int rank = 0;
+            for (int i = 0; i < 6; i++)
+                rank += S[i] > 1e-6 * S[0];
+            agree += rank == want;
+        }
+        SFM_CHECK_MSG(agree >= n - n / 50, "%s: rank %d in %d of %d", sys[s]->name, want, agree, n);
     }
 }
