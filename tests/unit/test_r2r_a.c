@@ -251,30 +251,67 @@ SFM_TEST(r2r_db1_db2_is_a_family)
     check_family(t, &sfmi_r2r_db1_db2, SFM_TEST_ITERS(200));
 }
 
-/* Degenerate data: no ego-motion at all (every step the first one again).
- * A status or zero solutions, never a NaN. */
-SFM_TEST(r2r_a_no_ego_motion)
+/* Degenerate motion: no ego-motion at all (every step the first one again),
+ * or one robot standing still while the other moves. A status, zero
+ * solutions, or (where the motion still determines the transform) the
+ * truth among finite solutions; never NaN, never only wrong answers. */
+static void degenerate_motion(sfm_test_ctx *t, int mode, int n)
 {
     const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
                                          &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
                                          &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d};
     static double ws[16];
     for (unsigned k = 0; k < sizeof sys / sizeof sys[0]; k++) {
-        r2r_truth T;
-        sfm_r2r_step steps[6];
-        make_instance(t, sys[k], &T, steps);
-        for (int j = 1; j < sys[k]->n_steps; j++) {
-            unsigned has = steps[j].has;
-            steps[j] = steps[0];
-            steps[j].has = has;
+        int answered = 0;
+        for (int it = 0; it < n; it++) {
+            r2r_truth T;
+            sfm_r2r_step steps[6];
+            make_instance(t, sys[k], &T, steps);
+            for (int j = 1; j < sys[k]->n_steps; j++) {
+                sfm_r2r_step *s = &steps[j];
+                if (mode == 0) {
+                    unsigned has = s->has;
+                    *s = steps[0];
+                    s->has = has;
+                    continue;
+                }
+                sfm_mat3 *R = mode == 1 ? &s->R1 : &s->R2;
+                sfm_vec3 *p = mode == 1 ? &s->t1 : &s->t2;
+                memset(R, 0, sizeof *R);
+                memset(p, 0, sizeof *p);
+                R->m[0] = R->m[4] = R->m[8] = 1.0;
+                measure(s, T.C, T.p, &s->d, s->b1.v, s->b2.v);
+            }
+            sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+            int m = sys[k]->solve(steps, out, ws), hit = 0;
+            SFM_CHECK_MSG(m == 0 || m == SFM_E_SINGULAR || m > 0, "%s: %d", sys[k]->name, m);
+            for (int j = 0; j < m; j++) {
+                for (int i = 0; i < 9; i++)
+                    SFM_CHECK(isfinite(out[j].C.m[i]));
+                hit |= transform_err(&out[j], &T) < 1e-6;
+            }
+            SFM_CHECK_MSG(m <= 0 || hit, "%s, motion %d: %d solutions, none the truth",
+                          sys[k]->name, mode, m);
+            answered += m > 0;
         }
-        sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
-        int m = sys[k]->solve(steps, out, ws);
-        SFM_CHECK_MSG(m == 0 || m == SFM_E_SINGULAR, "%s: %d", sys[k]->name, m);
-        for (int j = 0; j < m; j++)
-            for (int i = 0; i < 9; i++)
-                SFM_CHECK(isfinite(out[j].C.m[i]));
+        SFM_TEST_LOG("%s: %s, answered %d of %d", sys[k]->name,
+                     mode == 0 ? "no ego-motion" : mode == 1 ? "robot 1 still" : "robot 2 still",
+                     answered, n);
+        /* nothing observes the transform without motion */
+        if (mode == 0)
+            SFM_CHECK(answered == 0);
     }
+}
+
+SFM_TEST(r2r_a_no_ego_motion)
+{
+    degenerate_motion(t, 0, 1);
+}
+
+SFM_TEST(r2r_a_one_robot_still)
+{
+    degenerate_motion(t, 1, SFM_TEST_ITERS(200));
+    degenerate_motion(t, 2, SFM_TEST_ITERS(200));
 }
 
 /* Stacked measurements of the steps under (C, p): d, then b1 and b2 in
