@@ -298,7 +298,9 @@ STACK_LIMIT = 12 * 1024
 
 
 def stack_bytes(nK, nB, nC):
-    return 8 * (nK * nK + nK * nB + 4 * nB * nB + 8 * nB + nC) + 4 * nK
+    """Bytes of the generated function's own frame: c, A, X, M, V, wr, wi,
+    the eigensolver workspace (SFMI_TMPL_EIG_WS) and the pivots."""
+    return 8 * (nC + nK * nK + nK * nB + 2 * nB * nB + 2 * nB + 6 * nB * nB + 16 * nB + 16) + 4 * nK
 
 
 def ws_doubles(nK, nB):

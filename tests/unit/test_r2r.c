@@ -29,7 +29,8 @@ SFM_TEST(r2r_tmpl_sys10_truth_among_solutions)
                 cv[r] = C[3 * r] * v[0] + C[3 * r + 1] * v[1] + C[3 * r + 2] * v[2];
             u[6] = u[0] * cv[0] + u[1] * cv[1] + u[2] * cv[2];
         }
-        int n = sfmi_tmpl_sys10(in, sol);
+        static double ws[SFMI_TMPL_SYS10_WS];
+        int n = sfmi_tmpl_sys10(in, sol, ws);
         SFM_CHECK(n >= 1 && n <= SFMI_TMPL_SYS10_NSOL);
         for (int j = 0; j < n; j++) {
             double e = fabs(sol[3 * j] - s[0]) + fabs(sol[3 * j + 1] - s[1]) + fabs(sol[3 * j + 2] - s[2]);

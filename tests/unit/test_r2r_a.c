@@ -125,7 +125,7 @@ static int is_rotation(const double *C)
 /* Runs n instances of the system; checks and logs truth rate and counts. */
 static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
 {
-    static double ws[16]; /* these systems need none */
+    static double ws[2048];
     SFM_CHECK(sys->ws_doubles <= sizeof ws / sizeof ws[0]);
     int found = 0, bad_fit = 0, errors = 0, hist[SFM_R2R_MAX_SOLUTIONS + 1] = {0};
     for (int it = 0; it < n; it++) {
@@ -133,7 +133,11 @@ static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
         sfm_r2r_step steps[6];
         sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
         make_instance(t, sys, &T, steps);
+        size_t tail = sizeof ws - sys->ws_doubles * sizeof(double);
+        sfm_test_fill_canary(ws + sys->ws_doubles, tail);
         int m = sys->solve(steps, out, ws);
+        SFM_CHECK_MSG(sfm_test_canary_intact(ws + sys->ws_doubles, tail),
+                      "%s wrote past its %zu doubles of ws", sys->name, sys->ws_doubles);
         if (m < 0) {
             errors++;
             continue;
@@ -260,7 +264,7 @@ static void degenerate_motion(sfm_test_ctx *t, int mode, int n)
     const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
                                          &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
                                          &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d};
-    static double ws[16];
+    static double ws[2048];
     for (unsigned k = 0; k < sizeof sys / sizeof sys[0]; k++) {
         int answered = 0;
         for (int it = 0; it < n; it++) {

@@ -22,7 +22,8 @@ int sfmi_tmpl_upright3pt(const double *in, double *sol);
 #define SFMI_TMPL_SYS10_NSOL 8 /* basis size */
 #define SFMI_TMPL_SYS10_NX 3
 #define SFMI_TMPL_SYS10_NIN 21
-int sfmi_tmpl_sys10(const double *in, double *sol);
+#define SFMI_TMPL_SYS10_WS 1617 /* doubles of ws */
+int sfmi_tmpl_sys10(const double *in, double *sol, double *ws);
 
 /* A template as the generator lays it out: (row, column, coefficient index)
  * entries of its eliminated block A (nk x nk) and of its basis block X

@@ -9,7 +9,7 @@
  * columns (25 excessive, 5 reducible), 6 basis monomials:
  * tx*ty, ty^2, q, tx, ty, 1.
  * Stack: the 30x30 template, its 30x6 right-hand side, the action matrix,
- * its eigenvectors and the eigensolver's workspace (about 10512 bytes).
+ * its eigenvectors and the eigensolver's workspace (about 12272 bytes).
  */
 #include "solvers/generated/r2r_tmpl.h"
 
