@@ -34,6 +34,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import sympy as sp
 
 P = 30011  # prime for the generic instances
@@ -41,8 +42,9 @@ MAX_EXTRA_DEGREE = 4
 
 
 class Problem:
-    def __init__(self, name, unknowns, data, equations, doc):
+    def __init__(self, name, unknowns, data, equations, doc, max_extra=MAX_EXTRA_DEGREE):
         self.name, self.x, self.data, self.eqs, self.doc = name, unknowns, data, equations, doc
+        self.max_extra = max_extra  # how far above the equations' degree to expand
 
 
 def problems():
@@ -157,23 +159,29 @@ def instance(prob, polys, rng):
 
 def rref_pivots(M, ncols_elim):
     """Row-reduce M (list of rows, mod P) on its first ncols_elim columns;
-    return (pivot columns, pivot rows as original indices)."""
-    rows = [list(r) for r in M]
-    idx = list(range(len(rows)))
+    return (pivot columns, pivot rows as original indices). Gauss-Jordan with
+    the first nonzero row as pivot, vectorised with numpy (P^2 < 2^63)."""
+    A = np.array(M, dtype=np.int64) % P
+    nrows = A.shape[0]
+    idx = list(range(nrows))
     piv_cols, piv_rows = [], []
     r0 = 0
     for c in range(ncols_elim):
-        pr = next((i for i in range(r0, len(rows)) if rows[i][c] % P), None)
-        if pr is None:
+        if r0 == nrows:
+            break
+        nz = np.nonzero(A[r0:, c])[0]
+        if len(nz) == 0:
             continue
-        rows[r0], rows[pr] = rows[pr], rows[r0]
-        idx[r0], idx[pr] = idx[pr], idx[r0]
-        iv = inv(rows[r0][c])
-        rows[r0] = [v * iv % P for v in rows[r0]]
-        for i in range(len(rows)):
-            if i != r0 and rows[i][c] % P:
-                f = rows[i][c]
-                rows[i] = [(v - f * w) % P for v, w in zip(rows[i], rows[r0])]
+        pr = r0 + int(nz[0])
+        if pr != r0:
+            A[[r0, pr]] = A[[pr, r0]]
+            idx[r0], idx[pr] = idx[pr], idx[r0]
+        A[r0] = A[r0] * inv(int(A[r0, c])) % P
+        f = A[:, c].copy()
+        f[r0] = 0
+        rows = np.nonzero(f)[0]
+        if len(rows):
+            A[rows] = (A[rows] - f[rows, None] * A[r0][None, :]) % P
         piv_cols.append(c)
         piv_rows.append(idx[r0])
         r0 += 1
@@ -215,17 +223,19 @@ def build(prob):
     B = [m for m in monomials_upto(n, 12) if not any(divides(lm, m) for lm in lms)]
     one = tuple([0] * n)
     maxdeg = max(pl.total_degree() for pl in polys)
-    for D in range(maxdeg, maxdeg + MAX_EXTRA_DEGREE + 1):
+    for D in range(maxdeg, maxdeg + prob.max_extra + 1):
         for ai in range(n):
             unit = lambda i: tuple(1 if j == i else 0 for j in range(n))
             if any(unit(i) not in B for i in range(n) if i != ai) or one not in B:
                 continue
             t = try_template(prob, polys, inst, B, ai, D)
+            print("%s: degree %d, action %s: %s" % (prob.name, D, prob.x[ai],
+                  "template" if t is not None else "no"), file=sys.stderr, flush=True)
             if t is not None:
                 t.B, t.ai, t.polys, t.G = B, ai, polys, G
                 verify(prob, t, rng)
                 return t
-    raise SystemExit("%s: no template up to degree %d" % (prob.name, maxdeg + MAX_EXTRA_DEGREE))
+    raise SystemExit("%s: no template up to degree %d" % (prob.name, maxdeg + prob.max_extra))
 
 
 def try_template(prob, polys, inst, B, ai, D):

@@ -35,3 +35,8 @@ SFM_TEST(r2r_b1_b1_d_d_truth_among_solutions)
 {
     check_system(t, &sfmi_r2r_b1_b1_d_d, SFM_TEST_ITERS(3000), NULL);
 }
+
+SFM_TEST(r2r_b1_b2_d_d_truth_among_solutions)
+{
+    check_system(t, &sfmi_r2r_b1_b2_d_d, SFM_TEST_ITERS(3000), NULL);
+}
