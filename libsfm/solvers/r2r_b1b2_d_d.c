@@ -15,8 +15,9 @@
  * first, and the half-angle tangent t (cos = (1-t^2)/(1+t^2),
  * sin = 2t/(1+t^2)) leave one quartic in t: 4 complex solutions. Rotations
  * within about 1e-4 rad of pi about b (t very large) lose accuracy.
- * Degenerate: alpha_1 = alpha_2 (then lambda drops out of the difference;
- * SFM_E_SINGULAR), or both steps' t1, t2 on the axis b.
+ * Degenerate (SFM_E_SINGULAR): alpha_1 = alpha_2 (then lambda drops out of
+ * the difference), or a quartic that cancels to rounding (theta unobservable:
+ * robot 2 still or moving along b only).
  * Stack under 1 KB; no workspace.
  */
 #include <math.h>
@@ -54,10 +55,23 @@ static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
     /* lambda (1 + t^2) = L0 + L1 t + L2 t^2 */
     double L[3] = {-(dr + dc) / da, -2.0 * ds / da, -(dr - dc) / da};
     double U[3] = {1.0, 0.0, 1.0}, K[3] = {a[0], 2.0 * bb[0], -a[0]};
-    double Q[5] = {0.0, 0.0, 0.0, 0.0, 0.0}; /* ascending */
+    double Q[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, Qs[5] = {0.0, 0.0, 0.0, 0.0, 0.0}; /* ascending */
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Q[i + j] += L[i] * L[j] + al[0] * L[i] * U[j] + rh[0] * U[i] * U[j] + K[i] * U[j];
+        for (int j = 0; j < 3; j++) {
+            double t0 = L[i] * L[j], t1 = al[0] * L[i] * U[j], t2 = rh[0] * U[i] * U[j];
+            double t3 = K[i] * U[j];
+            Q[i + j] += t0 + t1 + t2 + t3;
+            Qs[i + j] += fabs(t0) + fabs(t1) + fabs(t2) + fabs(t3);
+        }
+    /* A quartic that cancels to rounding is the identity 0 = 0: theta is
+     * unobservable (robot 2 still, or moving only along b). */
+    double qmax = 0.0, smax = 0.0;
+    for (int i = 0; i < 5; i++) {
+        qmax = fmax(qmax, fabs(Q[i]));
+        smax = fmax(smax, Qs[i]);
+    }
+    if (!(qmax > 1e-10 * smax))
+        return SFM_E_SINGULAR;
     double desc[5] = {Q[4], Q[3], Q[2], Q[1], Q[0]}, roots[4];
     int m = sfm_poly_roots4(desc, roots), cnt = 0;
     if (m < 0)

@@ -15,7 +15,8 @@
  * nearly meet. Each root is therefore polished by two Gauss-Newton steps
  * on the three equations over a rotation increment, C <- cay(delta/2) C,
  * whose Jacobian rows are (C v_k) x u_k.
- * Stack: the template's, about 10.5 KB; no workspace.
+ * Work memory: the template's matrices, SFMI_TMPL_SYS10_WS doubles of ws;
+ * stack about 2 KB.
  */
 #include <math.h>
 
@@ -66,7 +67,6 @@ static void polish(const double *in, double C[9])
 
 static int solve_db1_d_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
 {
-    (void)ws;
     double p[3], in[SFMI_TMPL_SYS10_NIN], sol[SFMI_TMPL_SYS10_NSOL * SFMI_TMPL_SYS10_NX];
     for (int i = 0; i < 3; i++)
         p[i] = steps[0].d * steps[0].b1.v[i];
@@ -79,7 +79,7 @@ static int solve_db1_d_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, do
         }
         u[6] = 0.5 * (s->d * s->d - sfmi_dot3(v, v) - sfmi_dot3(u, u));
     }
-    int m = sfmi_tmpl_sys10(in, sol);
+    int m = sfmi_tmpl_sys10(in, sol, ws);
     if (m < 0)
         return m;
     int n = 0;
@@ -97,7 +97,7 @@ const sfmi_r2r_system_desc sfmi_r2r_db1_d_d_d = {
     4,
     {SFM_R2R_D | SFM_R2R_B1, SFM_R2R_D, SFM_R2R_D, SFM_R2R_D, 0, 0},
     8,
-    0,
+    SFMI_TMPL_SYS10_WS,
     solve_db1_d_d_d,
     "db1_d_d_d",
 };

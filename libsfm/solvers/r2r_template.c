@@ -7,6 +7,9 @@
  * form of each reducible monomial r = -Y_r b. Row j of the action matrix M
  * holds a * b_j on the basis, so M B(x) = a(x) B(x): every right eigenvector
  * is the basis evaluated at one solution, up to scale.
+ * sfmi_tmpl_run scatters a generated file's coefficients into A and X from
+ * its entry tables, so each generated file holds only data and the
+ * coefficient expressions.
  */
 #include <math.h>
 
@@ -17,6 +20,23 @@
 /* An eigenvalue is real when its imaginary part is below this share of its
  * modulus (plus one): near-double real roots split into tiny pairs. */
 #define REAL_TOL 1e-8
+
+int sfmi_tmpl_run(const sfmi_tmpl *T, const double *c, double *A, int *piv, double *X,
+                  double *M, double *V, double *wr, double *wi, double *ews, size_t ews_size,
+                  double *sol)
+{
+    int nk = T->nk, nb = T->nb;
+    for (int i = 0; i < nk * nk; i++)
+        A[i] = 0.0;
+    for (int i = 0; i < nk * nb; i++)
+        X[i] = 0.0;
+    for (int i = 0; i < T->n_a; i++)
+        A[T->a_ent[i][0] * nk + T->a_ent[i][1]] = c[T->a_ent[i][2]];
+    for (int i = 0; i < T->n_b; i++)
+        X[T->b_ent[i][0] * nb + T->b_ent[i][1]] = c[T->b_ent[i][2]];
+    return sfmi_tmpl_finish(A, piv, nk, X, nb, T->act_src, T->var_src, T->nx, T->one, M, V, wr,
+                            wi, ews, ews_size, sol);
+}
 
 int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,
                      const short *act_src, const short *var_src, int nx, int one,

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sfm_test.h"
+#include "sfm/sfm_linalg.h"
 #include "solvers/r2r_internal.h"
 
 typedef struct r2r_truth {
@@ -124,7 +125,7 @@ static int is_rotation(const double *C)
 /* Runs n instances of the system; checks and logs truth rate and counts. */
 static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
 {
-    static double ws[4096];
+    static double ws[2048];
     SFM_CHECK(sys->ws_doubles <= sizeof ws / sizeof ws[0]);
     int found = 0, bad_fit = 0, errors = 0, hist[SFM_R2R_MAX_SOLUTIONS + 1] = {0};
     for (int it = 0; it < n; it++) {
@@ -132,7 +133,11 @@ static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
         sfm_r2r_step steps[6];
         sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
         make_instance(t, sys, &T, steps);
+        size_t tail = sizeof ws - sys->ws_doubles * sizeof(double);
+        sfm_test_fill_canary(ws + sys->ws_doubles, tail);
         int m = sys->solve(steps, out, ws);
+        SFM_CHECK_MSG(sfm_test_canary_intact(ws + sys->ws_doubles, tail),
+                      "%s wrote past its %zu doubles of ws", sys->name, sys->ws_doubles);
         if (m < 0) {
             errors++;
             continue;
@@ -250,28 +255,137 @@ SFM_TEST(r2r_db1_db2_is_a_family)
     check_family(t, &sfmi_r2r_db1_db2, SFM_TEST_ITERS(200));
 }
 
-/* Degenerate data: no ego-motion at all (every step the first one again).
- * A status or zero solutions, never a NaN. */
-SFM_TEST(r2r_a_no_ego_motion)
+/* Degenerate motion: no ego-motion at all (every step the first one again),
+ * or one robot standing still while the other moves. A status, zero
+ * solutions, or (where the motion still determines the transform) the
+ * truth among finite solutions; never NaN, never only wrong answers. */
+static void degenerate_motion(sfm_test_ctx *t, int mode, int n)
 {
     const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
                                          &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
                                          &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d};
-    static double ws[4096];
+    static double ws[2048];
     for (unsigned k = 0; k < sizeof sys / sizeof sys[0]; k++) {
-        r2r_truth T;
-        sfm_r2r_step steps[6];
-        make_instance(t, sys[k], &T, steps);
-        for (int j = 1; j < sys[k]->n_steps; j++) {
-            unsigned has = steps[j].has;
-            steps[j] = steps[0];
-            steps[j].has = has;
+        int answered = 0;
+        for (int it = 0; it < n; it++) {
+            r2r_truth T;
+            sfm_r2r_step steps[6];
+            make_instance(t, sys[k], &T, steps);
+            for (int j = 1; j < sys[k]->n_steps; j++) {
+                sfm_r2r_step *s = &steps[j];
+                if (mode == 0) {
+                    unsigned has = s->has;
+                    *s = steps[0];
+                    s->has = has;
+                    continue;
+                }
+                sfm_mat3 *R = mode == 1 ? &s->R1 : &s->R2;
+                sfm_vec3 *p = mode == 1 ? &s->t1 : &s->t2;
+                memset(R, 0, sizeof *R);
+                memset(p, 0, sizeof *p);
+                R->m[0] = R->m[4] = R->m[8] = 1.0;
+                measure(s, T.C, T.p, &s->d, s->b1.v, s->b2.v);
+            }
+            sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+            int m = sys[k]->solve(steps, out, ws), hit = 0;
+            SFM_CHECK_MSG(m == 0 || m == SFM_E_SINGULAR || m > 0, "%s: %d", sys[k]->name, m);
+            for (int j = 0; j < m; j++) {
+                for (int i = 0; i < 9; i++)
+                    SFM_CHECK(isfinite(out[j].C.m[i]));
+                hit |= transform_err(&out[j], &T) < 1e-6;
+            }
+            SFM_CHECK_MSG(m <= 0 || hit, "%s, motion %d: %d solutions, none the truth",
+                          sys[k]->name, mode, m);
+            answered += m > 0;
         }
-        sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
-        int m = sys[k]->solve(steps, out, ws);
-        SFM_CHECK_MSG(m == 0 || m == SFM_E_SINGULAR, "%s: %d", sys[k]->name, m);
-        for (int j = 0; j < m; j++)
-            for (int i = 0; i < 9; i++)
-                SFM_CHECK(isfinite(out[j].C.m[i]));
+        SFM_TEST_LOG("%s: %s, answered %d of %d", sys[k]->name,
+                     mode == 0 ? "no ego-motion" : mode == 1 ? "robot 1 still" : "robot 2 still",
+                     answered, n);
+        /* nothing observes the transform without motion */
+        if (mode == 0)
+            SFM_CHECK(answered == 0);
+    }
+}
+
+SFM_TEST(r2r_a_no_ego_motion)
+{
+    degenerate_motion(t, 0, 1);
+}
+
+SFM_TEST(r2r_a_one_robot_still)
+{
+    degenerate_motion(t, 1, SFM_TEST_ITERS(200));
+    degenerate_motion(t, 2, SFM_TEST_ITERS(200));
+}
+
+/* Stacked measurements of the steps under (C, p): d, then b1 and b2 in
+ * full (a bearing's three components carry its two equations). */
+static int measurement_vector(const sfm_r2r_step *steps, int n, const double *C, const double *p,
+                              double *z)
+{
+    int m = 0;
+    for (int k = 0; k < n; k++) {
+        double d, b1[3], b2[3];
+        measure(&steps[k], C, p, &d, b1, b2);
+        if (steps[k].has & SFM_R2R_D)
+            z[m++] = d;
+        for (int i = 0; i < 3; i++)
+            if (steps[k].has & SFM_R2R_B1)
+                z[m++] = b1[i];
+        for (int i = 0; i < 3; i++)
+            if (steps[k].has & SFM_R2R_B2)
+                z[m++] = b2[i];
+    }
+    return m;
+}
+
+/* Minimality, independently of the solvers: the Jacobian of the
+ * measurements with respect to (rotation increment, p) at the truth has
+ * rank 6 for the six finite systems (so the truth is an isolated solution)
+ * and rank 5 for DB1_DB1 and DB1_DB2. */
+SFM_TEST(r2r_a_jacobian_rank)
+{
+    const sfmi_r2r_system_desc *sys[] = {&sfmi_r2r_db1b2_d, &sfmi_r2r_b1b2_b1,
+                                         &sfmi_r2r_b1b2_d_d, &sfmi_r2r_db1_b1_d,
+                                         &sfmi_r2r_db1_b2_d, &sfmi_r2r_db1_d_d_d,
+                                         &sfmi_r2r_db1_db1,  &sfmi_r2r_db1_db2};
+    static double svd_ws[4096];
+    SFM_CHECK(sfm_svd_workspace_size(42, 6) <= sizeof svd_ws);
+    for (unsigned s = 0; s < sizeof sys / sizeof sys[0]; s++) {
+        int want = sys[s]->max_solutions > 0 ? 6 : 5, agree = 0, n = SFM_TEST_ITERS(100);
+        for (int it = 0; it < n; it++) {
+            r2r_truth T;
+            sfm_r2r_step steps[6];
+            make_instance(t, sys[s], &T, steps);
+            double J[42 * 6], zp[42], zm[42], S[6], h = 1e-6;
+            int m = 0;
+            for (int c = 0; c < 6; c++) {
+                double Cp[9], Cm[9], pp[3], pm[3];
+                memcpy(Cp, T.C, sizeof Cp);
+                memcpy(Cm, T.C, sizeof Cm);
+                memcpy(pp, T.p, sizeof pp);
+                memcpy(pm, T.p, sizeof pm);
+                if (c < 3) {
+                    double axis[3] = {0.0, 0.0, 0.0};
+                    axis[c] = 1.0;
+                    turn_about(axis, h, T.C, Cp);
+                    turn_about(axis, -h, T.C, Cm);
+                } else {
+                    pp[c - 3] += h;
+                    pm[c - 3] -= h;
+                }
+                m = measurement_vector(steps, sys[s]->n_steps, Cp, pp, zp);
+                measurement_vector(steps, sys[s]->n_steps, Cm, pm, zm);
+                for (int r = 0; r < m; r++)
+                    J[6 * r + c] = (zp[r] - zm[r]) / (2.0 * h);
+            }
+            if (sfm_svd(J, m, 6, NULL, S, NULL, svd_ws, sizeof svd_ws) != SFM_OK)
+                continue;
+            int rank = 0;
+            for (int i = 0; i < 6; i++)
+                rank += S[i] > 1e-6 * S[0];
+            agree += rank == want;
+        }
+        SFM_CHECK_MSG(agree >= n - n / 50, "%s: rank %d in %d of %d", sys[s]->name, want, agree, n);
     }
 }

@@ -786,3 +786,42 @@ SFM_TEST(r2r_solve_present_long_sequences)
                  runs, zero, other, unsupported);
     SFM_CHECK(ok * 1000 >= runs * 990);
 }
+
+/* Noisy 7-20 step sequences (1 mm on distances, 0.5 mrad on bearings):
+ * the first answer stays near the truth; the minimal subset's answer is
+ * the start of a refinement, so the bound is loose. */
+SFM_TEST(r2r_solve_present_noisy_sequences)
+{
+    static scene sc;
+    static sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS];
+    unsigned has[MAXS];
+    int runs = 0, near = 0;
+    double worst = 0.0;
+    for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
+        int n = 7 + (int)(sfm_rng_uniform(&t->rng) * 14.0);
+        if (n > MAXS)
+            n = MAXS;
+        for (int k = 0; k < n; k++)
+            has[k] = it % 2 ? 1u + (unsigned)(sfm_rng_uniform(&t->rng) * 7.0) % 7u : 7u;
+        make_scene(t, &sc, n, has);
+        for (int k = 0; k < n; k++) {
+            sc.s[k].d += sfm_test_normal(t, 1e-3);
+            for (int i = 0; i < 3; i++) {
+                sc.s[k].b1.v[i] += sfm_test_normal(t, 5e-4);
+                sc.s[k].b2.v[i] += sfm_test_normal(t, 5e-4);
+            }
+        }
+        int r = sfm_r2r_solve(sc.s, n, out, ws_buf, sfm_r2r_solve_workspace_size(n));
+        if (r == SFM_E_UNSUPPORTED)
+            continue;
+        runs++;
+        if (r >= 1) {
+            double e = terr(out, &sc.T);
+            worst = fmax(worst, e);
+            near += e < 0.05;
+        }
+    }
+    SFM_TEST_LOG("noisy 7-20 steps: first answer within 0.05 of the truth in %d of %d, worst %.3g", near,
+                 runs, worst);
+    SFM_CHECK(near * 100 >= runs * 99);
+}

@@ -7,9 +7,15 @@
  */
 #include "r2r_sim.h"
 
+/* the solvers' work memory, as the descriptor sizes it */
+static double sys_ws[4096];
+
 static void check_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
                          double *ws)
 {
+    SFM_CHECK(desc->ws_doubles <= sizeof sys_ws / sizeof sys_ws[0]);
+    if (!ws)
+        ws = sys_ws;
     r2r_sim_stats st = r2r_sim_run(t, desc, trials, 1e-6, ws);
     SFM_TEST_LOG("%s: truth in %d of %d (%.3f %%), status failures %d, most solutions %d, "
                  "bad solutions %d, worst error %.2g",
@@ -34,4 +40,9 @@ SFM_TEST(r2r_b1_b1_b2_truth_among_solutions)
 SFM_TEST(r2r_b1_b1_d_d_truth_among_solutions)
 {
     check_system(t, &sfmi_r2r_b1_b1_d_d, SFM_TEST_ITERS(3000), NULL);
+}
+
+SFM_TEST(r2r_b1_b2_d_d_truth_among_solutions)
+{
+    check_system(t, &sfmi_r2r_b1_b2_d_d, SFM_TEST_ITERS(3000), NULL);
 }
