@@ -37,7 +37,7 @@ static int corrupt(sfm_test_ctx *t, sfm_r2r_step *s, int n, double share, unsign
     return k_out;
 }
 
-static unsigned char g_ws[1 << 17];
+static unsigned char g_ws[1 << 18];
 
 SFM_TEST(r2r_ransac_recovers_truth_with_30pct_outliers)
 {
@@ -94,6 +94,50 @@ SFM_TEST(r2r_ransac_recovers_truth_with_30pct_outliers)
     SFM_CHECK(kept >= n_in_all - n_in_all / 20);
 }
 
+/* Sequences whose steps carry random subsets of the measurements (8-20
+ * steps), 30 % of them outliers. */
+SFM_TEST(r2r_ransac_partial_measurements)
+{
+    enum { MAXS = 20 };
+    const int trials = SFM_TEST_ITERS(40);
+    const double sd = 0.02, sb = 0.01;
+    int good = 0, missed = 0, n_out_all = 0;
+    for (int it = 0; it < trials; it++) {
+        sfm_r2r_transform T, out;
+        sfm_r2r_step s[MAXS];
+        unsigned is_out[MAXS], inl[MAXS];
+        const int n = 8 + (int)sfm_rng_bounded(&t->rng, MAXS - 7);
+        r2r_scene_truth(t, &T);
+        r2r_scene_steps(t, &T, n, 3.0, s);
+        r2r_scene_noise(t, sd, sb, s, n);
+        for (int k = 0; k < n; k++)
+            s[k].has = 1u + sfm_rng_bounded(&t->rng, 7);
+        n_out_all += corrupt(t, s, n, 0.3, is_out);
+        sfm_r2r_ransac_options o;
+        sfm_r2r_ransac_default_options(&o);
+        o.refine.sigma_d = sd;
+        o.refine.sigma_b = sb;
+        size_t need = sfm_r2r_ransac_workspace_size(n);
+        SFM_CHECK(need > 0 && need <= sizeof g_ws);
+        int r = sfm_r2r_ransac(s, n, &o, &out, inl, NULL, NULL, g_ws, need);
+        if (r < 1) {
+            SFM_TEST_LOG("trial %d (%d steps): status %d", it, n, r);
+            continue;
+        }
+        double pe, re = r2r_scene_error(&out, &T, NULL, &pe);
+        if (re < 0.05 && pe < 0.15)
+            good++;
+        else
+            SFM_TEST_LOG("trial %d (%d steps): %.4f rad, %.4f m", it, n, re, pe);
+        for (int k = 0; k < n; k++)
+            missed += (inl[k] & is_out[k]) != 0;
+    }
+    SFM_TEST_LOG("truth recovered in %d of %d; %d of %d outliers accepted", good, trials, missed,
+                 n_out_all);
+    SFM_CHECK(good >= trials - trials / 20);
+    SFM_CHECK(missed <= n_out_all / 50);
+}
+
 SFM_TEST(r2r_ransac_noise_free_exact_and_deterministic)
 {
     sfm_r2r_transform T, a, b;
@@ -103,6 +147,7 @@ SFM_TEST(r2r_ransac_noise_free_exact_and_deterministic)
     r2r_scene_steps(t, &T, 6, 3.0, s);
     corrupt(t, s, 6, 0.2, is_out);
     size_t need = sfm_r2r_ransac_workspace_size(6);
+    SFM_CHECK(need > 0 && need <= sizeof g_ws);
     sfm_r2r_ransac_options o;
     sfm_r2r_ransac_default_options(&o);
     int na = sfm_r2r_ransac(s, 6, &o, &a, ia, NULL, NULL, g_ws, need);
