@@ -5,6 +5,10 @@
  * Levenberg-Marquardt driver: C on SO(3) with the left update
  * C <- exp([w]x) C, p Euclidean.
  *
+ * The measurement model is sfm_r2r_predict's, written out here because the
+ * Jacobians need its intermediate vectors (a unit test holds the two costs
+ * equal).
+ *
  * Residual blocks: 3 per step, block 3k + j holding measurement j of step k
  * (0 distance, 1 bearing b1, 2 bearing b2); a block whose measurement the
  * step does not carry is left out (the driver's return 0), so a robust loss
