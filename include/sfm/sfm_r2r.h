@@ -253,7 +253,10 @@ typedef struct sfm_r2r_ransac_options {
     sfm_r2r_refine_options refine; /* sigmas; the refits' iterations and tolerances
                                       (refine.loss is ignored) */
     sfm_ransac_options ransac;     /* threshold in sigmas; wide_mult and polish
-                                      are not used */
+                                      are not used; quality (PROSAC), when given,
+                                      holds one value per measurement in step
+                                      order, each step's d, b1, b2 in that
+                                      order (those it carries) */
 } sfm_r2r_ransac_options;
 
 /* refine: sfm_r2r_refine_default_options; ransac: sfm_ransac_default_options
