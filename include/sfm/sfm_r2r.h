@@ -118,9 +118,10 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
  * is kept the next subset is tried, and 0 is returned when no subset
  * yields one. Degenerate motion is SFM_E_DEGENERATE, never an answer:
  * fewer than six equations once steps at the same positions are merged
- * (both robots standing still, only turning), distances only with either
- * robot's positions on one straight line (parallel straight-line motion,
- * one robot still: a turn about that line keeps every distance), a base
+ * (both robots standing still, only turning), robot 2's positions on one
+ * straight line (or still) with no b2 measured, or robot 1's with no b1 (a
+ * turn of C about that line keeps every measurement: distances only on
+ * parallel lines, bearings from one robot while the other stands still), a base
  * system whose equations are rank-deficient (DB1_DB1, DB1_DB2) or whose
  * template is singular for these data. A base system not built in this
  * library is SFM_E_UNSUPPORTED.

@@ -23,11 +23,14 @@
  * Degenerate motion (SFM_E_DEGENERATE, never an answer), detected cheaply:
  *  - fewer than six independent equations once repeated measurements at the
  *    same positions are merged (robots standing still, only rotating);
- *  - distances only, and either robot's positions on one straight line
- *    (within 1e-6 of the scale): a rotation about that line through the
- *    robot's first position leaves every distance unchanged, a continuum of
- *    solutions (this covers parallel straight-line motion and one robot
- *    standing still);
+ *  - robot 2's positions on one straight line (within 1e-6 of the scale;
+ *    standing still included) and no bearing b2: with u the line's
+ *    direction, every measurement sees only C u and C t2_0 + p, so
+ *    (Q C, p + (I - Q) C t2_0) for any turn Q about C u fits them all, a
+ *    continuum. Likewise robot 1 on a line and no b1 (exchange the robots).
+ *    This covers distances only with parallel straight-line motion or one
+ *    robot still, bearings from one robot only while the other is still,
+ *    and {d,b1} {d,b1} (two positions always lie on a line);
  *  - the base system's template singular for these data (SFM_E_SINGULAR
  *    from the solver).
  *
@@ -47,7 +50,7 @@
  * the first canonical step is the earliest step carrying its measurements,
  * each further step the unused one farthest (|dt1| + |dt2|, the motion of
  * both robots) from the steps already chosen, the widest baseline. A subset
- * that is distance-only degenerate is skipped (so are the patterns of
+ * that is degenerate by the line rule is skipped (so are the patterns of
  * rank-deficient systems, and the exchanged copy of a pattern the exchange
  * maps onto itself). Up to three subsets whose best candidate scores at
  * most 0.05 are solved (the search stops at once when one fits the data to
@@ -335,16 +338,16 @@ static int collinear(const sfm_r2r_step *s, const unsigned *use, int n, int robo
     return 1;
 }
 
-/* Distances only and one robot's positions on a line: a continuum. */
-static int distance_only_degenerate(const sfm_r2r_step *s, const unsigned *use, int n)
+/* A turn of C about robot 2's line of motion that no measurement sees:
+ * robot 2's positions on one line and no b2, or robot 1's on one line and
+ * no b1 (see the header comment). */
+static int motion_degenerate(const sfm_r2r_step *s, const unsigned *use, int n)
 {
-    for (int k = 0; k < n; k++) {
-        unsigned m = use ? use[k] : s[k].has;
-        if (m & (B1_ | B2_))
-            return 0;
-    }
+    unsigned any = 0;
+    for (int k = 0; k < n; k++)
+        any |= use ? use[k] : s[k].has;
     double tol = LINE_TOL * scene_scale(s, n);
-    return collinear(s, use, n, 1, tol) || collinear(s, use, n, 2, tol);
+    return (!(any & B2_) && collinear(s, use, n, 2, tol)) || (!(any & B1_) && collinear(s, use, n, 1, tol));
 }
 
 /* ---- The measurement model ------------------------------------------------ */
@@ -721,7 +724,7 @@ int sfmi_r2r_solve_with(const sfmi_r2r_system_desc *const *table, const sfm_r2r_
     int nm = merge_steps(steps, n_steps, w.m), em = 0;
     for (int k = 0; k < nm; k++)
         em += n_eq(w.m[k].has);
-    if (em < 6 || distance_only_degenerate(w.m, NULL, nm))
+    if (em < 6 || motion_degenerate(w.m, NULL, nm))
         return SFM_E_DEGENERATE;
 
     sfmi_r2r_canon c;
@@ -747,7 +750,7 @@ int sfmi_r2r_solve_with(const sfmi_r2r_system_desc *const *table, const sfm_r2r_
         for (int swap = 0; swap < 2 - symmetric && kept < SUBSETS; swap++) {
             if (!pick_subset(w.m, nm, sys, swap, w.use))
                 continue;
-            if (distance_only_degenerate(w.m, w.use, nm))
+            if (motion_degenerate(w.m, w.use, nm))
                 continue;
             if (sfmi_r2r_canonicalize(w.m, w.use, nm, &c) < 0)
                 continue;
