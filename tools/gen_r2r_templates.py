@@ -292,16 +292,9 @@ def mono_str(x, m):
     return s or "1"
 
 
-# A solver may use 16 KiB of stack. Problems named here take the template's
-# matrices from a caller workspace (sfmi_tmpl_<name>(in, sol, ws), with
-# SFMI_TMPL_<NAME>_WS doubles); the others keep them on the stack, and the
-# generator warns when that frame exceeds STACK_LIMIT bytes.
-WS_PROBLEMS = {"sys10"}
+# Templates whose matrices fit in this many bytes keep them on the stack; larger
+# ones take them from a caller workspace (a solver may use 16 KiB of stack).
 STACK_LIMIT = 12 * 1024
-
-
-def uses_ws(name):
-    return name in WS_PROBLEMS
 
 
 def stack_bytes(nK, nB, nC):
@@ -352,7 +345,7 @@ def emit(prob, t):
     w(" * Template: %d equations x monomials up to degree %d; %d kept rows, %d eliminated" % (len(prob.eqs), t.D, nK, nK))
     w(" * columns (%d excessive, %d reducible), %d basis monomials:" % (nK - len(t.R), len(t.R), nB))
     w(" * %s." % ", ".join(mono_str(prob.x, m) for m in t.B))
-    if not uses_ws(name):
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
         w(" * Stack: the %dx%d template, its %dx%d right-hand side, the action matrix," % (nK, nK, nK, nB))
         w(" * its eigenvectors and the eigensolver's workspace (about %d bytes)." %
           stack_bytes(nK, nB, len(coef)))
@@ -399,10 +392,7 @@ def emit(prob, t):
     w("    NK, NB, NX, %d, A_ENT, %d, B_ENT, %d, ACT_SRC, VAR_SRC," % (one, len(a_ent), len(b_ent)))
     w("};")
     w("")
-    if not uses_ws(name):
-        if stack_bytes(nK, nB, len(coef)) > STACK_LIMIT:
-            print("warning: %s keeps %d bytes on the stack; consider WS_PROBLEMS" %
-                  (name, stack_bytes(nK, nB, len(coef))), file=sys.stderr)
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
         w("int sfmi_tmpl_%s(const double *in, double *sol)" % name)
         w("{")
         w("    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];")
@@ -443,10 +433,11 @@ def emit_header(probs, temps):
          ""]
     for p, t in zip(probs, temps):
         nK, nB = len(t.keep_mons), len(t.B)
+        nC = sum(len(pl.monoms()) for pl in t.polys)
         L.append("#define SFMI_TMPL_%s_NSOL %d /* basis size */" % (p.name.upper(), nB))
         L.append("#define SFMI_TMPL_%s_NX %d" % (p.name.upper(), len(p.x)))
         L.append("#define SFMI_TMPL_%s_NIN %d" % (p.name.upper(), len(p.data)))
-        if not uses_ws(p.name):
+        if stack_bytes(nK, nB, nC) <= STACK_LIMIT:
             L.append("int sfmi_tmpl_%s(const double *in, double *sol);" % p.name)
         else:
             L.append("#define SFMI_TMPL_%s_WS %d /* doubles of ws */" % (p.name.upper(), ws_doubles(nK, nB)))
