@@ -34,7 +34,7 @@ static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
     double v[3], C0[9], n[3], e1[3], e2[3];
     for (int i = 0; i < 3; i++)
         v[i] = -b[i];
-    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_frame(v, n, e1, e2))
+    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
         return SFM_E_SINGULAR;
     double al[2], rh[2], a[2], bb[2], scale = 0.0;
     for (int k = 0; k < 2; k++) {
