@@ -85,8 +85,8 @@ static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
          * unobservable (robot 2 still, or moving only along b). */
         double qmax = 0.0, smax = 0.0;
         for (int i = 0; i < 5; i++) {
-            qmax = fmax(qmax, fabs(Q[i]));
-            smax = fmax(smax, Qs[i]);
+            qmax = fabs(Q[i]) > qmax ? fabs(Q[i]) : qmax;
+            smax = Qs[i] > smax ? Qs[i] : smax;
         }
         if (!(qmax > 1e-10 * smax))
             return SFM_E_SINGULAR;
