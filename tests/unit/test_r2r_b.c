@@ -40,3 +40,10 @@ SFM_TEST(r2r_b1_b2_d_d_truth_among_solutions)
 {
     check_system(t, &sfmi_r2r_b1_b2_d_d, SFM_TEST_ITERS(3000), NULL);
 }
+
+SFM_TEST(r2r_b1_d_d_d_d_truth_among_solutions)
+{
+    /* the slowest of the six (a scan of about 1500 resultants): fewer
+     * instances here, the long run is in tests/native/test_r2r_b_long.c */
+    check_system(t, &sfmi_r2r_b1_d_d_d_d, SFM_TEST_ITERS(1000), NULL);
+}
