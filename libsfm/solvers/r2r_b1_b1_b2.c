@@ -12,9 +12,9 @@
  * |a| = |t2_1|, |b| = |t2_2 + n w| and a.b = t2_1.(t2_2 + n w), three
  * quadratics in (l, m, n), Bezout number 8, attained by the generic template
  * (generated/r2r_tmpl_b1_b1_b2.c, 27x35, action matrix 8x8). Real roots with
- * l, m, n > 0 are polished by two Newton steps (and dropped unless the equations confirm
- * them); C is the rotation taking
- * (t2_1, t2_2 + n w) to (a, b).
+ * l, m, n > 0 are polished by two Newton steps and dropped unless the
+ * equations then confirm them; C is the rotation taking (t2_1, t2_2 + n w)
+ * to (a, b).
  *
  * Degenerate motion: robot 2 must have moved by step 1 (t2_1 != 0), else a
  * rotation about one axis stays free: SFM_E_DEGENERATE. A root whose pair
