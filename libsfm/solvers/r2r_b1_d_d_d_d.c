@@ -26,7 +26,8 @@
  *
  * Degenerate data: t1_1 on the bearing's line (no fixed circle axes) or
  * robot 2 not moved by step 1: SFM_E_DEGENERATE. Stack under 6 KB (the
- * polynomial root finder's); no ws. About 500 resultants per solve.
+ * polynomial root finder's); no ws. About 2000 resultants (14 x 14 LU each)
+ * per solve.
  */
 #include <math.h>
 
@@ -46,6 +47,7 @@ typedef struct geo {
     double v[3][3];   /* G^T t2_k, k = 2, 3, 4 */
     double t1[3][3];  /* t1_k */
     double K[3];      /* |t2_k|^2 - d_k^2 */
+    double c7[7], s7[7], c9[9], s9[9]; /* cos, sin of 2 pi j / 7 and / 9 */
 } geo;
 
 typedef struct circ {
@@ -145,17 +147,16 @@ static double norm_of(double abc[3][3])
 
 /* (1 + t^2)^D f(phi(t)), t = tan(phi/2), ascending, from 2D + 1 samples of
  * a trigonometric polynomial f of degree D (exact DFT). */
-static void half_angle_poly(const double *fs, int D, double *P)
+static void half_angle_poly(const double *fs, int D, const double *cs, const double *sn,
+                            double *P)
 {
     int N = 2 * D + 1;
     double A[5], B[5], re[9], im[9], w[9];
     for (int k = 0; k <= D; k++) {
         double sa = 0.0, sb = 0.0;
         for (int j = 0; j < N; j++) {
-            double s, c;
-            sfmi_sincos(TWO_PI * ((k * j) % N) / N, &s, &c);
-            sa += fs[j] * c;
-            sb += fs[j] * s;
+            sa += fs[j] * cs[(k * j) % N];
+            sb += fs[j] * sn[(k * j) % N];
         }
         A[k] = (k == 0 ? 1.0 : 2.0) * sa / N;
         B[k] = 2.0 * sb / N;
@@ -195,19 +196,15 @@ static int polys_at(const geo *g, double l, circ *c, double p1[7], double p2[9])
     coef_fourier(g, c, l);
     double f1[7], f2[9], abc[3][3];
     for (int j = 0; j < 7; j++) {
-        double s, co;
-        sfmi_sincos(TWO_PI * j / 7, &s, &co);
-        eval_abc(c, co, s, abc);
+        eval_abc(c, g->c7[j], g->s7[j], abc);
         f1[j] = det3_of(abc);
     }
     for (int j = 0; j < 9; j++) {
-        double s, co;
-        sfmi_sincos(TWO_PI * j / 9, &s, &co);
-        eval_abc(c, co, s, abc);
+        eval_abc(c, g->c9[j], g->s9[j], abc);
         f2[j] = norm_of(abc);
     }
-    half_angle_poly(f1, 3, p1);
-    half_angle_poly(f2, 4, p2);
+    half_angle_poly(f1, 3, g->c7, g->s7, p1);
+    half_angle_poly(f2, 4, g->c9, g->s9, p2);
     return 1;
 }
 
@@ -396,6 +393,11 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     for (int i = 0; i < 3; i++)
         g.m[i] /= nm;
     g.d1 = s[1].d;
+    for (int j = 0; j < 9; j++) {
+        if (j < 7)
+            sfmi_sincos(TWO_PI * j / 7, &g.s7[j], &g.c7[j]);
+        sfmi_sincos(TWO_PI * j / 9, &g.s9[j], &g.c9[j]);
+    }
     double g1[3], g2[3], g3[3], aux[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < 3; i++)
         g1[i] = t21[i] / g.rho;
