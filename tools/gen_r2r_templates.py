@@ -25,7 +25,11 @@ whose coefficients are polynomials in input data (SymPy expressions).
     a second GF(P) instance before anything is written.
 
 Feeding it another system: add a Problem(name, unknowns, data, equations,
-doc) to PROBLEMS. Requirements: a zero-dimensional system for generic data;
+doc[, max_extra]) to PROBLEMS (max_extra: how many degrees above the
+equations' own the expansion may go, 4 unless said; each degree and action
+variable tried is reported on stderr, so a failing search shows how far it
+got). The row reduction over GF(P) runs in numpy, so templates of a few
+hundred rows cost seconds. Requirements: a zero-dimensional system for generic data;
 every unknown other than the action variable must be a standard monomial
 (true when no equation is linear in a leading unknown); the data symbols are
 the inputs of the generated function in the order given.

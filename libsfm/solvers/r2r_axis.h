@@ -18,7 +18,7 @@
 
 /* Unit n and a right-handed orthonormal frame (n, e1, e2). 0 for a zero or
  * non-finite a. */
-static inline int sfmi_r2r_frame(const double a[3], double n[3], double e1[3], double e2[3])
+static inline int sfmi_r2r_unit_frame(const double a[3], double n[3], double e1[3], double e2[3])
 {
     double l = sqrt(sfmi_dot3(a, a));
     if (!(l > 0.0) || !isfinite(l))
@@ -43,7 +43,7 @@ static inline int sfmi_r2r_frame(const double a[3], double n[3], double e1[3], d
 static inline int sfmi_r2r_align(const double u[3], const double v[3], double C0[9])
 {
     double a[3], a1[3], a2[3], b[3], b1[3], b2[3];
-    if (!sfmi_r2r_frame(u, a, a1, a2) || !sfmi_r2r_frame(v, b, b1, b2))
+    if (!sfmi_r2r_unit_frame(u, a, a1, a2) || !sfmi_r2r_unit_frame(v, b, b1, b2))
         return 0;
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)

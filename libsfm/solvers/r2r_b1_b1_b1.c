@@ -11,8 +11,9 @@
  * quadratics in (l, m1, m2) with Bezout number 8, which the generic
  * elimination template attains (generated/r2r_tmpl_b1_b1_b1.c, 27x35,
  * action matrix 8x8). Each real root with l, m1, m2 > 0 (the bearings point
- * at the robot) is polished by two Newton steps and gives C as the one
- * rotation taking (t2_1, t2_2) to (a_1, a_2).
+ * at the robot) is polished by two Newton steps, dropped unless the
+ * equations then confirm it, and gives C as the one rotation taking
+ * (t2_1, t2_2) to (a_1, a_2).
  *
  * Degenerate motion: robot 2's positions t2_1, t2_2 must span a plane (else
  * C is not determined): SFM_E_DEGENERATE. Stack: the template's (about
@@ -24,9 +25,9 @@
 #include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
-static void polish(const double *a, const double *b, const double *c, double *x)
+static int polish(const double *a, const double *b, const double *c, double *x)
 {
-    for (int it = 0; it < 2; it++) {
+    for (int it = 0; it < 3; it++) {
         double l = x[0], m1 = x[1], m2 = x[2];
         double f[3] = {m1 * m1 + l * l + a[0] * l * m1 + a[1] * l + a[2] * m1 + a[3],
                        m2 * m2 + l * l + b[0] * l * m2 + b[1] * l + b[2] * m2 + b[3],
@@ -36,12 +37,19 @@ static void polish(const double *a, const double *b, const double *c, double *x)
                        2 * l + b[0] * m2 + b[1], 0.0, 2 * m2 + b[0] * l + b[2],
                        2 * l + c[0] * m1 + c[1] * m2 + c[3], c[0] * l + c[2] * m2 + c[4],
                        c[1] * l + c[2] * m1 + c[5]};
-        double dx[3];
+        double dx[3], big = 0.0, res = 0.0;
+        for (int i = 0; i < 9; i++)
+            big = sfmi_r2r_max(big, fabs(J[i]));
+        for (int i = 0; i < 3; i++)
+            res = sfmi_r2r_max(res, fabs(f[i]));
+        if (it == 2) /* a root the equations do not confirm is no root */
+            return res <= 1e-10 * big * (1.0 + fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
         if (!sfmi_r2r_solve3(J, f, dx))
-            return;
+            return 0;
         for (int i = 0; i < 3; i++)
             x[i] -= dx[i];
     }
+    return 0;
 }
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
@@ -78,7 +86,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int n_out = 0;
     for (int k = 0; k < ns; k++) {
         double *x = sol + 3 * k;
-        polish(a, b, c, x);
+        if (!polish(a, b, c, x))
+            continue;
         if (!(x[0] > 0.0 && x[1] > 0.0 && x[2] > 0.0))
             continue;
         double a1[3], a2[3];

@@ -12,8 +12,9 @@
  * |a| = |t2_1|, |b| = |t2_2 + n w| and a.b = t2_1.(t2_2 + n w), three
  * quadratics in (l, m, n), Bezout number 8, attained by the generic template
  * (generated/r2r_tmpl_b1_b1_b2.c, 27x35, action matrix 8x8). Real roots with
- * l, m, n > 0 are polished by two Newton steps; C is the rotation taking
- * (t2_1, t2_2 + n w) to (a, b).
+ * l, m, n > 0 are polished by two Newton steps and dropped unless the
+ * equations then confirm them; C is the rotation taking (t2_1, t2_2 + n w)
+ * to (a, b).
  *
  * Degenerate motion: robot 2 must have moved by step 1 (t2_1 != 0), else a
  * rotation about one axis stays free: SFM_E_DEGENERATE. A root whose pair
@@ -26,9 +27,9 @@
 #include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
-static void polish(const double *a, const double *b, const double *c, double *x)
+static int polish(const double *a, const double *b, const double *c, double *x)
 {
-    for (int it = 0; it < 2; it++) {
+    for (int it = 0; it < 3; it++) {
         double l = x[0], m = x[1], n = x[2];
         double f[3] = {m * m + l * l + a[0] * l * m + a[1] * l + a[2] * m + a[3],
                        l * l - n * n + b[0] * l + b[1] * n + b[2],
@@ -36,12 +37,19 @@ static void polish(const double *a, const double *b, const double *c, double *x)
         double J[9] = {2 * l + a[0] * m + a[1], 2 * m + a[0] * l + a[2], 0.0,
                        2 * l + b[0], 0.0, -2 * n + b[1],
                        2 * l + c[0] * m + c[1], c[0] * l + c[2], c[3]};
-        double dx[3];
+        double dx[3], big = 0.0, res = 0.0;
+        for (int i = 0; i < 9; i++)
+            big = sfmi_r2r_max(big, fabs(J[i]));
+        for (int i = 0; i < 3; i++)
+            res = sfmi_r2r_max(res, fabs(f[i]));
+        if (it == 2) /* a root the equations do not confirm is no root */
+            return res <= 1e-10 * big * (1.0 + fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
         if (!sfmi_r2r_solve3(J, f, dx))
-            return;
+            return 0;
         for (int i = 0; i < 3; i++)
             x[i] -= dx[i];
     }
+    return 0;
 }
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
@@ -75,7 +83,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int n_out = 0;
     for (int k = 0; k < ns; k++) {
         double *x = sol + 3 * k;
-        polish(a, b, c, x);
+        if (!polish(a, b, c, x))
+            continue;
         if (!(x[0] > 0.0 && x[1] > 0.0 && x[2] > 0.0))
             continue;
         double va[3], vb[3], v2[3];

@@ -27,7 +27,7 @@ static int solve_b1b2_b1(const sfm_r2r_step *steps, sfm_r2r_transform *out, doub
     double v[3], f[3], mvec[3], C0[9], n[3], e1[3], e2[3], C[2][9];
     for (int i = 0; i < 3; i++)
         v[i] = -b[i];
-    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_frame(v, n, e1, e2))
+    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
         return SFM_E_SINGULAR;
     sfmi_matvec3(steps[1].R1.m, steps[1].b1.v, f);
     sfmi_cross3(b, f, mvec);

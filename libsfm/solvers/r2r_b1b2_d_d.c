@@ -13,8 +13,9 @@
  * with t1_k^T C t2_k = A_k cos + B_k sin + E_k on the circle. The
  * difference of the two is linear in lambda; lambda substituted into the
  * first, and the half-angle tangent t (cos = (1-t^2)/(1+t^2),
- * sin = 2t/(1+t^2)) leave one quartic in t: 4 complex solutions. Rotations
- * within about 1e-4 rad of pi about b (t very large) lose accuracy.
+ * sin = 2t/(1+t^2)) leave one quartic in t: 4 complex solutions. The
+ * tangent's pole is put at whichever quarter-turn the quartic is largest at
+ * (as in relpose_upright_3pt.c), so no rotation about b is singular.
  * Degenerate (SFM_E_SINGULAR): alpha_1 = alpha_2 (then lambda drops out of
  * the difference), or a quartic that cancels to rounding (theta unobservable:
  * robot 2 still or moving along b only).
@@ -33,7 +34,7 @@ static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
     double v[3], C0[9], n[3], e1[3], e2[3];
     for (int i = 0; i < 3; i++)
         v[i] = -b[i];
-    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_frame(v, n, e1, e2))
+    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
         return SFM_E_SINGULAR;
     double al[2], rh[2], a[2], bb[2], scale = 0.0;
     for (int k = 0; k < 2; k++) {
@@ -49,39 +50,68 @@ static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
         bb[k] = -2.0 * B;
         scale += fabs(al[k]);
     }
-    double da = al[0] - al[1], dr = rh[0] - rh[1], dc = a[0] - a[1], ds = bb[0] - bb[1];
+    double da = al[0] - al[1];
     if (!(fabs(da) > 1e-12 * scale))
         return SFM_E_SINGULAR;
-    /* lambda (1 + t^2) = L0 + L1 t + L2 t^2 */
-    double L[3] = {-(dr + dc) / da, -2.0 * ds / da, -(dr - dc) / da};
-    double U[3] = {1.0, 0.0, 1.0}, K[3] = {a[0], 2.0 * bb[0], -a[0]};
-    double Q[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, Qs[5] = {0.0, 0.0, 0.0, 0.0, 0.0}; /* ascending */
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double t0 = L[i] * L[j], t1 = al[0] * L[i] * U[j], t2 = rh[0] * U[i] * U[j];
-            double t3 = K[i] * U[j];
-            Q[i + j] += t0 + t1 + t2 + t3;
-            Qs[i + j] += fabs(t0) + fabs(t1) + fabs(t2) + fabs(t3);
+    /* The half-angle tangent has its pole at theta = pi, where the quartic's
+     * leading coefficient vanishes with the trigonometric form's value. Of
+     * the four quarter-turns of the origin, take the one whose pole sees the
+     * largest value (relative to the coefficients' size): no angle is lost. */
+    double L[3], Q[5], best = -1.0, bc = 1.0, bs = 0.0, BL[3] = {0.0, 0.0, 0.0}, BQ[5] = {0.0};
+    for (int q = 0; q < 4; q++) {
+        double cf = q == 0 ? 1.0 : q == 2 ? -1.0 : 0.0, sf = q == 1 ? 1.0 : q == 3 ? -1.0 : 0.0;
+        double qa[2], qb[2];
+        for (int k = 0; k < 2; k++) {
+            qa[k] = a[k] * cf + bb[k] * sf;
+            qb[k] = -a[k] * sf + bb[k] * cf;
         }
-    /* A quartic that cancels to rounding is the identity 0 = 0: theta is
-     * unobservable (robot 2 still, or moving only along b). */
-    double qmax = 0.0, smax = 0.0;
-    for (int i = 0; i < 5; i++) {
-        qmax = fmax(qmax, fabs(Q[i]));
-        smax = fmax(smax, Qs[i]);
+        double dr = rh[0] - rh[1], dc = qa[0] - qa[1], ds = qb[0] - qb[1];
+        /* lambda (1 + t^2) = L0 + L1 t + L2 t^2 */
+        L[0] = -(dr + dc) / da;
+        L[1] = -2.0 * ds / da;
+        L[2] = -(dr - dc) / da;
+        double U[3] = {1.0, 0.0, 1.0}, K[3] = {qa[0], 2.0 * qb[0], -qa[0]};
+        double Qs[5] = {0.0, 0.0, 0.0, 0.0, 0.0}; /* ascending */
+        for (int i = 0; i < 5; i++)
+            Q[i] = 0.0;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double t0 = L[i] * L[j], t1 = al[0] * L[i] * U[j], t2 = rh[0] * U[i] * U[j];
+                double t3 = K[i] * U[j];
+                Q[i + j] += t0 + t1 + t2 + t3;
+                Qs[i + j] += fabs(t0) + fabs(t1) + fabs(t2) + fabs(t3);
+            }
+        /* A quartic that cancels to rounding is the identity 0 = 0: theta is
+         * unobservable (robot 2 still, or moving only along b). */
+        double qmax = 0.0, smax = 0.0;
+        for (int i = 0; i < 5; i++) {
+            qmax = fabs(Q[i]) > qmax ? fabs(Q[i]) : qmax;
+            smax = Qs[i] > smax ? Qs[i] : smax;
+        }
+        if (!(qmax > 1e-10 * smax))
+            return SFM_E_SINGULAR;
+        if (fabs(Q[4]) / qmax > best) {
+            best = fabs(Q[4]) / qmax;
+            bc = cf;
+            bs = sf;
+            for (int i = 0; i < 3; i++)
+                BL[i] = L[i];
+            for (int i = 0; i < 5; i++)
+                BQ[i] = Q[i];
+        }
     }
-    if (!(qmax > 1e-10 * smax))
-        return SFM_E_SINGULAR;
-    double desc[5] = {Q[4], Q[3], Q[2], Q[1], Q[0]}, roots[4];
+    double desc[5] = {BQ[4], BQ[3], BQ[2], BQ[1], BQ[0]}, roots[4];
     int m = sfm_poly_roots4(desc, roots), cnt = 0;
     if (m < 0)
         return m;
     for (int j = 0; j < m; j++) {
         double t = roots[j], u = 1.0 + t * t, C[9], p[3];
-        double lam = (L[0] + t * (L[1] + t * L[2])) / u;
+        double lam = (BL[0] + t * (BL[1] + t * BL[2])) / u;
         if (!(lam > 0.0))
             continue;
-        sfmi_r2r_axis_rotate(n, (1.0 - t * t) / u, 2.0 * t / u, C0, C);
+        /* theta = the root's angle plus the chosen quarter-turn */
+        double co = (1.0 - t * t) / u, si = 2.0 * t / u;
+        sfmi_r2r_axis_rotate(n, co * bc - si * bs, si * bc + co * bs, C0, C);
         for (int i = 0; i < 3; i++)
             p[i] = lam * b[i];
         sfmi_r2r_emit(steps, 3, C, p, out, &cnt);

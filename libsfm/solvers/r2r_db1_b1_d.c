@@ -44,7 +44,7 @@ static int solve_db1_b1_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
             continue;
         for (int i = 0; i < 3; i++)
             v[i] = mu * f[i] - h[i];
-        if (!sfmi_r2r_align(u, v, C0) || !sfmi_r2r_frame(v, n, e1, e2))
+        if (!sfmi_r2r_align(u, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
             continue;
         int m = sfmi_r2r_circle_solve(C0, n, x, y, c, C);
         for (int j = 0; j < m; j++)

@@ -24,7 +24,7 @@ static int solve_db1b2_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, doub
         v[i] = -steps[0].b1.v[i];
         y[i] = p[i] - steps[1].t1.v[i];
     }
-    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_frame(v, n, e1, e2))
+    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
         return SFM_E_SINGULAR;
     const double *x = steps[1].t2.v;
     double c = 0.5 * (steps[1].d * steps[1].d - sfmi_dot3(x, x) - sfmi_dot3(y, y));

@@ -27,6 +27,4 @@ static int sfmi_r2r_pending_solve(const sfm_r2r_step *steps, sfm_r2r_transform *
 #define B2_ SFM_R2R_B2
 
 /* PLACEHOLDER r2r-b */
-SFMI_R2R_PENDING(sfmi_r2r_b1_d_d_d_d, SFM_R2R_SYS_B1_D_D_D_D, 5, B1_, D_, D_, D_, D_, 0, 0);
-/* PLACEHOLDER r2r-b */
 SFMI_R2R_PENDING(sfmi_r2r_d6, SFM_R2R_SYS_D6, 6, D_, D_, D_, D_, D_, D_, 0);

@@ -54,9 +54,38 @@ int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,
     }
     if (!(umin > 1e-14 * umax))
         return SFM_E_SINGULAR;
-    st = sfm_lu_solve(A, piv, nk, X, nb);
-    if (st < 0)
-        return st;
+    /* The action matrix reads only the reduced rows of the solution, the
+     * last unknowns of the template: substitute forward in full, backward
+     * only down to the first row read. */
+    int r0 = nk;
+    for (int j = 0; j < nb; j++)
+        if (act_src[j] < 0 && -1 - act_src[j] < r0)
+            r0 = -1 - act_src[j];
+    for (int k = 0; k < nk; k++)
+        if (piv[k] != k)
+            for (int j = 0; j < nb; j++) {
+                double t = X[k * nb + j];
+                X[k * nb + j] = X[piv[k] * nb + j];
+                X[piv[k] * nb + j] = t;
+            }
+    for (int i = 1; i < nk; i++)
+        for (int k = 0; k < i; k++) {
+            double l = A[i * nk + k];
+            if (l != 0.0)
+                for (int j = 0; j < nb; j++)
+                    X[i * nb + j] -= l * X[k * nb + j];
+        }
+    for (int i = nk - 1; i >= r0; i--) {
+        for (int k = i + 1; k < nk; k++) {
+            double u = A[i * nk + k];
+            if (u != 0.0)
+                for (int j = 0; j < nb; j++)
+                    X[i * nb + j] -= u * X[k * nb + j];
+        }
+        double inv = 1.0 / A[i * nk + i];
+        for (int j = 0; j < nb; j++)
+            X[i * nb + j] *= inv;
+    }
     for (int j = 0; j < nb; j++) {
         int s = act_src[j];
         for (int k = 0; k < nb; k++)

@@ -162,6 +162,11 @@ static void run_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *sys, int n)
                  "real solutions (count:instances)%s",
                  sys->name, found, n, 100.0 * found / n, errors, bad_fit, h);
     SFM_CHECK_MSG(found >= n - n / 1000, "%s: truth in %d of %d", sys->name, found, n);
+#ifndef SFM_TEST_REDUCED
+    /* the count is tight: some instances have every complex solution real */
+    SFM_CHECK_MSG(hist[sys->max_solutions] > 0, "%s: never %d real solutions", sys->name,
+                  sys->max_solutions);
+#endif
     SFM_CHECK_MSG(bad_fit <= n / 1000, "%s: %d instances with a misfit", sys->name, bad_fit);
 }
 
