@@ -220,9 +220,11 @@ SFM_API int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r
  * outliers, by the library's RANSAC engine (sfm_ransac.h: SPRT, MSAC, LO).
  * A datum is one measurement of one step (a distance, a bearing b1 or a
  * bearing b2). A sample draws six distinct measurements (all of them when
- * there are fewer) and takes them in drawn order while their equations add
- * up to at most six, skipping a bearing that would overshoot; a sample that
- * does not reach exactly six is degenerate. The measurements taken form the
+ * there are fewer) and takes them, bearings first and each kind in drawn
+ * order, while their equations add up to at most six, skipping a bearing
+ * that would overshoot; a sample that does not reach exactly six is
+ * degenerate. (Bearings first: the bearing-only base systems are the
+ * cheapest to solve.) The measurements taken form the
  * sub-sequence handed to sfm_r2r_solve, whose every solution is a hypothesis.
  * Scoring: the normalised residual of each measurement under the
  * hypothesis, |d_pred - d| / sigma_d for a distance, |b_pred - b| / sigma_b

@@ -64,9 +64,17 @@ static int r2r_solve_sample(void *vctx, const int *sample, double *models)
     r2r_ctx *c = vctx;
     const int k = c->nm < R2R_SAMPLE ? c->nm : R2R_SAMPLE;
     int neq = 0, ns = 0;
-    int which[R2R_SAMPLE];
+    int which[R2R_SAMPLE], order[R2R_SAMPLE], no = 0;
+    /* bearings first, each kind in drawn order: the bearing-only base
+     * systems are the cheap ones (B1_B1_B1 about 0.15 M instructions, the
+     * distance-heavy B1_D_D_D_D about 33 M: bench/README.md), and which of
+     * the drawn measurements are taken is still a function of the draw */
+    for (int pass = 0; pass < 2; pass++)
+        for (int j = 0; j < k; j++)
+            if ((c->m_kind[sample[j]] == SFM_R2R_D) == (pass == 1))
+                order[no++] = sample[j];
     for (int j = 0; j < k && neq < 6; j++) {
-        const int i = sample[j];
+        const int i = order[j];
         const int e = eqs(c->m_kind[i]);
         if (neq + e > 6)
             continue;
