@@ -337,6 +337,22 @@ def mono_str(x, m):
     return s or "1"
 
 
+# Templates whose matrices fit in this many bytes keep them on the stack; larger
+# ones take them from a caller workspace (a solver may use 16 KiB of stack).
+STACK_LIMIT = 12 * 1024
+
+
+def stack_bytes(nK, nB, nC):
+    """Bytes of the generated function's own frame: c, A, X, M, V, wr, wi,
+    the eigensolver workspace (SFMI_TMPL_EIG_WS) and the pivots."""
+    return 8 * (nC + nK * nK + nK * nB + 2 * nB * nB + 2 * nB + 6 * nB * nB + 16 * nB + 16) + 4 * nK
+
+
+def ws_doubles(nK, nB):
+    """Doubles of workspace a large template takes (A, X, M, V, wr, wi, eig)."""
+    return nK * nK + nK * nB + 2 * nB * nB + 2 * nB + (6 * nB * nB + 16 * nB + 16)
+
+
 def emit(prob, t):
     name = prob.name
     nB, nK, nx = len(t.B), len(t.keep_mons), len(prob.x)
@@ -374,14 +390,18 @@ def emit(prob, t):
     w(" * Template: %d equations x monomials up to degree %d; %d kept rows, %d eliminated" % (len(prob.eqs), t.D, nK, nK))
     w(" * columns (%d excessive, %d reducible), %d basis monomials:" % (nK - len(t.R), len(t.R), nB))
     w(" * %s." % ", ".join(mono_str(prob.x, m) for m in t.B))
-    w(" * Stack: the %dx%d template, its %dx%d right-hand side, the action matrix," % (nK, nK, nK, nB))
-    w(" * its eigenvectors and the eigensolver's workspace (about %d bytes)." %
-      (8 * (nK * nK + nK * nB + 4 * nB * nB + 8 * nB + len(coef)) + 4 * nK))
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
+        w(" * Stack: the %dx%d template, its %dx%d right-hand side, the action matrix," % (nK, nK, nK, nB))
+        w(" * its eigenvectors and the eigensolver's workspace (about %d bytes)." %
+          stack_bytes(nK, nB, len(coef)))
+    else:
+        w(" * Work memory: the %dx%d template, its %dx%d right-hand side, the action" % (nK, nK, nK, nB))
+        w(" * matrix, its eigenvectors and the eigensolver's workspace come from ws")
+        w(" * (SFMI_TMPL_%s_WS doubles, 8-byte aligned); stack: the %d coefficients" %
+          (name.upper(), len(coef)))
+        w(" * and the pivots.")
     w(" */")
     w('#include "solvers/generated/r2r_tmpl.h"')
-    w("")
-    w("#include <math.h>")
-    w('#include "sfm/sfm_linalg.h"')
     w("")
     w("#define NK %d" % nK)
     w("#define NB %d" % nB)
@@ -413,23 +433,29 @@ def emit(prob, t):
     w("/* where each unknown is read from an eigenvector (-1: the eigenvalue) */")
     w("static const short VAR_SRC[NX] = {%s};" % ", ".join(map(str, var_src)))
     w("")
-    w("int sfmi_tmpl_%s(const double *in, double *sol)" % name)
-    w("{")
-    w("    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];")
-    w("    double ews[SFMI_TMPL_EIG_WS(NB)];")
-    w("    int piv[NK];")
-    w("    coefficients(in, c);")
-    w("    for (int i = 0; i < NK * NK; i++)")
-    w("        A[i] = 0.0;")
-    w("    for (int i = 0; i < NK * NB; i++)")
-    w("        X[i] = 0.0;")
-    w("    for (unsigned i = 0; i < sizeof A_ENT / sizeof A_ENT[0]; i++)")
-    w("        A[A_ENT[i][0] * NK + A_ENT[i][1]] = c[A_ENT[i][2]];")
-    w("    for (unsigned i = 0; i < sizeof B_ENT / sizeof B_ENT[0]; i++)")
-    w("        X[B_ENT[i][0] * NB + B_ENT[i][1]] = c[B_ENT[i][2]];")
-    w("    return sfmi_tmpl_finish(A, piv, NK, X, NB, ACT_SRC, VAR_SRC, NX, %d, M, V, wr, wi," % one)
-    w("                            ews, sizeof ews, sol);")
-    w("}")
+    w("static const sfmi_tmpl TMPL = {")
+    w("    NK, NB, NX, %d, A_ENT, %d, B_ENT, %d, ACT_SRC, VAR_SRC," % (one, len(a_ent), len(b_ent)))
+    w("};")
+    w("")
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
+        w("int sfmi_tmpl_%s(const double *in, double *sol)" % name)
+        w("{")
+        w("    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];")
+        w("    double ews[SFMI_TMPL_EIG_WS(NB)];")
+        w("    int piv[NK];")
+        w("    coefficients(in, c);")
+        w("    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews, sizeof ews, sol);")
+        w("}")
+    else:
+        w("int sfmi_tmpl_%s(const double *in, double *sol, double *ws)" % name)
+        w("{")
+        w("    double c[NC], *A = ws, *X = A + NK * NK, *M = X + NK * NB, *V = M + NB * NB;")
+        w("    double *wr = V + NB * NB, *wi = wr + NB, *ews = wi + NB;")
+        w("    int piv[NK];")
+        w("    coefficients(in, c);")
+        w("    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews,")
+        w("                         SFMI_TMPL_EIG_WS(NB) * sizeof(double), sol);")
+        w("}")
     return "\n".join(L) + "\n"
 
 
@@ -451,13 +477,38 @@ def emit_header(probs, temps):
          "#define SFMI_TMPL_EIG_WS(n) (6 * (n) * (n) + 16 * (n) + 16)",
          ""]
     for p, t in zip(probs, temps):
-        L.append("#define SFMI_TMPL_%s_NSOL %d /* basis size */" % (p.name.upper(), len(t.B)))
+        nK, nB = len(t.keep_mons), len(t.B)
+        nC = sum(len(pl.monoms()) for pl in t.polys)
+        L.append("#define SFMI_TMPL_%s_NSOL %d /* basis size */" % (p.name.upper(), nB))
         L.append("#define SFMI_TMPL_%s_NX %d" % (p.name.upper(), len(p.x)))
         L.append("#define SFMI_TMPL_%s_NIN %d" % (p.name.upper(), len(p.data)))
-        L.append("int sfmi_tmpl_%s(const double *in, double *sol);" % p.name)
+        if stack_bytes(nK, nB, nC) <= STACK_LIMIT:
+            L.append("int sfmi_tmpl_%s(const double *in, double *sol);" % p.name)
+        else:
+            L.append("#define SFMI_TMPL_%s_WS %d /* doubles of ws */" % (p.name.upper(), ws_doubles(nK, nB)))
+            L.append("int sfmi_tmpl_%s(const double *in, double *sol, double *ws);" % p.name)
         L.append("")
-    L += ["/* The shared back end (libsfm/solvers/r2r_template.c): LU-solve the",
-          " * template, form the action matrix, eigendecompose, read the real solutions. */",
+    L += ["/* A template as the generator lays it out: (row, column, coefficient index)",
+          " * entries of its eliminated block A (nk x nk) and of its basis block X",
+          " * (nk x nb), where a * b_j comes from in the action matrix (act_src: basis",
+          " * index >= 0, or -1 - reduced row), where each unknown is read from an",
+          " * eigenvector (var_src: basis index, -1 for the eigenvalue), and the",
+          " * basis index of the monomial 1. */",
+          "typedef struct sfmi_tmpl {",
+          "    int nk, nb, nx, one;",
+          "    const unsigned short (*a_ent)[3];",
+          "    int n_a;",
+          "    const unsigned short (*b_ent)[3];",
+          "    int n_b;",
+          "    const short *act_src, *var_src;",
+          "} sfmi_tmpl;",
+          "",
+          "/* The shared back end (libsfm/solvers/r2r_template.c). sfmi_tmpl_run fills",
+          " * A and X from the coefficients c, then finishes: LU-solve the template,",
+          " * form the action matrix, eigendecompose, read the real solutions. */",
+          "int sfmi_tmpl_run(const sfmi_tmpl *T, const double *c, double *A, int *piv, double *X,",
+          "                  double *M, double *V, double *wr, double *wi, double *ews,",
+          "                  size_t ews_size, double *sol);",
           "int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,",
           "                     const short *act_src, const short *var_src, int nx, int one,",
           "                     double *M, double *V, double *wr, double *wi, double *ews,",

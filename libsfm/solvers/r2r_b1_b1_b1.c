@@ -16,8 +16,8 @@
  * (t2_1, t2_2) to (a_1, a_2).
  *
  * Degenerate motion: robot 2's positions t2_1, t2_2 must span a plane (else
- * C is not determined): SFM_E_DEGENERATE. Stack: the template's (about
- * 11 KB); no ws.
+ * C is not determined): SFM_E_DEGENERATE. The template's matrices live in
+ * ws (the descriptor's ws_doubles).
  */
 #include <math.h>
 
@@ -54,7 +54,6 @@ static int polish(const double *a, const double *b, const double *c, double *x)
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
 {
-    (void)ws;
     double u0[3], u1[3], u2[3];
     sfmi_r2r_u(&s[0], u0);
     sfmi_r2r_u(&s[1], u1);
@@ -81,7 +80,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     c[5] = sfmi_r2r_dot(u2, t11);
     c[6] = sfmi_r2r_dot(t11, t12) - sfmi_r2r_dot(t21, t22);
     double sol[SFMI_TMPL_B1_B1_B1_NSOL * 3];
-    int ns = sfmi_tmpl_b1_b1_b1(in, sol);
+    int ns = sfmi_tmpl_b1_b1_b1(in, sol, ws);
     if (ns < 0)
         return ns;
     int n_out = 0;
@@ -108,4 +107,4 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
 
 const sfmi_r2r_system_desc sfmi_r2r_b1_b1_b1 = {
     SFM_R2R_SYS_B1_B1_B1, 3, {SFM_R2R_B1, SFM_R2R_B1, SFM_R2R_B1, 0, 0, 0},
-    SFMI_TMPL_B1_B1_B1_NSOL, 0, solve, "b1_b1_b1"};
+    SFMI_TMPL_B1_B1_B1_NSOL, SFMI_TMPL_B1_B1_B1_WS, solve, "b1_b1_b1"};

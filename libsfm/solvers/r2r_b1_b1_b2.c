@@ -18,8 +18,8 @@
  *
  * Degenerate motion: robot 2 must have moved by step 1 (t2_1 != 0), else a
  * rotation about one axis stays free: SFM_E_DEGENERATE. A root whose pair
- * (t2_1, t2_2 + n w) is parallel is dropped. Stack: the template's (about
- * 11 KB); no ws.
+ * (t2_1, t2_2 + n w) is parallel is dropped. The template's matrices live
+ * in ws (the descriptor's ws_doubles).
  */
 #include <math.h>
 
@@ -54,7 +54,6 @@ static int polish(const double *a, const double *b, const double *c, double *x)
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
 {
-    (void)ws;
     double u0[3], u1[3], w[3];
     sfmi_r2r_u(&s[0], u0);
     sfmi_r2r_u(&s[1], u1);
@@ -78,7 +77,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     c[3] = -sfmi_r2r_dot(t21, w);
     c[4] = sfmi_r2r_dot(t11, t12) - sfmi_r2r_dot(t21, t22);
     double sol[SFMI_TMPL_B1_B1_B2_NSOL * 3];
-    int ns = sfmi_tmpl_b1_b1_b2(in, sol);
+    int ns = sfmi_tmpl_b1_b1_b2(in, sol, ws);
     if (ns < 0)
         return ns;
     int n_out = 0;
@@ -106,4 +105,4 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
 
 const sfmi_r2r_system_desc sfmi_r2r_b1_b1_b2 = {
     SFM_R2R_SYS_B1_B1_B2, 3, {SFM_R2R_B1, SFM_R2R_B1, SFM_R2R_B2, 0, 0, 0},
-    SFMI_TMPL_B1_B1_B2_NSOL, 0, solve, "b1_b1_b2"};
+    SFMI_TMPL_B1_B1_B2_NSOL, SFMI_TMPL_B1_B1_B2_WS, solve, "b1_b1_b2"};

@@ -7,9 +7,15 @@
  */
 #include "r2r_sim.h"
 
+/* the solvers' work memory, as the descriptors size it */
+static double sys_ws[4096];
+
 static void check_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
                          double *ws)
 {
+    SFM_CHECK(desc->ws_doubles <= sizeof sys_ws / sizeof sys_ws[0]);
+    if (!ws)
+        ws = sys_ws;
     r2r_sim_stats st = r2r_sim_run(t, desc, trials, 1e-6, ws);
     SFM_TEST_LOG("%s: truth in %d of %d (%.3f %%), status failures %d, most solutions %d, "
                  "bad solutions %d, worst error %.2g",
@@ -65,7 +71,7 @@ SFM_TEST(r2r_b_standing_still_is_degenerate)
             r2r_sim_measure(&steps[k], &truth);
         }
         sfm_test_fill_canary(out, sizeof out);
-        int n = sys[i]->solve(steps, out, NULL);
+        int n = sys[i]->solve(steps, out, sys_ws);
         SFM_CHECK_MSG(n == SFM_E_DEGENERATE, "%s: %d", sys[i]->name, n);
         SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     }
@@ -88,7 +94,7 @@ SFM_TEST(r2r_b_robot2_still_is_degenerate)
             r2r_sim_measure(&steps[k], &truth);
         }
         sfm_test_fill_canary(out, sizeof out);
-        int n = sys[i]->solve(steps, out, NULL);
+        int n = sys[i]->solve(steps, out, sys_ws);
         SFM_CHECK_MSG(n == SFM_E_DEGENERATE, "%s: %d", sys[i]->name, n);
         SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     }
