@@ -126,12 +126,14 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
  * template is singular for these data. A base system not built in this
  * library is SFM_E_UNSUPPORTED.
  * out must hold SFM_R2R_MAX_SOLUTIONS; ws at least
- * sfm_r2r_solve_workspace_size(n_steps) bytes (0 for n_steps < 1); out may
+ * sfm_r2r_solve_workspace_size(n_steps) bytes (0 for n_steps < 1, and
+ * for a count whose memory would overflow size_t: SFM_E_CAPACITY); out may
  * not alias steps or ws. Nothing is written to out on failure. Stack:
  * under 4 KiB plus the base solver's (at most 16 KiB).
  * Returns: the number of transforms written (0..SFM_R2R_MAX_SOLUTIONS),
  * SFM_E_ARGUMENT (bad input, NULL out or ws, fewer than six equations),
- * SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE, SFM_E_UNSUPPORTED. */
+ * SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE, SFM_E_CAPACITY,
+ * SFM_E_UNSUPPORTED. */
 SFM_API int sfm_r2r_classify(const sfm_r2r_step *steps, int n_steps);
 SFM_API size_t sfm_r2r_solve_workspace_size(int n_steps);
 SFM_API int sfm_r2r_solve(const sfm_r2r_step *steps, int n_steps,

@@ -16,8 +16,8 @@
  * (t2_1, t2_2) to (a_1, a_2).
  *
  * Degenerate motion: robot 2's positions t2_1, t2_2 must span a plane (else
- * C is not determined): SFM_E_DEGENERATE. Stack: the template's (about
- * 11 KB); no ws.
+ * C is not determined): SFM_E_DEGENERATE. The template's matrices live in
+ * ws (the descriptor's ws_doubles).
  */
 #include <math.h>
 

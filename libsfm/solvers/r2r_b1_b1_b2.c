@@ -18,8 +18,8 @@
  *
  * Degenerate motion: robot 2 must have moved by step 1 (t2_1 != 0), else a
  * rotation about one axis stays free: SFM_E_DEGENERATE. A root whose pair
- * (t2_1, t2_2 + n w) is parallel is dropped. Stack: the template's (about
- * 11 KB); no ws.
+ * (t2_1, t2_2 + n w) is parallel is dropped. The template's matrices live
+ * in ws (the descriptor's ws_doubles).
  */
 #include <math.h>
 

@@ -19,7 +19,8 @@
  * Degenerate (SFM_E_SINGULAR): alpha_1 = alpha_2 (then lambda drops out of
  * the difference), or a quartic that cancels to rounding (theta unobservable:
  * robot 2 still or moving along b only).
- * Stack under 1 KB; no workspace.
+ * Stack under 2 KB (976 bytes of its own, gcc -O2 x86-64, and the quartic
+ * solver's); no workspace.
  */
 #include <math.h>
 

@@ -16,7 +16,8 @@
  * on the three equations over a rotation increment, C <- cay(delta/2) C,
  * whose Jacobian rows are (C v_k) x u_k.
  * Work memory: the template's matrices, SFMI_TMPL_SYS10_WS doubles of ws;
- * stack about 2 KB.
+ * stack under 3 KB (gcc -O2 x86-64: 1152 bytes here, 704 in the template
+ * function, 848 in its back end and the eigensolver).
  */
 #include <math.h>
 

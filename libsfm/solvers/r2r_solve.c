@@ -64,6 +64,7 @@
  * memory comes from ws (the largest ws_doubles of the registry).
  */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/arena.h"
@@ -579,9 +580,15 @@ static void layout(sfmi_arena *a, const sfmi_r2r_system_desc *const *table, int 
     w->sws = SFM_ARENA_ARRAY(a, double, solver_ws_doubles(table));
 }
 
+/* Step counts whose work memory would not fit a size_t (32-bit targets). */
+static int too_many_steps(int n_steps)
+{
+    return (size_t)n_steps > SIZE_MAX / 4 / (sizeof(sfm_r2r_step) + sizeof(unsigned));
+}
+
 size_t sfmi_r2r_solve_ws_size_with(const sfmi_r2r_system_desc *const *table, int n_steps)
 {
-    if (n_steps < 1)
+    if (n_steps < 1 || too_many_steps(n_steps))
         return 0;
     sfmi_arena a;
     r2r_work w;
@@ -714,6 +721,8 @@ int sfmi_r2r_solve_with(const sfmi_r2r_system_desc *const *table, const sfm_r2r_
         return st;
     if (e < 6)
         return SFM_E_ARGUMENT;
+    if (too_many_steps(n_steps))
+        return SFM_E_CAPACITY;
     sfmi_arena a;
     r2r_work w;
     sfmi_arena_init(&a, ws, ws_size);

@@ -6,9 +6,12 @@
  */
 #include "../unit/r2r_sim.h"
 
+static double sys_ws[4096]; /* the solvers' work memory */
+
 static void long_run(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials)
 {
-    r2r_sim_stats st = r2r_sim_run(t, desc, trials, 1e-6, NULL);
+    SFM_CHECK(desc->ws_doubles <= sizeof sys_ws / sizeof sys_ws[0]);
+    r2r_sim_stats st = r2r_sim_run(t, desc, trials, 1e-6, sys_ws);
     SFM_TEST_LOG("%s: truth in %d of %d (%.3f %%), status failures %d, most solutions %d, "
                  "bad solutions %d",
                  desc->name, st.found, st.trials, 100.0 * st.found / st.trials, st.failed_status,

@@ -7,7 +7,7 @@
  */
 #include "r2r_sim.h"
 
-/* the solvers' work memory, as the descriptor sizes it */
+/* the solvers' work memory, as the descriptors size it */
 static double sys_ws[4096];
 
 static void check_system(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
@@ -71,7 +71,7 @@ SFM_TEST(r2r_b_standing_still_is_degenerate)
             r2r_sim_measure(&steps[k], &truth);
         }
         sfm_test_fill_canary(out, sizeof out);
-        int n = sys[i]->solve(steps, out, NULL);
+        int n = sys[i]->solve(steps, out, sys_ws);
         SFM_CHECK_MSG(n == SFM_E_DEGENERATE, "%s: %d", sys[i]->name, n);
         SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     }
@@ -94,7 +94,7 @@ SFM_TEST(r2r_b_robot2_still_is_degenerate)
             r2r_sim_measure(&steps[k], &truth);
         }
         sfm_test_fill_canary(out, sizeof out);
-        int n = sys[i]->solve(steps, out, NULL);
+        int n = sys[i]->solve(steps, out, sys_ws);
         SFM_CHECK_MSG(n == SFM_E_DEGENERATE, "%s: %d", sys[i]->name, n);
         SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     }
