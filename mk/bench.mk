@@ -9,8 +9,9 @@
 #   make bench-trifocal           the trifocal 7-point solver and RANSAC
 #   make bench-trifocal-callgrind instructions per sfm_trifocal_7pt call
 #   make bench-linalg             SVD and eigen beside Eigen, wall clock and callgrind
+#   make bench-r2r                robot-to-robot: us per sfm_r2r_solve per base system, then callgrind
 BENCH_STEPS += bench-solvers bench-pose bench-pose-callgrind bench-pose-poselib bench-ransac \
-    bench-trifocal bench-trifocal-callgrind bench-linalg
+    bench-trifocal bench-trifocal-callgrind bench-linalg bench-r2r
 
 # One rule for every C benchmark: bench/NAME.c -> build/bench/NAME, built with
 # the library's flags (-O2, no -march unless NATIVE=1), headers tracked per file.
@@ -68,5 +69,10 @@ bench-linalg: $(BUILD)/bench/linalg_bench
 	  done; rm -f $(BUILD)/bench/cg.out; \
 	else echo "valgrind not installed: no instruction counts"; fi
 
+bench-r2r: $(BUILD)/bench/r2r_bench
+	$(BUILD)/bench/r2r_bench
+	@if command -v valgrind >/dev/null; then sh bench/r2r_callgrind.sh $(BUILD)/bench/r2r_bench; \
+	else echo "valgrind not installed: no instruction counts"; fi
+
 .PHONY: bench-solvers bench-pose bench-pose-callgrind bench-pose-poselib bench-ransac \
-    bench-trifocal bench-trifocal-callgrind bench-linalg
+    bench-trifocal bench-trifocal-callgrind bench-linalg bench-r2r

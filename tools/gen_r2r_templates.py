@@ -25,7 +25,11 @@ whose coefficients are polynomials in input data (SymPy expressions).
     a second GF(P) instance before anything is written.
 
 Feeding it another system: add a Problem(name, unknowns, data, equations,
-doc) to PROBLEMS. Requirements: a zero-dimensional system for generic data;
+doc[, max_extra]) to PROBLEMS (max_extra: how many degrees above the
+equations' own the expansion may go, 4 unless said; each degree and action
+variable tried is reported on stderr, so a failing search shows how far it
+got). The row reduction over GF(P) runs in numpy, so templates of a few
+hundred rows cost seconds. Requirements: a zero-dimensional system for generic data;
 every unknown other than the action variable must be a standard monomial
 (true when no equation is linear in a leading unknown); the data symbols are
 the inputs of the generated function in the order given.
@@ -34,6 +38,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import sympy as sp
 
 P = 30011  # prime for the generic instances
@@ -41,8 +46,9 @@ MAX_EXTRA_DEGREE = 4
 
 
 class Problem:
-    def __init__(self, name, unknowns, data, equations, doc):
+    def __init__(self, name, unknowns, data, equations, doc, max_extra=MAX_EXTRA_DEGREE):
         self.name, self.x, self.data, self.eqs, self.doc = name, unknowns, data, equations, doc
+        self.max_extra = max_extra  # how far above the equations' degree to expand
 
 
 def problems():
@@ -79,6 +85,37 @@ def problems():
         "Three equations u_k^T C v_k = c_k on a rotation C in Cayley form,\n"
         " * (1 + s's) C = (1 - s's) I + 2 [s]x + 2 s s^T (8 solutions, Bezout bound).\n"
         " * Inputs per equation k: u_k[3], v_k[3], c_k."))
+    # --- r2r B1_B1_B1: bearings b1 at three steps (p = l u0) ---
+    l, m1, m2 = sp.symbols("l m1 m2")
+    a = sp.symbols("a0:4")
+    b = sp.symbols("b0:4")
+    c = sp.symbols("c0:7")
+    eqs = [m1**2 + l**2 + a[0] * l * m1 + a[1] * l + a[2] * m1 + a[3],
+           m2**2 + l**2 + b[0] * l * m2 + b[1] * l + b[2] * m2 + b[3],
+           l**2 + c[0] * l * m1 + c[1] * l * m2 + c[2] * m1 * m2 + c[3] * l + c[4] * m1 +
+           c[5] * m2 + c[6]]
+    out.append(Problem(
+        "b1_b1_b1", [l, m1, m2], list(a) + list(b) + list(c), eqs,
+        "Robot-to-robot B1_B1_B1 after eliminating C: with p = l u0 and\n"
+        " * a_k = t1_k - l u0 + m_k u_k = C t2_k, the equations |a_1|^2 = |t2_1|^2,\n"
+        " * |a_2|^2 = |t2_2|^2, a_1.a_2 = t2_1.t2_2 (unit u's), coefficients as inputs:\n"
+        " * m1^2 + l^2 + a0 l m1 + a1 l + a2 m1 + a3, m2^2 + l^2 + b0 l m2 + b1 l + b2 m2 + b3,\n"
+        " * l^2 + c0 l m1 + c1 l m2 + c2 m1 m2 + c3 l + c4 m1 + c5 m2 + c6."))
+    # --- r2r B1_B1_B2: b1 at steps 0 and 1, b2 at step 2 ---
+    l, m, n_ = sp.symbols("l m n")
+    a = sp.symbols("a0:4")
+    b = sp.symbols("b0:3")
+    c = sp.symbols("c0:5")
+    eqs = [m**2 + l**2 + a[0] * l * m + a[1] * l + a[2] * m + a[3],
+           l**2 - n_**2 + b[0] * l + b[1] * n_ + b[2],
+           l**2 + c[0] * l * m + c[1] * l + c[2] * m + c[3] * n_ + c[4]]
+    out.append(Problem(
+        "b1_b1_b2", [l, m, n_], list(a) + list(b) + list(c), eqs,
+        "Robot-to-robot B1_B1_B2 after eliminating C: with p = l u0,\n"
+        " * a = t1_1 - l u0 + m u1 = C t2_1 and b = t1_2 - l u0 = C (t2_2 + n w),\n"
+        " * the equations |a|^2 = |t2_1|^2, |b|^2 = |t2_2 + n w|^2, a.b = t2_1.(t2_2 + n w)\n"
+        " * (unit u's and w), coefficients as inputs: m^2 + l^2 + a0 l m + a1 l + a2 m + a3,\n"
+        " * l^2 - n^2 + b0 l + b1 n + b2, l^2 + c0 l m + c1 l + c2 m + c3 n + c4."))
     return out
 
 
@@ -126,23 +163,29 @@ def instance(prob, polys, rng):
 
 def rref_pivots(M, ncols_elim):
     """Row-reduce M (list of rows, mod P) on its first ncols_elim columns;
-    return (pivot columns, pivot rows as original indices)."""
-    rows = [list(r) for r in M]
-    idx = list(range(len(rows)))
+    return (pivot columns, pivot rows as original indices). Gauss-Jordan with
+    the first nonzero row as pivot, vectorised with numpy (P^2 < 2^63)."""
+    A = np.array(M, dtype=np.int64) % P
+    nrows = A.shape[0]
+    idx = list(range(nrows))
     piv_cols, piv_rows = [], []
     r0 = 0
     for c in range(ncols_elim):
-        pr = next((i for i in range(r0, len(rows)) if rows[i][c] % P), None)
-        if pr is None:
+        if r0 == nrows:
+            break
+        nz = np.nonzero(A[r0:, c])[0]
+        if len(nz) == 0:
             continue
-        rows[r0], rows[pr] = rows[pr], rows[r0]
-        idx[r0], idx[pr] = idx[pr], idx[r0]
-        iv = inv(rows[r0][c])
-        rows[r0] = [v * iv % P for v in rows[r0]]
-        for i in range(len(rows)):
-            if i != r0 and rows[i][c] % P:
-                f = rows[i][c]
-                rows[i] = [(v - f * w) % P for v, w in zip(rows[i], rows[r0])]
+        pr = r0 + int(nz[0])
+        if pr != r0:
+            A[[r0, pr]] = A[[pr, r0]]
+            idx[r0], idx[pr] = idx[pr], idx[r0]
+        A[r0] = A[r0] * inv(int(A[r0, c])) % P
+        f = A[:, c].copy()
+        f[r0] = 0
+        rows = np.nonzero(f)[0]
+        if len(rows):
+            A[rows] = (A[rows] - f[rows, None] * A[r0][None, :]) % P
         piv_cols.append(c)
         piv_rows.append(idx[r0])
         r0 += 1
@@ -184,17 +227,19 @@ def build(prob):
     B = [m for m in monomials_upto(n, 12) if not any(divides(lm, m) for lm in lms)]
     one = tuple([0] * n)
     maxdeg = max(pl.total_degree() for pl in polys)
-    for D in range(maxdeg, maxdeg + MAX_EXTRA_DEGREE + 1):
+    for D in range(maxdeg, maxdeg + prob.max_extra + 1):
         for ai in range(n):
             unit = lambda i: tuple(1 if j == i else 0 for j in range(n))
             if any(unit(i) not in B for i in range(n) if i != ai) or one not in B:
                 continue
             t = try_template(prob, polys, inst, B, ai, D)
+            print("%s: degree %d, action %s: %s" % (prob.name, D, prob.x[ai],
+                  "template" if t is not None else "no"), file=sys.stderr, flush=True)
             if t is not None:
                 t.B, t.ai, t.polys, t.G = B, ai, polys, G
                 verify(prob, t, rng)
                 return t
-    raise SystemExit("%s: no template up to degree %d" % (prob.name, maxdeg + MAX_EXTRA_DEGREE))
+    raise SystemExit("%s: no template up to degree %d" % (prob.name, maxdeg + prob.max_extra))
 
 
 def try_template(prob, polys, inst, B, ai, D):
@@ -292,6 +337,22 @@ def mono_str(x, m):
     return s or "1"
 
 
+# Templates whose matrices fit in this many bytes keep them on the stack; larger
+# ones take them from a caller workspace (a solver may use 16 KiB of stack).
+STACK_LIMIT = 12 * 1024
+
+
+def stack_bytes(nK, nB, nC):
+    """Bytes of the generated function's own frame: c, A, X, M, V, wr, wi,
+    the eigensolver workspace (SFMI_TMPL_EIG_WS) and the pivots."""
+    return 8 * (nC + nK * nK + nK * nB + 2 * nB * nB + 2 * nB + 6 * nB * nB + 16 * nB + 16) + 4 * nK
+
+
+def ws_doubles(nK, nB):
+    """Doubles of workspace a large template takes (A, X, M, V, wr, wi, eig)."""
+    return nK * nK + nK * nB + 2 * nB * nB + 2 * nB + (6 * nB * nB + 16 * nB + 16)
+
+
 def emit(prob, t):
     name = prob.name
     nB, nK, nx = len(t.B), len(t.keep_mons), len(prob.x)
@@ -329,14 +390,18 @@ def emit(prob, t):
     w(" * Template: %d equations x monomials up to degree %d; %d kept rows, %d eliminated" % (len(prob.eqs), t.D, nK, nK))
     w(" * columns (%d excessive, %d reducible), %d basis monomials:" % (nK - len(t.R), len(t.R), nB))
     w(" * %s." % ", ".join(mono_str(prob.x, m) for m in t.B))
-    w(" * Stack: the %dx%d template, its %dx%d right-hand side, the action matrix," % (nK, nK, nK, nB))
-    w(" * its eigenvectors and the eigensolver's workspace (about %d bytes)." %
-      (8 * (nK * nK + nK * nB + 4 * nB * nB + 8 * nB + len(coef)) + 4 * nK))
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
+        w(" * Stack: the %dx%d template, its %dx%d right-hand side, the action matrix," % (nK, nK, nK, nB))
+        w(" * its eigenvectors and the eigensolver's workspace (about %d bytes)." %
+          stack_bytes(nK, nB, len(coef)))
+    else:
+        w(" * Work memory: the %dx%d template, its %dx%d right-hand side, the action" % (nK, nK, nK, nB))
+        w(" * matrix, its eigenvectors and the eigensolver's workspace come from ws")
+        w(" * (SFMI_TMPL_%s_WS doubles, 8-byte aligned); stack: the %d coefficients" %
+          (name.upper(), len(coef)))
+        w(" * and the pivots.")
     w(" */")
     w('#include "solvers/generated/r2r_tmpl.h"')
-    w("")
-    w("#include <math.h>")
-    w('#include "sfm/sfm_linalg.h"')
     w("")
     w("#define NK %d" % nK)
     w("#define NB %d" % nB)
@@ -368,23 +433,29 @@ def emit(prob, t):
     w("/* where each unknown is read from an eigenvector (-1: the eigenvalue) */")
     w("static const short VAR_SRC[NX] = {%s};" % ", ".join(map(str, var_src)))
     w("")
-    w("int sfmi_tmpl_%s(const double *in, double *sol)" % name)
-    w("{")
-    w("    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];")
-    w("    double ews[SFMI_TMPL_EIG_WS(NB)];")
-    w("    int piv[NK];")
-    w("    coefficients(in, c);")
-    w("    for (int i = 0; i < NK * NK; i++)")
-    w("        A[i] = 0.0;")
-    w("    for (int i = 0; i < NK * NB; i++)")
-    w("        X[i] = 0.0;")
-    w("    for (unsigned i = 0; i < sizeof A_ENT / sizeof A_ENT[0]; i++)")
-    w("        A[A_ENT[i][0] * NK + A_ENT[i][1]] = c[A_ENT[i][2]];")
-    w("    for (unsigned i = 0; i < sizeof B_ENT / sizeof B_ENT[0]; i++)")
-    w("        X[B_ENT[i][0] * NB + B_ENT[i][1]] = c[B_ENT[i][2]];")
-    w("    return sfmi_tmpl_finish(A, piv, NK, X, NB, ACT_SRC, VAR_SRC, NX, %d, M, V, wr, wi," % one)
-    w("                            ews, sizeof ews, sol);")
-    w("}")
+    w("static const sfmi_tmpl TMPL = {")
+    w("    NK, NB, NX, %d, A_ENT, %d, B_ENT, %d, ACT_SRC, VAR_SRC," % (one, len(a_ent), len(b_ent)))
+    w("};")
+    w("")
+    if stack_bytes(nK, nB, len(coef)) <= STACK_LIMIT:
+        w("int sfmi_tmpl_%s(const double *in, double *sol)" % name)
+        w("{")
+        w("    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];")
+        w("    double ews[SFMI_TMPL_EIG_WS(NB)];")
+        w("    int piv[NK];")
+        w("    coefficients(in, c);")
+        w("    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews, sizeof ews, sol);")
+        w("}")
+    else:
+        w("int sfmi_tmpl_%s(const double *in, double *sol, double *ws)" % name)
+        w("{")
+        w("    double c[NC], *A = ws, *X = A + NK * NK, *M = X + NK * NB, *V = M + NB * NB;")
+        w("    double *wr = V + NB * NB, *wi = wr + NB, *ews = wi + NB;")
+        w("    int piv[NK];")
+        w("    coefficients(in, c);")
+        w("    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews,")
+        w("                         SFMI_TMPL_EIG_WS(NB) * sizeof(double), sol);")
+        w("}")
     return "\n".join(L) + "\n"
 
 
@@ -406,13 +477,38 @@ def emit_header(probs, temps):
          "#define SFMI_TMPL_EIG_WS(n) (6 * (n) * (n) + 16 * (n) + 16)",
          ""]
     for p, t in zip(probs, temps):
-        L.append("#define SFMI_TMPL_%s_NSOL %d /* basis size */" % (p.name.upper(), len(t.B)))
+        nK, nB = len(t.keep_mons), len(t.B)
+        nC = sum(len(pl.monoms()) for pl in t.polys)
+        L.append("#define SFMI_TMPL_%s_NSOL %d /* basis size */" % (p.name.upper(), nB))
         L.append("#define SFMI_TMPL_%s_NX %d" % (p.name.upper(), len(p.x)))
         L.append("#define SFMI_TMPL_%s_NIN %d" % (p.name.upper(), len(p.data)))
-        L.append("int sfmi_tmpl_%s(const double *in, double *sol);" % p.name)
+        if stack_bytes(nK, nB, nC) <= STACK_LIMIT:
+            L.append("int sfmi_tmpl_%s(const double *in, double *sol);" % p.name)
+        else:
+            L.append("#define SFMI_TMPL_%s_WS %d /* doubles of ws */" % (p.name.upper(), ws_doubles(nK, nB)))
+            L.append("int sfmi_tmpl_%s(const double *in, double *sol, double *ws);" % p.name)
         L.append("")
-    L += ["/* The shared back end (libsfm/solvers/r2r_template.c): LU-solve the",
-          " * template, form the action matrix, eigendecompose, read the real solutions. */",
+    L += ["/* A template as the generator lays it out: (row, column, coefficient index)",
+          " * entries of its eliminated block A (nk x nk) and of its basis block X",
+          " * (nk x nb), where a * b_j comes from in the action matrix (act_src: basis",
+          " * index >= 0, or -1 - reduced row), where each unknown is read from an",
+          " * eigenvector (var_src: basis index, -1 for the eigenvalue), and the",
+          " * basis index of the monomial 1. */",
+          "typedef struct sfmi_tmpl {",
+          "    int nk, nb, nx, one;",
+          "    const unsigned short (*a_ent)[3];",
+          "    int n_a;",
+          "    const unsigned short (*b_ent)[3];",
+          "    int n_b;",
+          "    const short *act_src, *var_src;",
+          "} sfmi_tmpl;",
+          "",
+          "/* The shared back end (libsfm/solvers/r2r_template.c). sfmi_tmpl_run fills",
+          " * A and X from the coefficients c, then finishes: LU-solve the template,",
+          " * form the action matrix, eigendecompose, read the real solutions. */",
+          "int sfmi_tmpl_run(const sfmi_tmpl *T, const double *c, double *A, int *piv, double *X,",
+          "                  double *M, double *V, double *wr, double *wi, double *ews,",
+          "                  size_t ews_size, double *sol);",
           "int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,",
           "                     const short *act_src, const short *var_src, int nx, int one,",
           "                     double *M, double *V, double *wr, double *wi, double *ews,",

@@ -28,6 +28,7 @@
 #define SFM_R2R_H
 
 #include "sfm/sfm_common.h"
+#include "sfm/sfm_ransac.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -82,31 +83,199 @@ typedef enum sfm_r2r_system {
 
 /* ---- The measurement model ---------------------------------------------
  * Predicted distance and bearings of one step under (C, p), as defined
- * above (unit bearings). Any output may be NULL.
+ * above (unit bearings). Any output may be NULL; step->has is ignored and
+ * R1, R2 are used as given (not checked to be rotations).
  * Returns: SFM_OK, SFM_E_ARGUMENT (NULL step or T), SFM_E_NONFINITE,
- * SFM_E_SINGULAR (the robots coincide: no bearing). */
+ * SFM_E_SINGULAR (the robots coincide: no bearing; a distance alone is
+ * still written, 0). Nothing is written on failure. */
 SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T,
                             double *d, sfm_vec3 *b1, sfm_vec3 *b2);
 
 /* ---- Minimal solvers -----------------------------------------------------
+ * Input checks of both functions: steps != NULL, n_steps >= 1; has only
+ * SFM_R2R_D | SFM_R2R_B1 | SFM_R2R_B2 bits (a step with has == 0 is
+ * ignored); R1, R2 rotations (|R R^T - I| <= 1e-6 entrywise, det > 0);
+ * distances > 0; bearings nonzero. steps[0] is usually the identity
+ * ego-motion (it defines frames {1}, {2}), but nothing requires it: the
+ * answer is (C, p) in the frames the ego-motions are expressed in.
+ * Steps where both robots are at the same positions (t1 and t2 within 1e-9
+ * of the scene's scale) observe one relative vector and are merged first: a
+ * measurement repeated there adds no equation.
+ *
  * sfm_r2r_classify: the base system a sequence of exactly six scalar
  * equations reduces to. Returns the sfm_r2r_system (>= 1), SFM_E_ARGUMENT
- * (NULL, n_steps < 1, not six equations), SFM_E_NONFINITE.
+ * (bad input, not six equations), SFM_E_NONFINITE, SFM_E_DEGENERATE (fewer
+ * than six once repeated measurements at the same positions are merged).
  *
- * sfm_r2r_solve: every real (C, p) consistent with the measurements.
- * With exactly six equations, the base system's solutions; with more, a
- * minimal subset is solved and the candidates are verified on the rest
- * (ordered by their residual on all measurements, best first; candidates
- * that contradict the rest beyond the noise are dropped). Degenerate motion
- * (robots standing still, parallel lines with distances only, ...) is
- * SFM_E_DEGENERATE, never an answer.
+ * sfm_r2r_solve: every real (C, p) consistent with the measurements, best
+ * first (RMS of the residuals (d_pred - d) / d and |b_pred - b| over the
+ * scalar equations, through sfm_r2r_predict). With exactly six equations,
+ * the base system's real solutions (a candidate scoring above 1e-4 is a
+ * numerical artefact and dropped). With more, a minimal subset is solved
+ * (base systems in enum order, each step the one farthest from the steps
+ * already chosen: see libsfm/solvers/r2r_solve.c) and its candidates are
+ * kept when they score at most 0.05 and at most 4 times the best; when none
+ * is kept the next subset is tried, and 0 is returned when no subset
+ * yields one. Degenerate motion is SFM_E_DEGENERATE, never an answer:
+ * fewer than six equations once steps at the same positions are merged
+ * (both robots standing still, only turning), robot 2's positions on one
+ * straight line (or still) with no b2 measured, or robot 1's with no b1 (a
+ * turn of C about that line keeps every measurement: distances only on
+ * parallel lines, bearings from one robot while the other stands still), a base
+ * system whose equations are rank-deficient (DB1_DB1, DB1_DB2) or whose
+ * template is singular for these data. A base system not built in this
+ * library is SFM_E_UNSUPPORTED.
+ * out must hold SFM_R2R_MAX_SOLUTIONS; ws at least
+ * sfm_r2r_solve_workspace_size(n_steps) bytes (0 for n_steps < 1, and
+ * for a count whose memory would overflow size_t: SFM_E_CAPACITY); out may
+ * not alias steps or ws. Nothing is written to out on failure. Stack:
+ * under 4 KiB plus the base solver's (at most 16 KiB).
  * Returns: the number of transforms written (0..SFM_R2R_MAX_SOLUTIONS),
- * SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE. */
+ * SFM_E_ARGUMENT (bad input, NULL out or ws, fewer than six equations),
+ * SFM_E_NONFINITE, SFM_E_DEGENERATE, SFM_E_WORKSPACE, SFM_E_CAPACITY,
+ * SFM_E_UNSUPPORTED. */
 SFM_API int sfm_r2r_classify(const sfm_r2r_step *steps, int n_steps);
 SFM_API size_t sfm_r2r_solve_workspace_size(int n_steps);
 SFM_API int sfm_r2r_solve(const sfm_r2r_step *steps, int n_steps,
                           sfm_r2r_transform out[SFM_R2R_MAX_SOLUTIONS],
                           void *ws, size_t ws_size);
+
+/* ---- Refinement ------------------------------------------------------------
+ * sfm_r2r_refine: maximum-likelihood (C, p) from an initial transform over
+ * every measurement of a sequence (any number of steps, at least six scalar
+ * equations in all), by Levenberg-Marquardt through the library's one driver.
+ * Residuals, whitened by the measurement's standard deviation:
+ *   distance  (|w| - d) / sigma_d,                w = C t2 + p - t1;
+ *   bearing   (e1 . u, e2 . u) / sigma_b,          u the predicted unit
+ *             bearing (R1^T w / |w| for b1, R2^T (C^T (t1 - p) - t2) / |w|
+ *             for b2), e1, e2 an orthonormal basis of the tangent plane of
+ *             the measured bearing: two residuals per bearing, the sine of
+ *             the angular error along each (radians for small errors).
+ * Parameters: C on SO(3), updated on the left, C <- exp([w]x) C (w radians,
+ * expressed in {1}); p in R^3 (units of the positions).
+ * cov (may be NULL): the 6 x 6 row-major covariance of (w, p) in that order,
+ * the inverse of the Gauss-Newton matrix J^T J of the whitened residuals at
+ * the solution (so it is in the units of sigma_d and sigma_b; with squared
+ * loss and correct sigmas it is the Cramer-Rao bound at the estimate).
+ * The truth then lies at w = log(C_true C^T), p_true - p.
+ * opt may be NULL (sfm_r2r_refine_default_options). out may alias init;
+ * cov and stats may be NULL.
+ * Returns: SFM_OK; SFM_E_ARGUMENT (NULL steps/init/out, n_steps < 1, a has
+ * mask with other bits, fewer than six equations, a zero bearing, a distance
+ * not positive, R1, R2 or init->C not a rotation within 1e-6, sigma_d or
+ * sigma_b not positive, a bad option); SFM_E_NONFINITE (NaN/Inf in a
+ * measured step, init or options); SFM_E_SINGULAR (the robots coincide at a
+ * step under init: no bearing, no distance gradient); SFM_E_NO_CONVERGENCE
+ * (the result left SO(3)); SFM_E_DEGENERATE (the measurements do
+ * not determine (C, p) at the solution: the Gauss-Newton matrix is singular,
+ * as when the robots stand still); nothing is written on failure.
+ * Stack: about 4 KiB (x86-64, gcc -O2: 2 KiB in the function, the rest the
+ * driver's and the residual's frames); no workspace. */
+
+/* Why the refinement stopped (values pinned, the driver's order). */
+typedef enum sfm_r2r_stop {
+    SFM_R2R_STOP_NONE = 0,
+    SFM_R2R_STOP_GRADIENT = 1,       /* max |gradient| <= gradient_tolerance */
+    SFM_R2R_STOP_FUNCTION = 2,       /* relative cost change <= function_tolerance */
+    SFM_R2R_STOP_STEP = 3,           /* relative step <= step_tolerance */
+    SFM_R2R_STOP_MAX_ITERATIONS = 4, /* max_iterations steps tried */
+    SFM_R2R_STOP_TRUST_REGION = 5,   /* the damping could not be lowered further */
+    SFM_R2R_STOP_INT_SIZE_ = 0x7fffffff
+} sfm_r2r_stop;
+
+/* Robust losses of the refinement (values pinned, as sfm_ba_options.loss). */
+#define SFM_R2R_LOSS_SQUARED 0
+#define SFM_R2R_LOSS_HUBER 1
+#define SFM_R2R_LOSS_CAUCHY 2
+
+typedef struct sfm_r2r_refine_options {
+    double sigma_d;            /* distance standard deviation, > 0 (units of t1, t2) */
+    double sigma_b;            /* bearing standard deviation, > 0 (radians) */
+    int max_iterations;        /* >= 0 (0: cost and covariance at init) */
+    double function_tolerance; /* >= 0, relative cost change */
+    double gradient_tolerance; /* >= 0, max |gradient| of the whitened cost */
+    double step_tolerance;     /* >= 0, relative step */
+    int loss;                  /* SFM_R2R_LOSS_* on the whitened residuals of a
+                                  measurement (|r|^2: 1 or 2 entries) */
+    double loss_scale;         /* > 0 for a robust loss (in sigmas) */
+} sfm_r2r_refine_options;
+
+typedef struct sfm_r2r_refine_stats {
+    int iterations;        /* steps tried */
+    int successful_steps;  /* steps accepted */
+    double initial_cost;   /* 1/2 sum of rho(|r|^2) over the measurements, at init */
+    double final_cost;     /* the same at the result */
+    sfm_r2r_stop stop_reason;
+    int n_equations;       /* scalar residuals (1 per distance, 2 per bearing) */
+} sfm_r2r_refine_stats;
+
+/* sigma_d 0.01, sigma_b 0.01 rad, 50 iterations, tolerances 1e-12 (function),
+ * 1e-12 (gradient), 1e-12 (step), squared loss, loss_scale 3.
+ * Returns SFM_OK, SFM_E_ARGUMENT (NULL). */
+SFM_API int sfm_r2r_refine_default_options(sfm_r2r_refine_options *opt);
+SFM_API int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transform *init,
+                           const sfm_r2r_refine_options *opt, sfm_r2r_transform *out,
+                           double *cov, sfm_r2r_refine_stats *stats);
+
+/* ---- Robust estimation -----------------------------------------------------
+ * sfm_r2r_ransac: (C, p) from a sequence whose measurements may hold gross
+ * outliers, by the library's RANSAC engine (sfm_ransac.h: SPRT, MSAC, LO).
+ * A datum is one measurement of one step (a distance, a bearing b1 or a
+ * bearing b2). A sample draws six distinct measurements (all of them when
+ * there are fewer) and takes them, bearings first and each kind in drawn
+ * order, while their equations add up to at most six, skipping a bearing
+ * that would overshoot; a sample that does not reach exactly six is
+ * degenerate. (Bearings first: the bearing-only base systems are the
+ * cheapest to solve.) The measurements taken form the
+ * sub-sequence handed to sfm_r2r_solve, whose every solution is a hypothesis.
+ * Scoring: the normalised residual of each measurement under the
+ * hypothesis, |d_pred - d| / sigma_d for a distance, |b_pred - b| / sigma_b
+ * for a bearing (unit vectors; the angle for small errors), against
+ * opt->ransac.threshold (in sigmas). Local optimisation: sfm_r2r_refine on
+ * the inliers under a Cauchy loss of scale threshold. Final model:
+ * sfm_r2r_refine (squared loss) on the inliers of the winner, inliers
+ * re-collected and refit until they stop changing (at most 4 refits).
+ * The engine's stopping rule counts samples of six measurements, which
+ * overestimates the draws needed when fewer are taken (bearings): the
+ * iteration count errs on the safe side.
+ * inliers (may be NULL): n_steps has-masks, the inlier measurements of each
+ * step. cov (may be NULL): the final refit's 6 x 6 covariance of (w, p) as
+ * for sfm_r2r_refine; stats->covariance holds it too (cov_dim 6), and
+ * stats->num_inliers counts inlier measurements.
+ * opt may be NULL (sfm_r2r_ransac_default_options).
+ * Returns the number of inlier measurements (>= 1), or SFM_E_ARGUMENT (as for
+ * sfm_r2r_refine, bad RANSAC options), SFM_E_NONFINITE, SFM_E_WORKSPACE,
+ * SFM_E_UNSUPPORTED (every sample fell on a base system this build does not
+ * solve), SFM_E_NO_CONVERGENCE (no hypothesis found), SFM_E_NO_MODEL (the
+ * winner's inliers carry no equation beyond a minimal sample: nothing
+ * confirms it), SFM_E_DEGENERATE (the inliers do not determine (C, p), or
+ * sfm_r2r_solve found every sample degenerate: robots standing still,
+ * distances along parallel lines). Nothing is written on failure.
+ * Stack: 3.2 KiB of its own (x86-64, gcc -O2), plus the engine's 1 KiB,
+ * plus the deeper of sfm_r2r_solve with its base solver and
+ * sfm_r2r_refine. */
+typedef struct sfm_r2r_ransac_options {
+    sfm_r2r_refine_options refine; /* sigmas; the refits' iterations and tolerances
+                                      (refine.loss is ignored) */
+    sfm_ransac_options ransac;     /* threshold in sigmas; wide_mult and polish
+                                      are not used; quality (PROSAC), when given,
+                                      holds one value per measurement in step
+                                      order, each step's d, b1, b2 in that
+                                      order (those it carries) */
+} sfm_r2r_ransac_options;
+
+/* refine: sfm_r2r_refine_default_options; ransac: sfm_ransac_default_options
+ * with threshold 3 sigmas and 2000 iterations at most.
+ * Returns SFM_OK, SFM_E_ARGUMENT (NULL). */
+SFM_API int sfm_r2r_ransac_default_options(sfm_r2r_ransac_options *opt);
+/* Bytes of ws for n_steps steps (any has masks); 0 when n_steps is out of
+ * range (1..SFM_R2R_RANSAC_MAX_STEPS). */
+#define SFM_R2R_RANSAC_MAX_STEPS 100000
+SFM_API size_t sfm_r2r_ransac_workspace_size(int n_steps);
+SFM_API int sfm_r2r_ransac(const sfm_r2r_step *steps, int n_steps,
+                           const sfm_r2r_ransac_options *opt, sfm_r2r_transform *out,
+                           unsigned *inliers, double *cov, sfm_ransac_stats *stats, void *ws,
+                           size_t ws_size);
 
 #ifdef __cplusplus
 }

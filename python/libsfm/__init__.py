@@ -33,6 +33,9 @@ Trifocal tensor:
   trifocal_point_error
 Features: detect_and_describe, match, associate_three_views
 Refinement: bundle_adjust
+Robot to robot (distances and bearings between two robots): r2r_solve,
+  r2r_predict, r2r_classify; r2r_refine (maximum likelihood, covariance),
+  r2r_ransac (outlier measurements)
 Geometry: poly_roots, rot_from_axis_angle, rot_to_axis_angle, rot_from_quat,
   rot_to_quat, rot_nearest, skew, rot_angle_between
 Submodules: linalg (small dense linear algebra), frames (replay, cameras,
@@ -61,6 +64,8 @@ from . import calib  # noqa: F401
 from .recon import (factorize_projective, reconstruct_three_view, reconstruct_three_view_images,
                     reconstruct_two_view, self_calibrate)
 from .vo import VisualOdometry
+from .r2r import R2R_MAX_SOLUTIONS, R2R_SYSTEMS, r2r_classify, r2r_predict, r2r_solve
+from .r2r_refine import R2R_LOSSES, r2r_ransac, r2r_refine
 from . import stereo as _stereo
 from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
                      homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)

@@ -22,10 +22,42 @@ int sfmi_tmpl_upright3pt(const double *in, double *sol);
 #define SFMI_TMPL_SYS10_NSOL 8 /* basis size */
 #define SFMI_TMPL_SYS10_NX 3
 #define SFMI_TMPL_SYS10_NIN 21
-int sfmi_tmpl_sys10(const double *in, double *sol);
+#define SFMI_TMPL_SYS10_WS 1617 /* doubles of ws */
+int sfmi_tmpl_sys10(const double *in, double *sol, double *ws);
 
-/* The shared back end (libsfm/solvers/r2r_template.c): LU-solve the
- * template, form the action matrix, eigendecompose, read the real solutions. */
+#define SFMI_TMPL_B1_B1_B1_NSOL 8 /* basis size */
+#define SFMI_TMPL_B1_B1_B1_NX 3
+#define SFMI_TMPL_B1_B1_B1_NIN 15
+#define SFMI_TMPL_B1_B1_B1_WS 1617 /* doubles of ws */
+int sfmi_tmpl_b1_b1_b1(const double *in, double *sol, double *ws);
+
+#define SFMI_TMPL_B1_B1_B2_NSOL 8 /* basis size */
+#define SFMI_TMPL_B1_B1_B2_NX 3
+#define SFMI_TMPL_B1_B1_B2_NIN 12
+#define SFMI_TMPL_B1_B1_B2_WS 1617 /* doubles of ws */
+int sfmi_tmpl_b1_b1_b2(const double *in, double *sol, double *ws);
+
+/* A template as the generator lays it out: (row, column, coefficient index)
+ * entries of its eliminated block A (nk x nk) and of its basis block X
+ * (nk x nb), where a * b_j comes from in the action matrix (act_src: basis
+ * index >= 0, or -1 - reduced row), where each unknown is read from an
+ * eigenvector (var_src: basis index, -1 for the eigenvalue), and the
+ * basis index of the monomial 1. */
+typedef struct sfmi_tmpl {
+    int nk, nb, nx, one;
+    const unsigned short (*a_ent)[3];
+    int n_a;
+    const unsigned short (*b_ent)[3];
+    int n_b;
+    const short *act_src, *var_src;
+} sfmi_tmpl;
+
+/* The shared back end (libsfm/solvers/r2r_template.c). sfmi_tmpl_run fills
+ * A and X from the coefficients c, then finishes: LU-solve the template,
+ * form the action matrix, eigendecompose, read the real solutions. */
+int sfmi_tmpl_run(const sfmi_tmpl *T, const double *c, double *A, int *piv, double *X,
+                  double *M, double *V, double *wr, double *wi, double *ews,
+                  size_t ews_size, double *sol);
 int sfmi_tmpl_finish(double *A, int *piv, int nk, double *X, int nb,
                      const short *act_src, const short *var_src, int nx, int one,
                      double *M, double *V, double *wr, double *wi, double *ews,

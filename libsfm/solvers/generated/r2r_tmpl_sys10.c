@@ -7,13 +7,12 @@
  * Template: 3 equations x monomials up to degree 4; 27 kept rows, 27 eliminated
  * columns (21 excessive, 6 reducible), 8 basis monomials:
  * s3^3, s1*s3, s2*s3, s3^2, s1, s2, s3, 1.
- * Stack: the 27x27 template, its 27x8 right-hand side, the action matrix,
- * its eigenvectors and the eigensolver's workspace (about 10468 bytes).
+ * Work memory: the 27x27 template, its 27x8 right-hand side, the action
+ * matrix, its eigenvectors and the eigensolver's workspace come from ws
+ * (SFMI_TMPL_SYS10_WS doubles, 8-byte aligned); stack: the 30 coefficients
+ * and the pivots.
  */
 #include "solvers/generated/r2r_tmpl.h"
-
-#include <math.h>
-#include "sfm/sfm_linalg.h"
 
 #define NK 27
 #define NB 8
@@ -165,20 +164,16 @@ static const short ACT_SRC[NB] = {-22, -23, -24, -25, -26, -27, 1, 4};
 /* where each unknown is read from an eigenvector (-1: the eigenvalue) */
 static const short VAR_SRC[NX] = {-1, 5, 6};
 
-int sfmi_tmpl_sys10(const double *in, double *sol)
+static const sfmi_tmpl TMPL = {
+    NK, NB, NX, 7, A_ENT, 227, B_ENT, 43, ACT_SRC, VAR_SRC,
+};
+
+int sfmi_tmpl_sys10(const double *in, double *sol, double *ws)
 {
-    double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];
-    double ews[SFMI_TMPL_EIG_WS(NB)];
+    double c[NC], *A = ws, *X = A + NK * NK, *M = X + NK * NB, *V = M + NB * NB;
+    double *wr = V + NB * NB, *wi = wr + NB, *ews = wi + NB;
     int piv[NK];
     coefficients(in, c);
-    for (int i = 0; i < NK * NK; i++)
-        A[i] = 0.0;
-    for (int i = 0; i < NK * NB; i++)
-        X[i] = 0.0;
-    for (unsigned i = 0; i < sizeof A_ENT / sizeof A_ENT[0]; i++)
-        A[A_ENT[i][0] * NK + A_ENT[i][1]] = c[A_ENT[i][2]];
-    for (unsigned i = 0; i < sizeof B_ENT / sizeof B_ENT[0]; i++)
-        X[B_ENT[i][0] * NB + B_ENT[i][1]] = c[B_ENT[i][2]];
-    return sfmi_tmpl_finish(A, piv, NK, X, NB, ACT_SRC, VAR_SRC, NX, 7, M, V, wr, wi,
-                            ews, sizeof ews, sol);
+    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews,
+                         SFMI_TMPL_EIG_WS(NB) * sizeof(double), sol);
 }

@@ -9,12 +9,9 @@
  * columns (25 excessive, 5 reducible), 6 basis monomials:
  * tx*ty, ty^2, q, tx, ty, 1.
  * Stack: the 30x30 template, its 30x6 right-hand side, the action matrix,
- * its eigenvectors and the eigensolver's workspace (about 10512 bytes).
+ * its eigenvectors and the eigensolver's workspace (about 12272 bytes).
  */
 #include "solvers/generated/r2r_tmpl.h"
-
-#include <math.h>
-#include "sfm/sfm_linalg.h"
 
 #define NK 30
 #define NB 6
@@ -139,20 +136,15 @@ static const short ACT_SRC[NB] = {-26, -27, -28, -29, -30, 2};
 /* where each unknown is read from an eigenvector (-1: the eigenvalue) */
 static const short VAR_SRC[NX] = {-1, 3, 4};
 
+static const sfmi_tmpl TMPL = {
+    NK, NB, NX, 5, A_ENT, 219, B_ENT, 36, ACT_SRC, VAR_SRC,
+};
+
 int sfmi_tmpl_upright3pt(const double *in, double *sol)
 {
     double c[NC], A[NK * NK], X[NK * NB], M[NB * NB], V[NB * NB], wr[NB], wi[NB];
     double ews[SFMI_TMPL_EIG_WS(NB)];
     int piv[NK];
     coefficients(in, c);
-    for (int i = 0; i < NK * NK; i++)
-        A[i] = 0.0;
-    for (int i = 0; i < NK * NB; i++)
-        X[i] = 0.0;
-    for (unsigned i = 0; i < sizeof A_ENT / sizeof A_ENT[0]; i++)
-        A[A_ENT[i][0] * NK + A_ENT[i][1]] = c[A_ENT[i][2]];
-    for (unsigned i = 0; i < sizeof B_ENT / sizeof B_ENT[0]; i++)
-        X[B_ENT[i][0] * NB + B_ENT[i][1]] = c[B_ENT[i][2]];
-    return sfmi_tmpl_finish(A, piv, NK, X, NB, ACT_SRC, VAR_SRC, NX, 5, M, V, wr, wi,
-                            ews, sizeof ews, sol);
+    return sfmi_tmpl_run(&TMPL, c, A, piv, X, M, V, wr, wi, ews, sizeof ews, sol);
 }
