@@ -364,10 +364,11 @@ static int boundary_roots(const lf_problem *pb, const double m[2], double r, dou
 }
 
 /* Directions u stationary for q^T B q / q^T A' q (range): the homogeneous
- * quadratic (B u) x (A' u) = 0. Writes up to 2 unit vectors (the lines;
+ * quadratic (B u) x (A' u) = 0. Writes up to 3 unit vectors (the lines, an
+ * axis added when a vanishing coefficient may have hidden it;
  * both signs are tried by the caller); returns their count, or -1 when every
  * direction is stationary (B proportional to A'). */
-static int stationary_directions(const lf_problem *pb, double u[2][2])
+static int stationary_directions(const lf_problem *pb, double u[3][2])
 {
     const double a00 = pb->A[0] + pb->s2, a01 = pb->A[1], a11 = pb->A[3] + pb->s2;
     const double b00 = pb->B[0], b01 = pb->B[1], b11 = pb->B[3];
@@ -382,7 +383,13 @@ static int stationary_directions(const lf_problem *pb, double u[2][2])
     double roots[2];
     int n, k = 0;
     if (fabs(k0) >= fabs(k2)) {
-        /* y/x = w: k0 w^2 + k1 w + k2 = 0 (x = 0 is not a root: k0 != 0) */
+        /* y/x = w: k0 w^2 + k1 w + k2 = 0; x = 0 is a root only when k0 = 0
+         * (then also k2 = 0 and the form is k1 x y) */
+        if (fabs(k0) <= 1e-12 * mx) {
+            u[k][0] = 0.0;
+            u[k][1] = 1.0;
+            k++;
+        }
         const double c[3] = {k0, k1, k2};
         n = sfm_poly_roots2(c, roots);
         for (int i = 0; i < n; i++) {
@@ -392,6 +399,11 @@ static int stationary_directions(const lf_problem *pb, double u[2][2])
             k++;
         }
     } else {
+        if (fabs(k2) <= 1e-12 * mx) {
+            u[k][0] = 1.0;
+            u[k][1] = 0.0;
+            k++;
+        }
         const double c[3] = {k2, k1, k0};
         n = sfm_poly_roots2(c, roots);
         for (int i = 0; i < n; i++) {
@@ -488,7 +500,7 @@ int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_moti
     }
     /* interior (range only): the critical rays' points nearest m */
     if (sensor == SFM_R2R_MOTION_RANGE) {
-        double dirs[2][2];
+        double dirs[3][2];
         int nd = stationary_directions(&pb, dirs);
         if (nd < 0) {
             consider(&best, &pb, m, m, 0); /* g constant: do not move */
