@@ -33,12 +33,13 @@ Trifocal tensor:
   trifocal_point_error
 Features: detect_and_describe, match, associate_three_views
 Refinement: bundle_adjust
-Leader-follower formations: leader_follower_next_motion,
-  leader_follower_propagate, leader_follower_update, leader_follower_cost
 Geometry: poly_roots, rot_from_axis_angle, rot_to_axis_angle, rot_from_quat,
   rot_to_quat, rot_nearest, skew, rot_angle_between
 Submodules: linalg (small dense linear algebra), frames (replay, cameras,
   recording), calib (calibration files)
+Leader-follower formations (libsfm.formation): leader_follower_next_motion,
+  leader_follower_propagate, leader_follower_update, leader_follower_cost;
+  python -m libsfm.leader_follower_demo
 """
 from ._ffi import SfmError, ffi, lib  # noqa: F401
 from .camera import Camera
@@ -63,11 +64,11 @@ from . import calib  # noqa: F401
 from .recon import (factorize_projective, reconstruct_three_view, reconstruct_three_view_images,
                     reconstruct_two_view, self_calibrate)
 from .vo import VisualOdometry
-from .formation import (leader_follower_cost, leader_follower_next_motion,
-                        leader_follower_propagate, leader_follower_update)
 from . import stereo as _stereo
 from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
                      homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)
+from .formation import (leader_follower_cost, leader_follower_next_motion,
+                        leader_follower_propagate, leader_follower_update)
 
 
 def version():
