@@ -19,8 +19,9 @@ translation inside that disk:
             posterior covariance.
 
 It prints the mean trace of the covariance over the trials at a few steps
-and writes a plot of the mean trace over time for both sensors
-(OUT/leader_follower.png, and the figures to OUT/leader_follower.txt).
+and writes a plot of the mean trace over time for both sensors, beside the
+paths of the first range-only trial (OUT/leader_follower.png, and the
+figures to OUT/leader_follower.txt).
 """
 import argparse
 import os
@@ -54,10 +55,13 @@ def _wrap(a):
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
-def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=None):
+def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=None,
+             paths=False):
     """Runs `trials` Monte-Carlo trials of one strategy. Returns
     (trace, err): arrays (trials, steps + 1) of the trace of the EKF
-    covariance and of the squared estimation error (position and heading)."""
+    covariance and of the squared estimation error (position and heading);
+    with paths=True also the true follower and leader positions in the world
+    (the leader's start frame), arrays (trials, steps + 1, 2) each."""
     if strategy not in STRATEGIES:
         raise ValueError("strategy must be one of %s" % (STRATEGIES,))
     sc = dict(SCENARIO)
@@ -69,6 +73,8 @@ def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=No
     ld_cmd = np.array([sc["leader_speed"], 0.0])
     trace = np.empty((trials, steps + 1))
     err = np.empty((trials, steps + 1))
+    fpath = np.empty((trials, steps + 1, 2))
+    lpath = np.empty((trials, steps + 1, 2))
     # one generator per trial, shared by the three strategies' noise draws, so
     # the strategies meet the same initial errors
     for k in range(trials):
@@ -81,6 +87,11 @@ def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=No
         e = xe - xt
         e[2] = _wrap(e[2])
         err[k, 0] = e @ e
+        # world frame: the leader's start; the follower's pose in it
+        th_f = -xt[2]
+        pos_f = -_rot(th_f) @ xt[:2]
+        fpath[k, 0] = pos_f
+        lpath[k, 0] = pos_f + _rot(th_f) @ xt[:2]
         for s in range(steps):
             # where the leader would be seen if the follower did not translate
             c = xe[:2] + _rot(xe[2]) @ ld_cmd
@@ -102,6 +113,10 @@ def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=No
             fd_t = fd + rng.normal(0.0, noise["sigma_follower_d"], 2)
             pt = _rot(-fw_t) @ (xt[:2] + _rot(xt[2]) @ ld_t) - fd_t
             xt = np.array([pt[0], pt[1], _wrap(xt[2] + lw_t - fw_t)])
+            th_f += fw_t
+            pos_f = pos_f + _rot(th_f) @ fd_t
+            fpath[k, s + 1] = pos_f
+            lpath[k, s + 1] = pos_f + _rot(th_f) @ xt[:2]
             # estimate: propagate with the commanded motions, then measure
             xe, P = leader_follower_propagate(xe, P, ld_cmd, 0.0, 0.0, fd, noise=noise)
             if sensor == "range":
@@ -114,19 +129,21 @@ def simulate(strategy, sensor="range", trials=50, steps=100, seed=1, scenario=No
             e = xe - xt
             e[2] = _wrap(e[2])
             err[k, s + 1] = e @ e
+    if paths:
+        return trace, err, fpath, lpath
     return trace, err
 
 
 def run(trials=50, steps=100, seed=1):
     """{sensor: {strategy: (mean trace over time, median error norm over
-    time, trials lost)}}"""
+    time, trials lost, the first trial's follower path, its leader path)}}"""
     out = {}
     for sensor in ("range", "bearing"):
         out[sensor] = {}
         for st in STRATEGIES:
-            tr, er = simulate(st, sensor, trials, steps, seed)
+            tr, er, fp, lp = simulate(st, sensor, trials, steps, seed, paths=True)
             out[sensor][st] = (tr.mean(axis=0), np.sqrt(np.median(er, axis=0)),
-                               int(np.sum(er[:, -1] > 1.0)))
+                               int(np.sum(er[:, -1] > 1.0)), fp[0], lp[0])
     return out
 
 
@@ -148,7 +165,7 @@ def main(argv=None):
         lines.append("  %-8s " % "strategy" + " ".join("%17s" % ("k=%d" % m) for m in marks)
                      + "  lost")
         for st in STRATEGIES:
-            tr, med, lost = r[st]
+            tr, med, lost = r[st][:3]
             lines.append("  %-8s " % st + " ".join("%8.4f / %6.3f" % (tr[m], med[m]) for m in marks)
                          + "  %4d" % lost)
     text = "\n".join(lines)
@@ -158,9 +175,18 @@ def main(argv=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
     names = {"keep": "maintain formation", "random": "constrained random", "optimal": "optimal (KKT)"}
-    for ax, (sensor, r) in zip(axes, res.items()):
+    ax = axes[2]
+    r = res["range"]
+    ax.plot(r["keep"][4][:, 0], r["keep"][4][:, 1], "k-", lw=2, label="leader")
+    for st in STRATEGIES:
+        ax.plot(r[st][3][:, 0], r[st][3][:, 1], ".-", ms=3, lw=0.8, label="follower, " + names[st])
+    ax.set_title("range-only, trial 1: paths (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    for ax, (sensor, r) in zip(axes[:2], res.items()):
         for st in STRATEGIES:
             ax.plot(r[st][0], label=names[st])
         ax.set_title("%s-only, mean of %d trials" % (sensor, a.trials))
