@@ -12,11 +12,19 @@
  * tr(P') - |P' h|^2 / (h P' h + s^2).
  *
  *   formation_bench [STATES]        (default 2000 states per sensor)
+ *   formation_bench --calls K SENSOR [NR NT]
+ *                                   K calls only, cycling over 500 fixed
+ *                                   states, no output: the KKT solver, or
+ *                                   with NR NT the grid search, for
+ *                                   instruction counts under callgrind with
+ *                                   two values of K (bench/formation_callgrind.sh)
+ * SENSOR: range or bearing.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "sfm/sfm.h"
@@ -112,8 +120,40 @@ static double grid_search(const state *s, const sfm_r2r_motion_noise *nz, int se
     return best;
 }
 
+static int calls_only(int k, int sensor, int nr, int nt)
+{
+    enum { NS = 500 };
+    static state st[NS];
+    sfm_rng g;
+    sfm_rng_seed(&g, 7u);
+    for (int i = 0; i < NS; i++)
+        random_state(&g, &st[i]);
+    const sfm_r2r_motion_noise nz = {0.02, 0.01, 0.015, 0.008,
+                                     sensor == SFM_R2R_MOTION_RANGE ? 0.05 : 0.02};
+    volatile double sink = 0.0;
+    for (int c = 0; c < k; c++) {
+        const state *s = &st[c % NS];
+        if (nr > 0) {
+            double fd[2];
+            sink += grid_search(s, &nz, sensor, nr, nt, fd);
+        } else {
+            sfm_r2r_motion_plan plan;
+            if (sfm_r2r_motion_next(s->x, s->P, &s->u, s->d0, s->r, &nz, sensor, &plan) == SFM_OK)
+                sink += plan.trace;
+        }
+    }
+    (void)sink;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc >= 4 && strcmp(argv[1], "--calls") == 0) {
+        const int sensor = strcmp(argv[3], "bearing") == 0 ? SFM_R2R_MOTION_BEARING
+                                                           : SFM_R2R_MOTION_RANGE;
+        const int nr = argc >= 6 ? atoi(argv[4]) : 0, nt = argc >= 6 ? atoi(argv[5]) : 0;
+        return calls_only(atoi(argv[2]), sensor, nr, nt);
+    }
     const int n = argc > 1 ? atoi(argv[1]) : 2000;
     if (n < 1)
         return 2;
