@@ -7,12 +7,14 @@
  * The boundary polynomial. On the circle q = m + r (cos th, sin th), put
  * t = tan(th / 2) and W = 1 + t^2: then W q = Q(t) with
  *   Q_x = (m_x + r) + (m_x - r) t^2,   Q_y = m_y + 2 r t + m_y t^2,
- * and W |q|^2 = s1(t), a quadratic. The numerator and denominator of g are
- * both forms of degree 2 in (q, |q|^2 / W ... ) so that g = N(t) / D(t) with
- * N, D quartics in t (their common factor W^2 cancels). dg/dth = (W/2) dg/dt
- * and W > 0, so the boundary critical points are the real roots of
- * N' D - N D' (degree 7 with a vanishing leading term: degree 6), and
- * th = pi (t = infinity) is the one point of the circle left to check.
+ * and W |q|^2 = s1(t), a quadratic (|q|^2 is affine in (cos th, sin th)).
+ * Range: g = Q^T B Q / Q^T (A + s^2 I) Q; bearing, with V = J Q:
+ * g = V^T B V / (V^T A V + s^2 s1^2). Either way g = N(t) / D(t) with N, D
+ * quartics in t (the common factor W^2 cancels). dg/dth = (W/2) dg/dt and
+ * W > 0, so the boundary critical points are the real roots of N' D - N D'
+ * (degree 7 whose leading terms, 4 N4 D4 on both sides, cancel exactly:
+ * degree 6), and th = pi (t = infinity) is the one point of the circle left
+ * to check.
  */
 #include <string.h>
 
