@@ -49,7 +49,10 @@
  * has none (g is homogeneous of degree -2 in q, so its gradient never
  * vanishes). The minimum over these candidates is the global one. Where the
  * minimum is a whole segment of a ray (range), the point nearest m (least
- * deviation from the nominal motion) is returned.
+ * deviation from the nominal motion) is returned. There is no distance
+ * constraint: under a pure speed bound a bearing-only follower is drawn
+ * towards the leader (the information grows as 1/|q|^2) until the disk
+ * reaches it (SFM_E_SINGULAR); a formation disk keeps it at its station.
  *
  * Memory: no workspace; stack use under 8 KB (the Sturm root finder).
  * Deterministic and reentrant. Outputs may not alias inputs.
