@@ -138,7 +138,7 @@ static int calls_only(int k, int sensor, int nr, int nt)
             sink += grid_search(s, &nz, sensor, nr, nt, fd);
         } else {
             sfm_r2r_motion_plan plan;
-            if (sfm_r2r_motion_next(s->x, s->P, &s->u, s->d0, s->r, &nz, sensor, &plan) == SFM_OK)
+            if (sfm_r2r_motion_next(s->x, s->P, &s->u, s->d0, s->r, 0.0, &nz, sensor, &plan) == SFM_OK)
                 sink += plan.trace;
         }
     }
@@ -180,7 +180,7 @@ int main(int argc, char **argv)
         do {
             for (int i = 0; i < n; i++) {
                 sfm_r2r_motion_plan plan;
-                if (sfm_r2r_motion_next(st[i].x, st[i].P, &st[i].u, st[i].d0, st[i].r, &nz,
+                if (sfm_r2r_motion_next(st[i].x, st[i].P, &st[i].u, st[i].d0, st[i].r, 0.0, &nz,
                                         sensor, &plan) != SFM_OK) {
                     fails++;
                     opt[i] = HUGE_VAL;

@@ -49,10 +49,12 @@
  * has none (g is homogeneous of degree -2 in q, so its gradient never
  * vanishes). The minimum over these candidates is the global one. Where the
  * minimum is a whole segment of a ray (range), the point nearest m (least
- * deviation from the nominal motion) is returned. There is no distance
- * constraint: under a pure speed bound a bearing-only follower is drawn
- * towards the leader (the information grows as 1/|q|^2) until the disk
- * reaches it (SFM_E_SINGULAR); a formation disk keeps it at its station.
+ * deviation from the nominal motion) is returned. Under a pure speed bound
+ * a bearing-only follower is drawn towards the leader (the information
+ * grows as 1/|q|^2): min_distance > 0 adds |q| >= min_distance, whose
+ * circle inside the disk gives a Rayleigh quotient of the direction again
+ * (a quadratic), and the circles' two crossings; a formation disk keeps the
+ * follower at its station without it.
  *
  * Memory: no workspace; stack use under 8 KB (the Sturm root finder).
  * Deterministic and reentrant. Outputs may not alias inputs.
@@ -95,9 +97,11 @@ typedef struct sfm_r2r_motion_plan {
     sfm_vec2 q;          /* the predicted next relative position, c - follower_d */
     double trace;        /* trace of the covariance after propagation and update */
     double trace_prior;  /* trace of the propagated covariance (before update) */
-    double multiplier;   /* KKT multiplier of the disk constraint at the optimum
-                            (>= 0; 0 when the optimum is inside the disk) */
-    int on_boundary;     /* 1 when |follower_d - d0| = radius at the optimum */
+    double multiplier;   /* KKT multiplier of the active constraint at the optimum
+                            (>= 0; the disk's at a corner; 0 inside) */
+    int on_boundary;     /* 0 inside; 1 on the disk's circle |follower_d - d0| =
+                            radius; 2 on the distance circle |q| = min_distance;
+                            3 at a corner where the two meet */
     int n_critical;      /* KKT critical points found (boundary roots + rays) */
 } sfm_r2r_motion_plan;
 
@@ -134,16 +138,21 @@ SFM_API int sfm_r2r_motion_cost(const double x[3], const double P[9],
 /* The follower's next translation: u's leader_d, leader_w and follower_w
  * are given (u->follower_d is not read), d0 is the nominal translation the
  * admissible disk is centred on (NULL: the origin, a pure speed bound) and
- * radius > 0 its radius in metres. Statuses: SFM_OK; SFM_E_ARGUMENT (NULL
- * x, P, u, noise or out, unknown sensor, radius <= 0, a negative sigma,
- * sigma_meas <= 0, P not symmetric positive definite); SFM_E_NONFINITE;
- * SFM_E_SINGULAR (the admissible disk reaches within 1e-6 m of the
- * leader's predicted position, where the measurement Jacobian is
- * singular). Nothing is written on failure. */
+ * radius > 0 its radius in metres; min_distance >= 0 (metres) keeps the
+ * next relative position at |q| >= min_distance (0: no such constraint;
+ * its circle and the two circles' crossings are then KKT candidates too).
+ * Statuses: SFM_OK; SFM_E_ARGUMENT (NULL x, P, u, noise or out, unknown
+ * sensor, radius <= 0, min_distance < 0, a negative sigma, sigma_meas <= 0,
+ * P not symmetric positive definite); SFM_E_NONFINITE; SFM_E_SINGULAR
+ * (min_distance 0 and the admissible disk reaches within 1e-6 m of the
+ * leader's predicted position, where the measurement Jacobian is singular;
+ * or no admissible translation keeps min_distance). Nothing is written on
+ * failure. */
 SFM_API int sfm_r2r_motion_next(const double x[3], const double P[9],
                                 const sfm_r2r_motion_step *u, const double d0[2],
-                                double radius, const sfm_r2r_motion_noise *noise,
-                                int sensor, sfm_r2r_motion_plan *out);
+                                double radius, double min_distance,
+                                const sfm_r2r_motion_noise *noise, int sensor,
+                                sfm_r2r_motion_plan *out);
 
 #ifdef __cplusplus
 }

@@ -365,14 +365,15 @@ static int boundary_roots(const lf_problem *pb, const double m[2], double r, dou
     return sfm_poly_real_roots(desc, deg, -HUGE_VAL, HUGE_VAL, t_out);
 }
 
-/* Directions u stationary for q^T B q / q^T A' q (range): the homogeneous
+/* Directions u stationary for u^T B u / u^T (A + shift I) u (range: shift
+ * s^2; bearing on a circle |q| = const: v's direction, shift s^2 |q|^2): the homogeneous
  * quadratic (B u) x (A' u) = 0. Writes up to 3 unit vectors (the lines, an
  * axis added when a vanishing coefficient may have hidden it;
  * both signs are tried by the caller); returns their count, or -1 when every
  * direction is stationary (B proportional to A'). */
-static int stationary_directions(const lf_problem *pb, double u[3][2])
+static int stationary_directions(const lf_problem *pb, double shift, double u[3][2])
 {
-    const double a00 = pb->A[0] + pb->s2, a01 = pb->A[1], a11 = pb->A[3] + pb->s2;
+    const double a00 = pb->A[0] + shift, a01 = pb->A[1], a11 = pb->A[3] + shift;
     const double b00 = pb->B[0], b01 = pb->B[1], b11 = pb->B[3];
     const double k2 = b00 * a01 - b01 * a00;         /* x^2 */
     const double k1 = b00 * a11 - b11 * a00;         /* x y */
@@ -444,8 +445,9 @@ static void consider(lf_best *b, const lf_problem *pb, const double q[2], const 
 }
 
 int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_motion_step *u,
-                        const double d0[2], double radius, const sfm_r2r_motion_noise *noise,
-                        int sensor, sfm_r2r_motion_plan *out)
+                        const double d0[2], double radius, double min_distance,
+                        const sfm_r2r_motion_noise *noise, int sensor,
+                        sfm_r2r_motion_plan *out)
 {
     if (!x || !P || !u || !noise || !out)
         return SFM_E_ARGUMENT;
@@ -453,20 +455,24 @@ int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_moti
         return SFM_E_ARGUMENT;
     const double v[4] = {u->leader_d.v[0], u->leader_d.v[1], u->leader_w, u->follower_w};
     const double dd[2] = {d0 ? d0[0] : 0.0, d0 ? d0[1] : 0.0};
-    if (!finite_n(v, 4) || !finite_n(dd, 2) || !isfinite(radius))
+    if (!finite_n(v, 4) || !finite_n(dd, 2) || !isfinite(radius) || !isfinite(min_distance))
         return SFM_E_NONFINITE;
     int st = common_checks(x, P, noise);
     if (st != SFM_OK)
         return st;
-    if (!(radius > 0.0))
+    if (!(radius > 0.0) || !(min_distance >= 0.0))
         return SFM_E_ARGUMENT;
 
     double c[2], phi, Pp[9];
     predict_core(x, P, u, noise, c, &phi, Pp);
     const double m[2] = {c[0] - dd[0], c[1] - dd[1]};
-    const double r = radius;
-    if (!(sqrt(m[0] * m[0] + m[1] * m[1]) - r > 1e-6))
+    const double r = radius, dm = min_distance;
+    const double mn = sqrt(m[0] * m[0] + m[1] * m[1]);
+    if (dm == 0.0 ? !(mn - r > 1e-6) : !(mn + r > dm))
         return SFM_E_SINGULAR;
+    /* the distance constraint can bind only when the disk reaches inside it */
+    const int inner = dm > 0.0 && mn - r < dm;
+    const double dm2 = dm * dm * (1.0 - 1e-12); /* feasibility, with rounding */
 
     lf_problem pb;
     pb.sensor = sensor;
@@ -494,25 +500,61 @@ int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_moti
     for (int i = 0; i < nt; i++) {
         const double w = 1.0 + ts[i] * ts[i];
         const double q[2] = {m[0] + r * (1.0 - ts[i] * ts[i]) / w, m[1] + r * 2.0 * ts[i] / w};
-        consider(&best, &pb, q, m, 1);
+        if (q[0] * q[0] + q[1] * q[1] >= dm2)
+            consider(&best, &pb, q, m, 1);
     }
     {
         const double q[2] = {m[0] - r, m[1]};
-        consider(&best, &pb, q, m, 1);
+        if (q[0] * q[0] + q[1] * q[1] >= dm2)
+            consider(&best, &pb, q, m, 1);
+    }
+    if (inner) {
+        /* the distance circle |q| = dm inside the disk: g restricted to it
+         * is a Rayleigh quotient of the direction (range: of q, shift s^2;
+         * bearing: of v = J q, shift s^2 dm^2) */
+        double dirs[3][2];
+        const double shift = sensor == SFM_R2R_MOTION_RANGE ? pb.s2 : pb.s2 * dm * dm;
+        int nd = stationary_directions(&pb, shift, dirs);
+        for (int i = 0; i < nd; i++)
+            for (int sgn = -1; sgn <= 1; sgn += 2) {
+                double ux = sgn * dirs[i][0], uy = sgn * dirs[i][1];
+                if (sensor == SFM_R2R_MOTION_BEARING) {
+                    const double t0 = ux; /* q along -J v */
+                    ux = uy;
+                    uy = -t0;
+                }
+                const double q[2] = {dm * ux, dm * uy};
+                if ((q[0] - m[0]) * (q[0] - m[0]) + (q[1] - m[1]) * (q[1] - m[1]) <= r * r) {
+                    ncrit++;
+                    consider(&best, &pb, q, m, 2);
+                }
+            }
+        /* the two circles' intersections */
+        const double a = (dm * dm - r * r + mn * mn) / (2.0 * mn), h2 = dm * dm - a * a;
+        if (h2 >= 0.0) {
+            const double h = sqrt(h2), ex = m[0] / mn, ey = m[1] / mn;
+            for (int sgn = -1; sgn <= 1; sgn += 2) {
+                const double q[2] = {a * ex - sgn * h * ey, a * ey + sgn * h * ex};
+                ncrit++;
+                consider(&best, &pb, q, m, 3);
+            }
+        }
     }
     /* interior (range only): the critical rays' points nearest m */
     if (sensor == SFM_R2R_MOTION_RANGE) {
         double dirs[3][2];
-        int nd = stationary_directions(&pb, dirs);
-        if (nd < 0) {
+        int nd = stationary_directions(&pb, pb.s2, dirs);
+        if (nd < 0 && m[0] * m[0] + m[1] * m[1] >= dm2) {
             consider(&best, &pb, m, m, 0); /* g constant: do not move */
         }
         for (int i = 0; i < nd; i++)
             for (int sgn = -1; sgn <= 1; sgn += 2) {
                 const double ux = sgn * dirs[i][0], uy = sgn * dirs[i][1];
-                const double lam = ux * m[0] + uy * m[1];
+                double lam = ux * m[0] + uy * m[1];
                 if (!(lam > 0.0))
                     continue;
+                if (lam < dm)
+                    lam = dm; /* the ray's nearest point to m at the allowed distance */
                 const double q[2] = {lam * ux, lam * uy};
                 const double e2 = (q[0] - m[0]) * (q[0] - m[0]) + (q[1] - m[1]) * (q[1] - m[1]);
                 if (e2 <= r * r) {
@@ -526,7 +568,17 @@ int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_moti
 
     /* the multiplier: grad f = -grad g = -2 mu (q - m) on the circle */
     double mu = 0.0;
-    if (best.boundary) {
+    if (best.boundary == 2) {
+        /* the distance constraint dm^2 - |q|^2 <= 0: grad g = -2 mu q */
+        const double hq = 1e-6 * (fabs(best.q[0]) + fabs(best.q[1]));
+        const double qa[2] = {best.q[0] + hq, best.q[1]}, qb[2] = {best.q[0] - hq, best.q[1]};
+        const double qc[2] = {best.q[0], best.q[1] + hq}, qd[2] = {best.q[0], best.q[1] - hq};
+        const double gx = (lf_gain(&pb, qa) - lf_gain(&pb, qb)) / (2.0 * hq);
+        const double gy = (lf_gain(&pb, qc) - lf_gain(&pb, qd)) / (2.0 * hq);
+        mu = -(gx * best.q[0] + gy * best.q[1]) / (2.0 * dm * dm);
+        if (mu < 0.0)
+            mu = 0.0;
+    } else if (best.boundary) {
         const double hq = 1e-6 * (fabs(best.q[0]) + fabs(best.q[1]));
         const double qa[2] = {best.q[0] + hq, best.q[1]}, qb[2] = {best.q[0] - hq, best.q[1]};
         const double qc[2] = {best.q[0], best.q[1] + hq}, qd[2] = {best.q[0], best.q[1] - hq};

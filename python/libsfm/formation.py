@@ -95,12 +95,14 @@ def leader_follower_cost(x, P, leader_d, follower_d, leader_w=0.0, follower_w=0.
 
 
 def leader_follower_next_motion(x, P, leader_d, radius, leader_w=0.0, follower_w=0.0,
-                                d0=None, sensor="range", noise=None):
+                                d0=None, sensor="range", noise=None, min_distance=0.0):
     """The follower's next translation minimising the posterior covariance
     trace, among |follower_d - d0| <= radius (d0 None: the origin, a speed
-    bound). Returns a dict: follower_d (2,), q (2,) the predicted relative
-    position, trace, trace_prior, multiplier (KKT, >= 0), on_boundary,
-    n_critical (sfm_r2r_motion_next)."""
+    bound) keeping the next relative position q at |q| >= min_distance.
+    Returns a dict: follower_d (2,), q (2,) the predicted relative position,
+    trace, trace_prior, multiplier (KKT, >= 0), on_boundary (0 inside, 1 on
+    the disk's circle, 2 on the distance circle, 3 at a corner), n_critical
+    (sfm_r2r_motion_next)."""
     x, P = _state(x, P)
     u = _step(leader_d, leader_w, follower_w)
     d0p = ffi.NULL
@@ -109,9 +111,10 @@ def leader_follower_next_motion(x, P, leader_d, radius, leader_w=0.0, follower_w
         d0p = dptr(d0a)
     plan = ffi.new("sfm_r2r_motion_plan *")
     check(lib.sfm_r2r_motion_next(dptr(x), dptr(P), u, d0p, to_float(radius, "radius", finite=False),
+                                  to_float(min_distance, "min_distance", finite=False),
                                   _noise(noise), _sensor(sensor), plan),
           "sfm_r2r_motion_next", {"x": x, "P": P})
     return dict(follower_d=np.array([plan.follower_d.v[0], plan.follower_d.v[1]]),
                 q=np.array([plan.q.v[0], plan.q.v[1]]), trace=plan.trace,
                 trace_prior=plan.trace_prior, multiplier=plan.multiplier,
-                on_boundary=bool(plan.on_boundary), n_critical=plan.n_critical)
+                on_boundary=int(plan.on_boundary), n_critical=plan.n_critical)

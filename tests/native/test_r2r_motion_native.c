@@ -3,7 +3,7 @@
  * portable test in tests/unit runs a few dozen, also on Cortex-M7): the KKT
  * optimum is never beaten by any point of a 31 x 120 polar grid of the
  * admissible disk, nor by the best of 64 random admissible points, for both
- * sensors, with and without a nominal motion d0.
+ * sensors, with and without a nominal motion d0 and a minimum distance.
  */
 #include <math.h>
 
@@ -25,7 +25,7 @@ static double cost_at(const double x[3], const double P[9], const sfm_r2r_motion
 static void many_states(sfm_test_ctx *t, int sensor)
 {
     const int n = 3000, nr = 31, nt = 120;
-    int done = 0, singular = 0, beaten = 0, boundary = 0;
+    int done = 0, singular = 0, beaten = 0, boundary = 0, distance_active = 0;
     while (done < n) {
         double x[3] = {sfm_test_uniform(t, -5, 5), sfm_test_uniform(t, -5, 5),
                        sfm_test_uniform(t, -3.1, 3.1)};
@@ -50,8 +50,10 @@ static void many_states(sfm_test_ctx *t, int sensor)
         const sfm_r2r_motion_noise nz = {sfm_test_uniform(t, 0, 0.05), sfm_test_uniform(t, 0, 0.02),
                                          sfm_test_uniform(t, 0, 0.05), sfm_test_uniform(t, 0, 0.02),
                                          sfm_test_uniform(t, 0.005, 0.2)};
+        /* a third of the states keep a minimum distance */
+        const double dmin = done % 3 == 2 ? sfm_test_uniform(t, 0.2, 6.0) : 0.0;
         sfm_r2r_motion_plan plan;
-        const int st = sfm_r2r_motion_next(x, P, &u, use_d0 ? d0 : NULL, r, &nz, sensor, &plan);
+        const int st = sfm_r2r_motion_next(x, P, &u, use_d0 ? d0 : NULL, r, dmin, &nz, sensor, &plan);
         if (st == SFM_E_SINGULAR) {
             singular++;
             continue;
@@ -60,20 +62,31 @@ static void many_states(sfm_test_ctx *t, int sensor)
         if (st != SFM_OK)
             return;
         done++;
-        boundary += plan.on_boundary;
+        boundary += plan.on_boundary != 0;
+        distance_active += plan.on_boundary >= 2;
         const double fc = plan.trace;
+        double xc[3], Pc[9];
+        SFM_CHECK_EQ_INT(sfm_r2r_motion_propagate(x, P, &u, &nz, xc, Pc), SFM_OK);
+        SFM_CHECK(plan.q.v[0] * plan.q.v[0] + plan.q.v[1] * plan.q.v[1] >= dmin * dmin * (1 - 1e-9));
         double best = HUGE_VAL;
         for (int i = 0; i < nr; i++)
             for (int j = 0; j < nt; j++) {
                 const double rho = r * i / (nr - 1), th = 6.283185307179586 * j / nt;
-                const double f = cost_at(x, P, &u, &nz, sensor, d0[0] + rho * cos(th),
-                                         d0[1] + rho * sin(th));
+                const double fx = d0[0] + rho * cos(th), fy = d0[1] + rho * sin(th);
+                const double qx = xc[0] - fx, qy = xc[1] - fy;
+                if (qx * qx + qy * qy < dmin * dmin)
+                    continue;
+                const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
                 best = f < best ? f : best;
             }
         for (int k = 0; k < 64; k++) {
             const double rho = r * sqrt(sfm_test_uniform(t, 0, 1));
             const double th = sfm_test_uniform(t, -3.14159, 3.14159);
-            const double f = cost_at(x, P, &u, &nz, sensor, d0[0] + rho * cos(th), d0[1] + rho * sin(th));
+            const double fx = d0[0] + rho * cos(th), fy = d0[1] + rho * sin(th);
+            const double qx = xc[0] - fx, qy = xc[1] - fy;
+            if (qx * qx + qy * qy < dmin * dmin)
+                continue;
+            const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
             best = f < best ? f : best;
         }
         if (!(fc <= best + 1e-9 * fabs(best))) {
@@ -82,9 +95,10 @@ static void many_states(sfm_test_ctx *t, int sensor)
                 SFM_TEST_LOG("beaten: KKT %.15g, sample %.15g", fc, best);
         }
     }
-    SFM_TEST_LOG("%d states (%d with the constraint active; %d redrawn: disk reaching the "
-                 "leader): KKT optimum beaten by a grid or random point in %d",
-                 done, boundary, singular, beaten);
+    SFM_TEST_LOG("%d states (%d with a constraint active, %d of them the distance; %d redrawn: "
+                 "disk reaching the leader or no admissible point): KKT optimum beaten by a grid "
+                 "or random point in %d",
+                 done, boundary, distance_active, singular, beaten);
     SFM_CHECK_EQ_INT(beaten, 0);
 }
 

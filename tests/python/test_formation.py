@@ -124,10 +124,14 @@ def test_kkt_optimum_matches_dense_grid(sensor):
     rng = np.random.default_rng(5 if sensor == "range" else 6)
     nr, nt = 151, 1080
     gaps = []
-    for _ in range(40):
+    for k in range(40):
         x, P, ld, lw, fw, r, d0, noise, c, m = random_case(rng, sensor)
+        # every third state keeps a minimum distance that cuts the disk
+        nm = np.linalg.norm(m)
+        dmin = rng.uniform(nm - r, nm + 0.8 * r) if k % 3 == 2 else 0.0
         plan = libsfm.leader_follower_next_motion(x, P, ld, r, lw, fw, d0=d0, sensor=sensor,
-                                                  noise=noise)
+                                                  noise=noise, min_distance=dmin)
+        assert plan["q"] @ plan["q"] >= dmin ** 2 * (1 - 1e-9)
         fd = plan["follower_d"]
         dev = np.linalg.norm(fd - (d0 if d0 is not None else 0.0))
         assert dev <= r * (1 + 1e-9)
@@ -139,19 +143,22 @@ def test_kkt_optimum_matches_dense_grid(sensor):
         _, P1 = oracle_propagate(x, P, n, noise)
         f, qx, qy, Pp = grid_costs(x, P, ld, lw, fw, noise, sensor, c, m, r, nr, nt)
         assert np.allclose(P1, Pp, rtol=1e-7, atol=1e-10)
+        f = np.where(qx * qx + qy * qy >= dmin ** 2, f, np.inf)
         f_grid = f.min()
         # no admissible grid motion is better than the KKT optimum ...
         assert f_c <= f_grid + 1e-9 * abs(f_grid)
         # ... and the grid comes within its resolution of it: the cost varies
         # by at most |grad f| * (cell diagonal) over a cell
-        gr = np.abs(np.diff(f, axis=0)).max()
-        gt = np.abs(np.diff(f, axis=1)).max()
+        with np.errstate(invalid="ignore"):
+            dr, dt = np.abs(np.diff(f, axis=0)), np.abs(np.diff(f, axis=1))
+        gr = dr[np.isfinite(dr)].max()
+        gt = dt[np.isfinite(dt)].max()
         assert f_grid - f_c <= gr + gt + 1e-12
         gaps.append((f_grid - f_c) / (gr + gt))
         # KKT: on the boundary the gradient of the cost points into the disk
         # (multiplier >= 0) and has no tangential component
         assert plan["multiplier"] >= 0.0
-        if plan["on_boundary"]:
+        if plan["on_boundary"] == 1:
             q = plan["q"]
             h = 1e-6
 
@@ -221,6 +228,13 @@ def test_bad_inputs():
     # the disk reaches the leader: the measurement Jacobian is singular there
     assert status(radius=4.0) == "SFM_E_SINGULAR"
     assert status(d0=[3.0, 1.0], radius=0.2) == "SFM_E_SINGULAR"
+    assert status(min_distance=-1.0) == "SFM_E_ARGUMENT"
+    assert status(min_distance=np.nan) == "SFM_E_NONFINITE"
+    assert status(min_distance=10.0) == "SFM_E_SINGULAR"     # out of the disk's reach
+    # with a minimum distance the disk may contain the leader
+    plan = libsfm.leader_follower_next_motion(x, P, ld, 4.0, noise=NOISE, sensor="bearing",
+                                              min_distance=1.0)
+    assert plan["on_boundary"] >= 2 and np.linalg.norm(plan["q"]) == pytest.approx(1.0)
     with pytest.raises(ValueError):
         libsfm.leader_follower_next_motion(x, P, ld, 0.5, sensor="sonar")
     with pytest.raises(ValueError):

@@ -127,7 +127,7 @@ static void kkt_against_grid(sfm_test_ctx *t, int sensor)
 {
     const int iters = SFM_TEST_ITERS(60);
     const int nr = 41, nt = 240;
-    int done = 0, interior = 0;
+    int done = 0, interior = 0, distance = 0;
     double worst_gap = 0.0;
     while (done < iters) {
         double x[3] = {sfm_test_uniform(t, -4, 4), sfm_test_uniform(t, -4, 4),
@@ -140,32 +140,43 @@ static void kkt_against_grid(sfm_test_ctx *t, int sensor)
         const double d0[2] = {sfm_test_uniform(t, -0.5, 0.5), sfm_test_uniform(t, -0.5, 0.5)};
         const double r = sfm_test_uniform(t, 0.1, 1.0);
         const sfm_r2r_motion_noise nz = test_noise(sensor);
+        /* every other state keeps a minimum distance that may bind */
+        const double dmin = done % 2 ? sfm_test_uniform(t, 0.3, 5.0) : 0.0;
         sfm_r2r_motion_plan plan;
-        int st = sfm_r2r_motion_next(x, P, &u, d0, r, &nz, sensor, &plan);
+        int st = sfm_r2r_motion_next(x, P, &u, d0, r, dmin, &nz, sensor, &plan);
         if (st == SFM_E_SINGULAR)
-            continue; /* the disk reaches the leader: drawn again */
+            continue; /* the disk reaches the leader, or no point keeps dmin: drawn again */
         SFM_CHECK_EQ_INT(st, SFM_OK);
         if (st != SFM_OK)
             return;
         done++;
         interior += !plan.on_boundary;
+        distance += plan.on_boundary >= 2;
+        double c[3], Pc[9];
+        SFM_CHECK_EQ_INT(sfm_r2r_motion_propagate(x, P, &u, &nz, c, Pc), SFM_OK);
+        SFM_CHECK(plan.q.v[0] * plan.q.v[0] + plan.q.v[1] * plan.q.v[1] >= dmin * dmin * (1 - 1e-9));
         const double dx = plan.follower_d.v[0] - d0[0], dy = plan.follower_d.v[1] - d0[1];
         SFM_CHECK(sqrt(dx * dx + dy * dy) <= r * (1.0 + 1e-9));
         SFM_CHECK(plan.multiplier >= 0.0);
         const double fc = cost_at(x, P, &u, &nz, sensor, plan.follower_d.v[0], plan.follower_d.v[1]);
         SFM_CHECK_NEAR(fc, plan.trace, 1e-12 * fabs(fc));
+        /* the grid's admissible points; the variation between admissible
+         * neighbours bounds what the grid can miss */
         double fmin_g = HUGE_VAL, var = 0.0, prev_ring[240];
         for (int i = 0; i < nr; i++) {
             const double rho = r * i / (nr - 1);
-            double prev = 0.0;
+            double prev = HUGE_VAL;
             for (int j = 0; j < nt; j++) {
                 const double th = -PI_T + 2 * PI_T * j / nt;
-                const double f = cost_at(x, P, &u, &nz, sensor, d0[0] + rho * cos(th),
-                                         d0[1] + rho * sin(th));
+                const double fx = d0[0] + rho * cos(th), fy = d0[1] + rho * sin(th);
+                const double qx = c[0] - fx, qy = c[1] - fy;
+                const double f = qx * qx + qy * qy >= dmin * dmin
+                                     ? cost_at(x, P, &u, &nz, sensor, fx, fy)
+                                     : HUGE_VAL;
                 fmin_g = f < fmin_g ? f : fmin_g;
-                if (j > 0 && fabs(f - prev) > var)
+                if (f < HUGE_VAL && prev < HUGE_VAL && fabs(f - prev) > var)
                     var = fabs(f - prev);
-                if (i > 0 && fabs(f - prev_ring[j]) > var)
+                if (i > 0 && f < HUGE_VAL && prev_ring[j] < HUGE_VAL && fabs(f - prev_ring[j]) > var)
                     var = fabs(f - prev_ring[j]);
                 prev_ring[j] = f;
                 prev = f;
@@ -180,8 +191,8 @@ static void kkt_against_grid(sfm_test_ctx *t, int sensor)
         if (var > 0.0 && (fmin_g - fc) / var > worst_gap)
             worst_gap = (fmin_g - fc) / var;
     }
-    SFM_TEST_LOG("%d states (%d optima inside the disk): grid shortfall at most %.4f of a cell's "
-                 "variation", done, interior, worst_gap);
+    SFM_TEST_LOG("%d states (%d optima inside the disk, %d on the distance circle): grid "
+                 "shortfall at most %.4f of a cell's variation", done, interior, distance, worst_gap);
 }
 
 SFM_TEST(r2r_motion_next_range_against_grid)
@@ -202,14 +213,15 @@ SFM_TEST(r2r_motion_contract)
     const sfm_r2r_motion_noise nz = test_noise(SFM_R2R_MOTION_RANGE);
     sfm_r2r_motion_plan plan;
     double xo[3], Po[9], tr;
-    SFM_CHECK_EQ_INT(sfm_r2r_motion_next(x, P, &u, NULL, 0.5, &nz, SFM_R2R_MOTION_RANGE, &plan),
+    SFM_CHECK_EQ_INT(sfm_r2r_motion_next(x, P, &u, NULL, 0.5, 0.0, &nz, SFM_R2R_MOTION_RANGE, &plan),
                      SFM_OK);
     SFM_CHECK(plan.n_critical >= 1);
 
+    double dmin_ = 0.0;
 #define EXPECT_NEXT(st, xx, PP, uu, dd, rr, nn, sens)                                       \
     do {                                                                                  \
         sfm_test_fill_canary(&plan, sizeof plan);                                         \
-        SFM_CHECK_EQ_INT(sfm_r2r_motion_next(xx, PP, uu, dd, rr, nn, sens, &plan), st);   \
+        SFM_CHECK_EQ_INT(sfm_r2r_motion_next(xx, PP, uu, dd, rr, dmin_, nn, sens, &plan), st); \
         SFM_CHECK(sfm_test_canary_intact(&plan, sizeof plan));                            \
     } while (0)
 
@@ -257,6 +269,20 @@ SFM_TEST(r2r_motion_contract)
         EXPECT_NEXT(SFM_E_SINGULAR, x, P, &u, NULL, 4.0, &nz, SFM_R2R_MOTION_BEARING);
         const double d0c[2] = {3.2, 1.04};
         EXPECT_NEXT(SFM_E_SINGULAR, x, P, &u, d0c, 0.1, &nz, SFM_R2R_MOTION_RANGE);
+        /* the minimum distance: negative, NaN, or out of reach of the disk */
+        dmin_ = -0.1;
+        EXPECT_NEXT(SFM_E_ARGUMENT, x, P, &u, NULL, 0.5, &nz, SFM_R2R_MOTION_RANGE);
+        dmin_ = (double)NAN;
+        EXPECT_NEXT(SFM_E_NONFINITE, x, P, &u, NULL, 0.5, &nz, SFM_R2R_MOTION_RANGE);
+        dmin_ = 4.0; /* |c| + 0.5 is about 3.87 */
+        EXPECT_NEXT(SFM_E_SINGULAR, x, P, &u, NULL, 0.5, &nz, SFM_R2R_MOTION_BEARING);
+        /* with a minimum distance the disk may contain the leader */
+        dmin_ = 1.0;
+        SFM_CHECK_EQ_INT(sfm_r2r_motion_next(x, P, &u, NULL, 4.0, dmin_, &nz,
+                                             SFM_R2R_MOTION_BEARING, &plan), SFM_OK);
+        SFM_CHECK(plan.on_boundary >= 2);
+        SFM_CHECK_NEAR(sqrt(plan.q.v[0] * plan.q.v[0] + plan.q.v[1] * plan.q.v[1]), 1.0, 1e-9);
+        dmin_ = 0.0;
     }
 #undef EXPECT_NEXT
 
