@@ -23,5 +23,6 @@
 #include "sfm/sfm_uncalibrated.h"
 #include "sfm/sfm_vo.h"
 #include "sfm/sfm_r2r.h"
+#include "sfm/sfm_r2r_motion.h"
 
 #endif

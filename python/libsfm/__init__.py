@@ -40,6 +40,9 @@ Geometry: poly_roots, rot_from_axis_angle, rot_to_axis_angle, rot_from_quat,
   rot_to_quat, rot_nearest, skew, rot_angle_between
 Submodules: linalg (small dense linear algebra), frames (replay, cameras,
   recording), calib (calibration files)
+Leader-follower formations (libsfm.formation): leader_follower_next_motion,
+  leader_follower_propagate, leader_follower_update, leader_follower_cost;
+  python -m libsfm.leader_follower_demo
 """
 from ._ffi import SfmError, ffi, lib  # noqa: F401
 from .camera import Camera
@@ -69,6 +72,8 @@ from .r2r_refine import R2R_LOSSES, r2r_ransac, r2r_refine
 from . import stereo as _stereo
 from .stereo import (disparity_block, disparity_sgm, disparity_to_depth, disparity_to_points,
                      homography_maps, rectification_error, rectify_pair, rectify_uncalibrated, remap)
+from .formation import (leader_follower_cost, leader_follower_next_motion,
+                        leader_follower_propagate, leader_follower_update)
 
 
 def version():
@@ -105,5 +110,7 @@ __all__ = [
     "rot_nearest", "skew", "rot_angle_between", "POLY_MAX_DEGREE",
     "factorize_projective", "self_calibrate", "reconstruct_three_view", "reconstruct_two_view",
     "reconstruct_three_view_images", "VisualOdometry", "replay_many",
+    "leader_follower_next_motion", "leader_follower_propagate", "leader_follower_update",
+    "leader_follower_cost",
     "linalg", "frames", "calib",
 ] + list(_stereo.__all__)
