@@ -214,7 +214,7 @@ int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int h
     const int r = b.r, r2 = 2 * r, D = b.D;
     const size_t row = (size_t)width * D;
     sfmi_stereo_select_params sp = {opt->min_disparity, D, opt->uniqueness, opt->lr_max_diff,
-                                    opt->subpixel};
+                                    opt->subpixel, 0};
     memset(b.col, 0, sizeof(int16_t) * row);
     memset(b.gcol, 0, sizeof(int32_t) * (size_t)width);
     for (int y = -r; y <= r; y++) {

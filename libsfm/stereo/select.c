@@ -102,11 +102,74 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
     }
 }
 
+/* scan_row with each cost and its index packed into one lane, key =
+ * cost << kb | d, when the largest key stays below NONE: one min then
+ * finds the smallest cost and, among equal costs, the smallest index (the
+ * ties rule above), and the two smallest keys per lane come from a min and
+ * a max. The right image's winners are kept as keys in best_r_cost. Every
+ * output equals scan_row's. */
+static void scan_row_keyed(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                           int w, const int16_t *cost, int kb)
+{
+    const int D = p->D, dmin = p->dmin, off = span_of(D, dmin), lr = p->lr_max_diff >= 0;
+    const int mask = (1 << kb) - 1;
+    const sfmi_v16 vmask = sfmi_v16_splat(mask), none = sfmi_v16_splat(NONE);
+    if (lr)
+        for (int k = 0; k < s->len; k++)
+            s->best_r_cost[k] = NONE;
+    for (int x = 0; x < w; x++) {
+        const int16_t *c = cost + (size_t)x * D;
+        int xr0 = x - dmin;
+        int16_t *rk = s->best_r_cost + off + w - 1 - xr0;
+        if (xr0 - (D - 1) >= 0 && xr0 <= w - 1) {
+            sfmi_v16 m1 = none, m2 = none, idx = lane_index;
+            const sfmi_v16 eight = sfmi_v16_splat(8);
+            for (int d = 0; d < D; d += 8) {
+                sfmi_v16 key = (sfmi_v16)((sfmi_u16)sfmi_v16_load(c + d) << kb) | idx;
+                idx += eight;
+                m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, key));
+                m1 = sfmi_v16_min(m1, key);
+                if (lr)
+                    sfmi_v16_store(rk + d, sfmi_v16_min(key, sfmi_v16_load(rk + d)));
+            }
+            int bk = sfmi_v16_hmin(m1), bd = bk & mask;
+            sfmi_v16 i1 = m1 & vmask;
+            sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
+            int sk = sfmi_v16_hmin(pick(near, m2, m1));
+            s->best_d[x] = (int16_t)bd;
+            s->best_c[x] = (int16_t)(bk >> kb);
+            s->second[x] = (int16_t)(sk == NONE ? NONE : sk >> kb);
+        } else {
+            s->best_d[x] = -1;
+            if (lr)
+                for (int d = 0; d < D; d++) {
+                    int xr = xr0 - d, key = c[d] << kb | d;
+                    if (xr >= 0 && xr <= w - 1 && key < rk[d])
+                        rk[d] = (int16_t)key;
+                }
+        }
+    }
+}
+
+/* Bits of a disparity index: the keyed scan applies when every key
+ * (cost_max << kb | D - 1) stays below NONE. */
+static int key_bits(const sfmi_stereo_select_params *p)
+{
+    int kb = 0;
+    while ((1 << kb) < p->D)
+        kb++;
+    return p->cost_max > 0 && ((long)(p->cost_max + 1) << kb) <= NONE ? kb : -1;
+}
+
 int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
                            int w, const int16_t *cost, const uint8_t *invalid, float *out)
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin);
-    scan_row(s, p, w, cost, s->best_d, s->best_c, s->second);
+    const int kb = key_bits(p);
+    if (kb >= 0)
+        scan_row_keyed(s, p, w, cost, kb);
+    else
+        scan_row(s, p, w, cost, s->best_d, s->best_c, s->second);
     int valid = 0;
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
@@ -142,7 +205,13 @@ int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
             (long)second * 100 <= (long)bc * (100 + p->uniqueness))
             continue;
         if (p->lr_max_diff >= 0) {
-            int rd = s->best_r_d[off + w - 1 - (xr0 - bd)];
+            int rd;
+            if (kb >= 0) {
+                int k = s->best_r_cost[off + w - 1 - (xr0 - bd)];
+                rd = k == NONE ? -1 : k & ((1 << kb) - 1);
+            } else {
+                rd = s->best_r_d[off + w - 1 - (xr0 - bd)];
+            }
             if (rd < 0 || (rd > bd ? rd - bd : bd - rd) > p->lr_max_diff)
                 continue;
         }

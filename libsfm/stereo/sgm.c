@@ -132,8 +132,8 @@ static void cost_row(const sgm *s, int y)
         const int16_t *rh = s->rrev_hi + off + w - 1 - x + dmin;
         sfmi_v16 ll = sfmi_v16_splat(Llo[x]), lh = sfmi_v16_splat(Lhi[x]);
         for (int d = 0; d < D; d += 8)
-            sfmi_v16_store(c + d, sfmi_v16_popcount(ll ^ sfmi_v16_load(rl + d)) +
-                                      sfmi_v16_popcount(lh ^ sfmi_v16_load(rh + d)));
+            sfmi_v16_store(c + d, sfmi_v16_popcount2(ll ^ sfmi_v16_load(rl + d),
+                                                     lh ^ sfmi_v16_load(rh + d)));
         int xr0 = x - dmin; /* right x of disparity index 0; index d is xr0 - d */
         if (xr0 - (D - 1) < 0 || xr0 > w - 1)
             for (int d = 0; d < D; d++)
@@ -143,10 +143,10 @@ static void cost_row(const sgm *s, int y)
 }
 
 /* One path step: out = C + min(P(d), P(d -+ 1) + p1, minP + p2) - minP over
- * the D lanes; returns min_d out. pred points at the predecessor's first
+ * the D lanes, also stored to copy; returns min_d out. pred points at the predecessor's first
  * lane, with PAD lanes of BIG on both sides. */
 static inline int step(const int16_t *c, const int16_t *pred, int minp, int D, sfmi_v16 vp1,
-                       int p2, int16_t *out)
+                       int p2, int16_t *out, int16_t *copy)
 {
     sfmi_v16 base = sfmi_v16_splat(minp + p2), sub = sfmi_v16_splat(minp);
     sfmi_v16 mn = sfmi_v16_splat(0x7fff);
@@ -157,6 +157,7 @@ static inline int step(const int16_t *c, const int16_t *pred, int minp, int D, s
         sfmi_v16 m = sfmi_v16_min(sfmi_v16_min(p, pm), sfmi_v16_min(pp, base));
         sfmi_v16 o = sfmi_v16_load(c + d) + m - sub;
         sfmi_v16_store(out + d, o);
+        sfmi_v16_store(copy + d, o);
         mn = sfmi_v16_min(mn, o);
     }
     return sfmi_v16_hmin(mn);
@@ -191,6 +192,44 @@ static inline void steps(int n, const int16_t *c, const int16_t *const *pred, co
         mn[k] = sfmi_v16_hmin(m[k]);
 }
 
+/* The update of one path inside steps4: o = C + min(...) - minP. */
+#define SFMI_SGM_PATH(p, base, sub, out, m)                                                   \
+    do {                                                                                      \
+        sfmi_v16 t_ = sfmi_v16_min(                                                           \
+            sfmi_v16_min(sfmi_v16_load((p) + d), sfmi_v16_load((p) + d - 1) + vp1),           \
+            sfmi_v16_min(sfmi_v16_load((p) + d + 1) + vp1, (base)));                          \
+        sfmi_v16 o_ = cv + t_ - (sub);                                                        \
+        sfmi_v16_store((out) + d, o_);                                                        \
+        (m) = sfmi_v16_min((m), o_);                                                          \
+        acc += o_;                                                                            \
+    } while (0)
+
+/* steps(4, ...) written out: the five-path pass's hot loop, with every
+ * pointer and constant in a register. */
+static inline void steps4(const int16_t *c, const int16_t *const *pred, const int *minp,
+                          int16_t *const *out, int *mn, int D, sfmi_v16 vp1, int p2, int16_t *S)
+{
+    const int16_t *p0 = pred[0], *p1 = pred[1], *p2p = pred[2], *p3 = pred[3];
+    int16_t *o0 = out[0], *o1 = out[1], *o2 = out[2], *o3 = out[3];
+    const sfmi_v16 b0 = sfmi_v16_splat(minp[0] + p2), s0 = sfmi_v16_splat(minp[0]);
+    const sfmi_v16 b1 = sfmi_v16_splat(minp[1] + p2), s1 = sfmi_v16_splat(minp[1]);
+    const sfmi_v16 b2 = sfmi_v16_splat(minp[2] + p2), s2 = sfmi_v16_splat(minp[2]);
+    const sfmi_v16 b3 = sfmi_v16_splat(minp[3] + p2), s3 = sfmi_v16_splat(minp[3]);
+    sfmi_v16 m0 = sfmi_v16_splat(0x7fff), m1 = m0, m2 = m0, m3 = m0;
+    for (int d = 0; d < D; d += 8) {
+        sfmi_v16 cv = sfmi_v16_load(c + d), acc = sfmi_v16_load(S + d);
+        SFMI_SGM_PATH(p0, b0, s0, o0, m0);
+        SFMI_SGM_PATH(p1, b1, s1, o1, m1);
+        SFMI_SGM_PATH(p2p, b2, s2, o2, m2);
+        SFMI_SGM_PATH(p3, b3, s3, o3, m3);
+        sfmi_v16_store(S + d, acc);
+    }
+    mn[0] = sfmi_v16_hmin(m0);
+    mn[1] = sfmi_v16_hmin(m1);
+    mn[2] = sfmi_v16_hmin(m2);
+    mn[3] = sfmi_v16_hmin(m3);
+}
+
 static void fill_block(int16_t *blk, int Dp, int16_t v)
 {
     for (int i = 0; i < Dp; i++)
@@ -215,7 +254,7 @@ static void reset_vertical(sgm *s)
 /* The enabled vertical paths of column x appended to pred/out/mp from
  * index n: column x lives at block x + 1, its predecessor at x + 1 + dx.
  * Returns the new count. */
-static int vertical_paths(const sgm *s, int x, int vmask, const int16_t **pred, int16_t **out,
+static inline int vertical_paths(const sgm *s, int x, int vmask, const int16_t **pred, int16_t **out,
                           int *mp, int n)
 {
     for (int k = 0; k < 3; k++) {
@@ -245,8 +284,8 @@ static void aggregate_row(sgm *s, int y, int horizontal, int vmask, int16_t *Sro
         fill_block(cur, Dp, 0);
         int minp = 0;
         for (int x = 0; x < w; x++) {
-            minp = step(s->C + (size_t)x * D, prev + PAD, minp, D, vp1, p2, cur + PAD);
-            memcpy(Srow + (size_t)x * D, cur + PAD, sizeof(int16_t) * D);
+            minp = step(s->C + (size_t)x * D, prev + PAD, minp, D, vp1, p2, cur + PAD,
+                        Srow + (size_t)x * D);
             int16_t *t = prev;
             prev = cur;
             cur = t;
@@ -267,7 +306,7 @@ static void aggregate_row(sgm *s, int y, int horizontal, int vmask, int16_t *Sro
             const int16_t *c = s->C + (size_t)x * D;
             int16_t *dst = Srow + (size_t)x * D;
             if (all3)
-                steps(4, c, pred, mp, out, mn, D, vp1, p2, dst);
+                steps4(c, pred, mp, out, mn, D, vp1, p2, dst);
             else
                 steps(n, c, pred, mp, out, mn, D, vp1, p2, dst);
             minp = mn[0];
@@ -328,8 +367,10 @@ int sfm_stereo_sgm(const uint8_t *left, const uint8_t *right, int width, int hei
     s.paths = opt->paths;
     sfmi_stereo_census(left, width, height, stride, s.cl_lo, s.cl_hi);
     sfmi_stereo_census(right, width, height, stride, s.cr_lo, s.cr_hi);
+    /* Each path's L is at most C + p2 <= OUT_COST + p2 (see the top). */
+    int npaths = opt->paths == SFM_STEREO_PATHS_8 ? 8 : (opt->paths == SFM_STEREO_PATHS_4 ? 4 : 5);
     sfmi_stereo_select_params sp = {opt->min_disparity, opt->num_disparities, opt->uniqueness,
-                                    opt->lr_max_diff, opt->subpixel};
+                                    opt->lr_max_diff, opt->subpixel, npaths * (OUT_COST + opt->p2)};
     const size_t row = (size_t)width * opt->num_disparities;
     int valid = 0;
     reset_vertical(&s);

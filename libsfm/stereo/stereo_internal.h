@@ -35,6 +35,18 @@ static inline sfmi_v16 sfmi_v16_min(sfmi_v16 a, sfmi_v16 b)
 #endif
 }
 
+static inline sfmi_v16 sfmi_v16_max(sfmi_v16 a, sfmi_v16 b)
+{
+#if defined(__SSE2__)
+    return (sfmi_v16)_mm_max_epi16((__m128i)a, (__m128i)b);
+#elif defined(__ARM_NEON)
+    return (sfmi_v16)vmaxq_s16((int16x8_t)a, (int16x8_t)b);
+#else
+    sfmi_v16 m = a > b;
+    return (a & m) | (b & ~m);
+#endif
+}
+
 static inline sfmi_v16 sfmi_v16_load(const int16_t *p)
 {
     sfmi_v16 v;
@@ -84,6 +96,20 @@ static inline sfmi_v16 sfmi_v16_popcount(sfmi_v16 v)
     x = (x & 0x3333) + ((x >> 2) & 0x3333);
     x = (x + (x >> 4)) & 0x0f0f;
     x = (x + (x >> 8)) & 0x1f;
+    return (sfmi_v16)x;
+}
+
+/* Bit counts of a + b for two 16-bit lanes' worth of bits per lane (one
+ * 32-bit census split in halves): the halves are merged after the 2-bit
+ * step, when every nibble holds at most 8. */
+static inline sfmi_v16 sfmi_v16_popcount2(sfmi_v16 a, sfmi_v16 b)
+{
+    sfmi_u16 x = (sfmi_u16)a, y = (sfmi_u16)b;
+    x = x - ((x >> 1) & 0x5555);
+    y = y - ((y >> 1) & 0x5555);
+    x = (x & 0x3333) + ((x >> 2) & 0x3333) + (y & 0x3333) + ((y >> 2) & 0x3333);
+    x = (x & 0x0f0f) + ((x >> 4) & 0x0f0f); /* bytes up to 16: no carry */
+    x = (x + (x >> 8)) & 0x3f;
     return (sfmi_v16)x;
 }
 

@@ -11,6 +11,7 @@ typedef struct sfmi_stereo_select_params {
     int uniqueness;    /* percent, 0 off */
     int lr_max_diff;   /* < 0 off */
     int subpixel;
+    int cost_max;      /* largest cost the matcher can produce; 0 unknown */
 } sfmi_stereo_select_params;
 
 typedef struct sfmi_stereo_scratch {
