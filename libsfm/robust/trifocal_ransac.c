@@ -19,13 +19,21 @@
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_trifocal.h"
 
-enum { MODEL = 51, SAMPLE = SFM_TRIFOCAL_MIN_POINTS, LO_ITERS = 8 };
+/* LO_POINTS: the most inliers a local optimisation refits on. Each refit
+ * is a gold-standard adjustment whose cost grows with its points, and on
+ * large triplets these refits were two thirds of the run; an LO only has to
+ * move a model into the right basin, so it refits on evenly spread inliers
+ * and the final polish (POLISH_ROUNDS refits on every inlier at tau, kept
+ * while the MSAC cost drops) restores the full fit. */
+enum { MODEL = 51, SAMPLE = SFM_TRIFOCAL_MIN_POINTS, LO_ITERS = 8, LO_POINTS = 192, POLISH_ROUNDS = 1 };
 
 typedef struct tf_ctx {
     const double *x1, *x2, *x3;
     void *solver_ws;
     size_t solver_size;
     sfmi_tf_refine_ws refine;
+    int *thin; /* LO_POINTS */
+    int full;  /* refit on every point given (the polish) */
 } tf_ctx;
 
 /* Scratch of the final support checks. */
@@ -40,6 +48,7 @@ typedef struct tf_support_ws {
 
 typedef struct tf_layout_out {
     tf_support_ws sup;
+    int *thin;
     void *ransac_ws;
     size_t ransac_size;
     void *solver_ws;
@@ -55,6 +64,7 @@ static void layout(sfmi_arena *a, int n, tf_layout_out *o)
     o->solver_size = sfm_trifocal_7pt_workspace_size();
     o->solver_ws = sfmi_arena_alloc(a, o->solver_size);
     sfmi_tf_refine_layout(a, n, &o->refine);
+    o->thin = SFM_ARENA_ARRAY(a, int, LO_POINTS);
     o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
     o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
     o->sup.AtA = SFM_ARENA_ARRAY(a, double, 27 * 27);
@@ -113,6 +123,12 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
     tf_ctx *c = (tf_ctx *)vctx;
     if (n_inliers < SAMPLE)
         return -1;
+    if (!c->full && n_inliers > LO_POINTS) {
+        for (int j = 0; j < LO_POINTS; j++)
+            c->thin[j] = inliers[(int)(((long long)j * n_inliers) / LO_POINTS)];
+        inliers = c->thin;
+        n_inliers = LO_POINTS;
+    }
     double P2[12], P3[12], T[27];
     memcpy(P2, &model[27], sizeof P2);
     memcpy(P3, &model[39], sizeof P3);
@@ -201,6 +217,61 @@ double sfmi_trifocal_chance(const double *x2, const double *x3, int n, double ta
            sfmi_chance_disc(a3, 1.7320508075688772 * tau);
 }
 
+/* MSAC cost of model at tau2 and its inliers (r2 < tau2) in idx. */
+static double tf_msac(tf_ctx *c, int n, const double *model, double tau2, int *idx, int *m)
+{
+    double cost = 0.0;
+    int k = 0;
+    for (int i = 0; i < n; i++) {
+        double r2 = tf_residual(c, model, i);
+        if (r2 < tau2) {
+            idx[k++] = i;
+            cost += r2;
+        } else {
+            cost += tau2;
+        }
+    }
+    *m = k;
+    return cost;
+}
+
+/* The final polish (see LO_POINTS): refits on every inlier while the MSAC
+ * cost drops and the inlier set changes; returns the inlier count. Only
+ * needed when an LO can have thinned its points. */
+static int tf_polish(tf_ctx *c, int n, double *model, double tau2, int *idx, sfm_ransac_stats *rs)
+{
+    int m;
+    double cost = tf_msac(c, n, model, tau2, idx, &m);
+    if (m <= LO_POINTS)
+        return m;
+    double cand[MODEL];
+    for (int r = 0; r < POLISH_ROUNDS; r++) {
+        memcpy(cand, model, sizeof cand);
+        c->full = 1;
+        int st = tf_refine(c, idx, m, cand);
+        c->full = 0;
+        if (st < 0)
+            break;
+        int m2;
+        double cost2 = tf_msac(c, n, cand, tau2, idx, &m2);
+        if (!(cost2 < cost)) {
+            tf_msac(c, n, model, tau2, idx, &m);
+            break;
+        }
+        memcpy(model, cand, sizeof cand);
+        cost = cost2;
+        rs->polished = 1;
+        rs->polish_rounds = r + 1;
+        int same = m2 == m;
+        m = m2;
+        if (same)
+            break;
+    }
+    rs->score = cost;
+    rs->num_inliers = m;
+    return m;
+}
+
 /* The support checks of sfm_ransac.h on the inliers of model. */
 static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, double tau,
                       int checks)
@@ -261,13 +332,14 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
     layout(&a, n, &lay);
     if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
-    tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine};
+    tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine, lay.thin, 0};
     sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};
     double model[MODEL];
     sfm_ransac_stats rs;
     int cnt = sfm_ransac_run(&est, n, &o, model, NULL, &rs, lay.ransac_ws, lay.ransac_size);
     if (cnt < 0)
         return cnt;
+    cnt = tf_polish(&ctx, n, model, o.threshold * o.threshold, lay.sup.idx, &rs);
     int st = tf_support(&ctx, &lay.sup, n, model, o.threshold, checks);
     if (st < 0)
         return st;
