@@ -732,6 +732,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
         stats->seed = opt->seed;
         stats->stop_reason = stop;
         stats->flags = 0;
+        stats->has_twin = 0;
         stats->cov_dim = 0;
     }
     return ninl;
