@@ -129,8 +129,13 @@ def timed(fn):
 
 
 def rel_libsfm(p1, p2, thr, seed):
-    r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=thr, seed=seed, confidence=CONF,
-                                      max_iterations=MAX_IT)
+    # a refusal (SFM_E_NO_MODEL, SFM_E_DEGENERATE) on these non-degenerate
+    # scenes counts as a failure (180 deg), as a missing anchor answer does
+    try:
+        r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=thr, seed=seed,
+                                          confidence=CONF, max_iterations=MAX_IT)
+    except libsfm.SfmError:
+        return None, None
     return r["R"], r["t"]
 
 

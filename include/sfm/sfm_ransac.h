@@ -172,6 +172,9 @@ typedef struct sfm_ransac_options {
     sfm_ransac_clock_fn clock; /* optional; with time_budget > 0 bounds the run */
     void *clock_ctx;
     double time_budget;    /* seconds; <= 0 or clock NULL: no budget */
+    int want_covariance;   /* pose estimators: 1 fills stats->covariance
+                              (cov_dim 6), 0 (default) leaves cov_dim 0 and
+                              skips its cost */
 } sfm_ransac_options;
 
 typedef struct sfm_ransac_stats {
@@ -193,16 +196,27 @@ typedef struct sfm_ransac_stats {
     double samples_needed; /* samples the stopping rule asked for at
                               opt->confidence for that share, before the
                               min/max iteration caps (may be +inf) */
-    int cov_dim;          /* 6 when covariance holds the pose covariance, else 0 */
-    double covariance[36]; /* pose estimators: 6 x 6 row-major covariance of
+    int cov_dim;          /* 6 when covariance holds the pose covariance, else 0
+                             (always 0 unless opt->want_covariance) */
+    double covariance[36]; /* pose estimators, on request (opt->want_covariance):
+                              6 x 6 row-major covariance of
                               (w, t), w the rotation increment R <- exp([w]x) R
                               (radians), t the translation (units of t; for a
                               relative pose the tangent of the unit sphere, so
-                              rank 5, rank 3 upright). From the final refit's
-                              Gauss-Newton normal matrix on the inliers,
-                              scaled by their residual variance (normalised
-                              image units); a direction the inliers do not fix
-                              shows as an entry of 1e30. */
+                              rank 5, rank 3 upright). The inverse of the core
+                              LM driver's Gauss-Newton matrix of the refit's
+                              least-squares problem on the inliers at the
+                              returned pose, scaled by their residual variance
+                              (normalised image units); a direction the
+                              inliers do not fix shows as an entry of 1e30.
+                              Unspecified when cov_dim is 0. */
+    int has_twin;         /* relative pose with SFM_RANSAC_FLAG_PLANAR: 1 when
+                             twin holds the plane's second pose */
+    sfm_pose twin;        /* the other decomposition of the dominant plane's
+                             homography (Faugeras & Lustman 1988): a plane
+                             seen from two views fits two poses, the true
+                             one is pose or twin. |t| = 1, x_cam2 = R x_cam1
+                             + t; unspecified when has_twin is 0 */
 } sfm_ransac_stats;
 
 /* Defaults: threshold 1, confidence 0.999, min 0 / max 10000 iterations, seed
@@ -282,7 +296,8 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  *    diagonal of the input points' box (F, H, trifocal), else they form one
  *    cluster, within which a translation moves points as a rotation does:
  *    SFM_E_DEGENERATE.
- *  - determination. Poses: the covariance of the refit (stats->covariance)
+ *  - determination. Poses: the covariance of the refit (computed for the
+ *    test whether or not the caller asks for stats->covariance)
  *    with a residual variance of at least (tau / 3)^2; a rotation standard
  *    deviation above 1.5 deg: SFM_E_DEGENERATE (one tight cluster, a line in
  *    space); relative pose with R determined and a translation-direction
@@ -295,7 +310,8 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  *    tau / 3 in normalised units) is SFM_E_DEGENERATE (all points on one
  *    plane for F and T, on one line for H).
  *  - dominant plane, pure rotation: SFM_RANSAC_FLAG_PLANAR (relative pose:
- *    the pose may be the twin of the true one), SFM_RANSAC_FLAG_PURE_ROTATION
+ *    the pose may be the twin of the true one, which stats->twin then
+ *    holds, has_twin 1), SFM_RANSAC_FLAG_PURE_ROTATION
  *    (R without t), SFM_RANSAC_FLAG_DEGENSAC (fundamental), as before.
  * So each estimator below can also return SFM_E_DEGENERATE and
  * SFM_E_NO_MODEL; nothing is written then.
@@ -353,7 +369,8 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
  * pose: x_cam2 = R x_cam1 + t, |t| = 1. E = [t]x R (unit Frobenius norm).
  * stats->flags: SFM_RANSAC_FLAG_PURE_ROTATION when the inliers are explained
  * by a rotation alone (t is then meaningless), SFM_RANSAC_FLAG_PLANAR when a
- * homography explains them (the pose may be one of two twisted solutions).
+ * homography explains them (the pose may be one of two solutions: the other
+ * goes to stats->twin with stats->has_twin 1; the truth is one of the two).
  * The pose is still written: check the flags before trusting t.
  */
 /* Static size: SFM_RANSAC_RELPOSE_WS_SIZE(n). */

@@ -73,17 +73,19 @@ static int support(const abs_ctx *c, const double *px, int n, const double *m, d
     sfmi_spread(px, 2, idx, k, &lo, &hi);
     if (sfmi_spread_collinear(lo, hi, tau * f) || hi < SFMI_CLUSTER_ANGLE * f)
         return SFM_E_DEGENERATE;
-    double JtJ[36], G[36], ssr, depth;
-    sfmi_abspose_normal(c->b, c->X, idx, k, m, m + 9, JtJ, G, &ssr, &depth);
+    double cov1[36], ssr, depth;
+    if (sfmi_abspose_covariance(c->b, c->X, idx, k, m, m + 9, cov1, &ssr, &depth) < 0)
+        return SFM_E_DEGENERATE;
     double s2 = k > 6 ? ssr / (2 * k - 6) : ssr;
     double s2_test = s2 > tau2 / 9.0 ? s2 : tau2 / 9.0;
     double cov_test[36];
-    if (sfmi_pose_covariance(JtJ, 6, G, s2_test, cov_test) < 0)
-        return SFM_E_DEGENERATE;
+    for (int j = 0; j < 36; j++) {
+        cov_test[j] = s2_test * cov1[j];
+        cov6[j] = s2 * cov1[j];
+    }
     if (sfmi_block_sd(cov_test, 0) > SFMI_ROT_SD_MAX ||
         !(sfmi_block_sd(cov_test, 3) <= SFMI_TREL_SD_MAX * depth))
         return SFM_E_DEGENERATE;
-    sfmi_pose_covariance(JtJ, 6, G, s2, cov6);
     return SFM_OK;
 }
 
@@ -168,6 +170,7 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     st = support(&c, px, n, model, eopt.threshold, f, idx, cov6);
     if (st < 0)
         return st;
+    const int want_cov = eopt.want_covariance != 0;
     /* outputs from here on: nothing can fail any more */
     memcpy(pose->R, model, 9 * sizeof(double));
     memcpy(pose->t, model + 9, 3 * sizeof(double));
@@ -177,8 +180,9 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     if (stats != NULL) {
         *stats = s;
         stats->score = s.score * f * f;
-        stats->cov_dim = 6;
-        memcpy(stats->covariance, cov6, sizeof cov6);
+        stats->cov_dim = want_cov ? 6 : 0;
+        if (want_cov)
+            memcpy(stats->covariance, cov6, sizeof cov6);
     }
     return ni;
 }

@@ -128,55 +128,6 @@ int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V
     return !(r > SFMI_DESIGN_RHO);
 }
 
-int sfmi_pose_covariance(const double *JtJ, int np, const double *G, double s2, double *cov6)
-{
-    double A[36], Inv[36];
-    memset(cov6, 0, 36 * sizeof(double));
-    for (int p = 0; p < np; p++)
-        for (int q = 0; q <= p; q++)
-            A[p * np + q] = A[q * np + p] = JtJ[p * np + q];
-    double scale = 0.0;
-    for (int p = 0; p < np; p++)
-        scale = A[p * np + p] > scale ? A[p * np + p] : scale;
-    int ok = scale > 0.0 && isfinite(scale);
-    if (ok) {
-        /* a pivot below 1e-12 of the largest diagonal is a null direction */
-        double L[36];
-        memcpy(L, A, sizeof(double) * np * np);
-        ok = sfm_cholesky_factor(L, np) == SFM_OK;
-        for (int p = 0; ok && p < np; p++)
-            ok = L[p * np + p] * L[p * np + p] > 1e-12 * scale;
-        if (ok) {
-            memset(Inv, 0, sizeof Inv);
-            for (int p = 0; p < np; p++)
-                Inv[p * np + p] = 1.0;
-            ok = sfm_cholesky_solve(L, np, Inv, np) == SFM_OK;
-        }
-    }
-    if (!ok) {
-        for (int r = 0; r < 6; r++)
-            cov6[7 * r] = 1e30;
-        return -1;
-    }
-    /* cov6 = s2 G Inv G^T */
-    double GI[36];
-    for (int r = 0; r < 6; r++)
-        for (int c = 0; c < np; c++) {
-            double s = 0.0;
-            for (int k = 0; k < np; k++)
-                s += G[r * np + k] * Inv[k * np + c];
-            GI[r * np + c] = s;
-        }
-    for (int r = 0; r < 6; r++)
-        for (int c = 0; c < 6; c++) {
-            double s = 0.0;
-            for (int k = 0; k < np; k++)
-                s += GI[r * np + k] * G[c * np + k];
-            cov6[6 * r + c] = s2 * s;
-        }
-    return 0;
-}
-
 double sfmi_block_sd(const double *cov6, int r0)
 {
     double t = cov6[7 * r0] + cov6[7 * (r0 + 1)] + cov6[7 * (r0 + 2)];

@@ -70,14 +70,6 @@ int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V
 int sfmi_pairs_design_degenerate(const double *g1, const double *g2, int m, int homography,
                                  double tau);
 
-/* Pose covariance. JtJ: lower triangle of the np x np Gauss-Newton normal
- * matrix (np <= 6) of the refit's residuals at its optimum; G: 6 x np map
- * from those parameters to (w, t) (rotation increment R <- exp([w]x) R,
- * translation t); s2: residual variance. cov6 = s2 G (JtJ)^-1 G^T.
- * Returns 0, or -1 when JtJ is not positive definite (cov6 is then filled
- * with 1e30 on its diagonal: undetermined). */
-int sfmi_pose_covariance(const double *JtJ, int np, const double *G, double s2, double *cov6);
-
 /* sqrt of the trace of a 3x3 block (r0, r0) of a 6x6 matrix. */
 double sfmi_block_sd(const double *cov6, int r0);
 

@@ -1,176 +1,131 @@
 /*
- * Normal matrices of the pose refits (support_pose.h), by central
- * differences of the residuals: they are evaluated once per estimator call,
- * on its final support, where a step of 1e-6 rad (1e-6 of a unit
- * translation) resolves the Jacobian to about 1e-8 relative, far below what
- * a covariance needs.
+ * Pose covariances of the final refits (support_pose.h): the refiners' own
+ * least-squares problems (sampson_lm.h, reproj_lm.h) handed to the core LM
+ * driver with no step allowed, so the covariance comes from the same
+ * analytic Jacobians the refits minimise, through the one driver.
  */
 #include "robust/support_pose.h"
 
 #include <math.h>
 #include <string.h>
 
+#include "core/lm.h"
 #include "robust/epipolar.h"
-#include "sfm/sfm_rotation.h"
+#include "robust/reproj_lm.h"
+#include "robust/sampson_lm.h"
+#include "sfm/sfm_common.h"
 
-#define STEP 1e-6
-
-/* Signed bearing Sampson residual C / sqrt(D) (epipolar.h's squared form). */
-static double sampson_signed(const double *E, const double *b1, const double *b2)
+/* cov6 = G C G^T, C nt x nt, G 6 x nt. */
+static void map_cov(const double *C, int nt, const double *G, double *cov6)
 {
-    double e[3], f[3];
-    for (int r = 0; r < 3; r++) {
-        e[r] = E[3 * r] * b1[0] + E[3 * r + 1] * b1[1] + E[3 * r + 2] * b1[2];
-        f[r] = E[r] * b2[0] + E[3 + r] * b2[1] + E[6 + r] * b2[2];
-    }
-    double C = b2[0] * e[0] + b2[1] * e[1] + b2[2] * e[2];
-    double D = sfmi_dot3(e, e) + sfmi_dot3(f, f) - 2.0 * C * C;
-    if (!(D > 1e-300))
-        return 0.0;
-    return C / sqrt(D);
-}
-
-/* Pose moved by parameter vector x (relpose layout of support_pose.h). */
-static void rel_move(const double *R, const double *t, const double *axis, const double *e1,
-                     const double *e2, const double *x, double *E)
-{
-    double w[3], dR[9], Rn[9], tn[3];
-    int nr = axis ? 1 : 3;
-    if (axis) {
-        for (int k = 0; k < 3; k++)
-            w[k] = x[0] * axis[k];
-    } else {
-        for (int k = 0; k < 3; k++)
-            w[k] = x[k];
-    }
-    sfm_rot_from_axis_angle(w, dR);
-    sfmi_matmul3(dR, R, Rn);
-    for (int k = 0; k < 3; k++)
-        tn[k] = t[k] + x[nr] * e1[k] + x[nr + 1] * e2[k];
-    double l = sqrt(sfmi_dot3(tn, tn));
-    for (int k = 0; k < 3; k++)
-        tn[k] /= l;
-    sfmi_essential_from_pose(Rn, tn, E);
-}
-
-int sfmi_relpose_normal(const double *b1, const double *b2, const int *idx, int m,
-                        const double *R, const double *t, const double *axis, double *JtJ,
-                        double *G, double *ssr)
-{
-    const int np = axis ? 3 : 5, nr = axis ? 1 : 3;
-    double e1[3], e2[3];
-    sfmi_tangent_basis(t, e1, e2);
-    double E0[9], Ep[5][9], Em[5][9];
-    sfmi_essential_from_pose(R, t, E0);
-    for (int p = 0; p < np; p++) {
-        double x[5] = {0, 0, 0, 0, 0};
-        x[p] = STEP;
-        rel_move(R, t, axis, e1, e2, x, Ep[p]);
-        x[p] = -STEP;
-        rel_move(R, t, axis, e1, e2, x, Em[p]);
-    }
-    memset(JtJ, 0, sizeof(double) * np * np);
-    double s = 0.0;
-    for (int j = 0; j < m; j++) {
-        const double *x1 = b1 + 3 * idx[j], *x2 = b2 + 3 * idx[j];
-        double r = sampson_signed(E0, x1, x2), J[5];
-        s += r * r;
-        for (int p = 0; p < np; p++)
-            J[p] = (sampson_signed(Ep[p], x1, x2) - sampson_signed(Em[p], x1, x2)) / (2 * STEP);
-        for (int p = 0; p < np; p++)
-            for (int q = 0; q <= p; q++)
-                JtJ[p * np + q] += J[p] * J[q];
-    }
-    for (int p = 0; p < np; p++)
-        for (int q = 0; q < p; q++)
-            JtJ[q * np + p] = JtJ[p * np + q];
-    memset(G, 0, sizeof(double) * 6 * np);
-    if (axis) {
-        for (int k = 0; k < 3; k++)
-            G[k * np] = axis[k];
-    } else {
-        for (int k = 0; k < 3; k++)
-            G[k * np + k] = 1.0;
-    }
-    for (int k = 0; k < 3; k++) {
-        G[(3 + k) * np + nr] = e1[k];
-        G[(3 + k) * np + nr + 1] = e2[k];
-    }
-    *ssr = s;
-    return np;
-}
-
-/* Tangent-plane residual (2) of one point; 0 when behind the camera. */
-static int reproj(const double *R, const double *t, const double *b, const double *X, double *r,
-                  double *depth)
-{
-    double Xc[3];
-    sfmi_matvec3(R, X, Xc);
-    for (int k = 0; k < 3; k++)
-        Xc[k] += t[k];
-    double d = sfmi_dot3(b, Xc);
-    if (!(d > 0.0))
-        return 0;
-    double e1[3], e2[3];
-    sfmi_tangent_basis(b, e1, e2);
-    r[0] = sfmi_dot3(e1, Xc) / d;
-    r[1] = sfmi_dot3(e2, Xc) / d;
-    if (depth)
-        *depth = d;
-    return 1;
-}
-
-int sfmi_abspose_normal(const double *b, const double *X, const int *idx, int m,
-                        const double *R, const double *t, double *JtJ, double *G, double *ssr,
-                        double *mean_depth)
-{
-    double Rp[6][9], tp[6][3], Rm[6][9], tm[6][3];
-    for (int p = 0; p < 6; p++) {
-        for (int sgn = 0; sgn < 2; sgn++) {
-            double *Ro = sgn ? Rm[p] : Rp[p], *to = sgn ? tm[p] : tp[p];
-            double h = sgn ? -STEP : STEP;
-            double w[3] = {0, 0, 0}, dR[9];
-            memcpy(to, t, 3 * sizeof(double));
-            if (p < 3)
-                w[p] = h;
-            else
-                to[p - 3] += h;
-            sfm_rot_from_axis_angle(w, dR);
-            sfmi_matmul3(dR, R, Ro);
+    double GC[6 * 6];
+    for (int r = 0; r < 6; r++)
+        for (int c = 0; c < nt; c++) {
+            double s = 0.0;
+            for (int k = 0; k < nt; k++)
+                s += G[r * nt + k] * C[k * nt + c];
+            GC[r * nt + c] = s;
         }
+    for (int r = 0; r < 6; r++)
+        for (int c = 0; c < 6; c++) {
+            double s = 0.0;
+            for (int k = 0; k < nt; k++)
+                s += GC[r * nt + k] * G[c * nt + k];
+            cov6[6 * r + c] = s;
+        }
+}
+
+/* The driver's covariance of prob at its blocks' values: SFM_OK with C
+ * filled and *ssr the sum of squared residuals, or a negative status. */
+static int lm_cov(const sfmi_lm_problem *prob, double *C, double *ssr)
+{
+    sfmi_lm_options o;
+    sfmi_lm_default_options(&o);
+    o.max_iterations = 0;
+    o.gradient_tolerance = 0.0;
+    o.want_covariance = 1;
+    double ws[SFMI_LM_DENSE_WS_DOUBLES(12, 6, 2)];
+    sfmi_lm_summary sum;
+    *ssr = 0.0;
+    int st = sfmi_lm_dense_solve(prob, &o, ws, sizeof ws, &sum, C);
+    if (st != SFM_OK)
+        return st;
+    *ssr = 2.0 * sum.final_cost; /* the driver's cost is half the sum */
+    return sum.covariance_status == SFM_OK ? SFM_OK : SFM_E_SINGULAR;
+}
+
+static void undetermined(double *cov6, int r0)
+{
+    if (r0 == 0)
+        memset(cov6, 0, 36 * sizeof(double));
+    for (int r = r0; r < 6; r++)
+        cov6[7 * r] = 1e30;
+}
+
+int sfmi_relpose_covariance(const double *b1, const double *b2, const int *idx, int m,
+                            const double *R, const double *t, const double *axis, double *cov6,
+                            double *ssr)
+{
+    double Rc[9], tc[3], C[25], G[30], B[6];
+    memcpy(Rc, R, sizeof Rc);
+    memcpy(tc, t, sizeof tc);
+    sfmi_sampson_problem sp;
+    sfmi_sampson_lm_problem(b1, b2, idx, m, axis, 0.0, Rc, tc, &sp);
+    const int nr = axis ? 1 : 3;
+    /* G: w is the free rotation (or the angle times the axis); t moves along
+     * the sphere block's tangent basis */
+    sfmi_lm_sphere_basis(tc, 3, B);
+    for (int pass = 0; pass < 2; pass++) {
+        const int nt = pass == 0 ? nr + 2 : nr;
+        memset(G, 0, sizeof G);
+        for (int r = 0; r < 3; r++) {
+            if (axis)
+                G[r * nt] = axis[r];
+            else
+                G[r * nt + r] = 1.0;
+            if (pass == 0) {
+                G[(3 + r) * nt + nr] = B[2 * r];
+                G[(3 + r) * nt + nr + 1] = B[2 * r + 1];
+            }
+        }
+        if (lm_cov(&sp.prob, C, ssr) == SFM_OK) {
+            map_cov(C, nt, G, cov6);
+            if (pass == 1)
+                undetermined(cov6, 3);
+            return pass;
+        }
+        /* t undetermined (no parallax): R alone, t held */
+        sp.blocks[1].manifold = SFMI_LM_CONSTANT;
     }
-    memset(JtJ, 0, 36 * sizeof(double));
-    double s = 0.0, dsum = 0.0;
+    undetermined(cov6, 0);
+    return -1;
+}
+
+int sfmi_abspose_covariance(const double *b, const double *X, const int *idx, int m,
+                            const double *R, const double *t, double *cov6, double *ssr,
+                            double *mean_depth)
+{
+    double Rc[9], tc[3];
+    memcpy(Rc, R, sizeof Rc);
+    memcpy(tc, t, sizeof tc);
+    double dsum = 0.0;
     int nd = 0;
     for (int j = 0; j < m; j++) {
-        const double *bb = b + 3 * idx[j], *XX = X + 3 * idx[j];
-        double r[2], d, J[2][6];
-        if (!reproj(R, t, bb, XX, r, &d))
-            continue;
-        dsum += d;
-        nd++;
-        s += r[0] * r[0] + r[1] * r[1];
-        int ok = 1;
-        for (int p = 0; p < 6 && ok; p++) {
-            double a[2], c[2];
-            ok = reproj(Rp[p], tp[p], bb, XX, a, NULL) && reproj(Rm[p], tm[p], bb, XX, c, NULL);
-            J[0][p] = (a[0] - c[0]) / (2 * STEP);
-            J[1][p] = (a[1] - c[1]) / (2 * STEP);
+        const double *x = X + 3 * idx[j];
+        double Xc[3];
+        sfmi_matvec3(R, x, Xc);
+        double d = sfmi_dot3(b + 3 * idx[j], Xc) + sfmi_dot3(b + 3 * idx[j], t);
+        if (d > 0.0) {
+            dsum += d;
+            nd++;
         }
-        if (!ok)
-            continue;
-        for (int k = 0; k < 2; k++)
-            for (int p = 0; p < 6; p++)
-                for (int q = 0; q <= p; q++)
-                    JtJ[p * 6 + q] += J[k][p] * J[k][q];
     }
-    for (int p = 0; p < 6; p++)
-        for (int q = 0; q < p; q++)
-            JtJ[q * 6 + p] = JtJ[p * 6 + q];
-    memset(G, 0, 36 * sizeof(double));
-    for (int k = 0; k < 6; k++)
-        G[7 * k] = 1.0;
-    *ssr = s;
     *mean_depth = nd > 0 ? dsum / nd : 0.0;
-    return 6;
+    sfmi_reproj_problem rp;
+    sfmi_reproj_lm_problem(b, X, idx, m, 0.0, Rc, tc, &rp);
+    if (lm_cov(&rp.prob, cov6, ssr) != SFM_OK) {
+        undetermined(cov6, 0);
+        return -1;
+    }
+    return 0;
 }

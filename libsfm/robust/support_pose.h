@@ -1,28 +1,32 @@
-/* Internal: Gauss-Newton normal matrices of the final pose refits, for the
- * pose covariance and the degeneracy tests of support_check.h. */
+/* Internal: pose covariances of the final refits from the core LM driver,
+ * for the degeneracy tests of support_check.h and for the covariance a
+ * caller asks for (sfm_ransac_options.want_covariance). */
 #ifndef SFM_ROBUST_SUPPORT_POSE_H
 #define SFM_ROBUST_SUPPORT_POSE_H
 
 /*
- * Relative pose, signed bearing Sampson residuals of the points idx[0..m)
- * at (R, t), |t| = 1. Parameters: axis NULL: w (3, R <- exp([w]x) R) and
- * the tangent coordinates of t in the basis (e1, e2) of sfmi_tangent_basis
- * (np = 5); axis set (upright): the angle about axis and the same two
- * (np = 3). Writes JtJ (np x np, lower triangle and upper), G (6 x np: the
- * map to (w, t)), returns np; *ssr gets the sum of squared residuals.
+ * The inverse of the core LM driver's undamped Gauss-Newton matrix
+ * (core/lm.h, want_covariance) of the refit's least-squares problem on the
+ * inliers idx[0..m) at (R, t), no step taken, mapped to 6 x 6 row-major
+ * (w, t), w the left rotation increment R <- exp([w]x) R: the pose
+ * covariance for a unit residual variance (multiply by s2). *ssr gets the
+ * inliers' sum of squared residuals.
+ *
+ * Relative pose: the refit's bearing Sampson residuals (sampson_lm.h), t on
+ * the unit sphere (rank 5; axis set, the upright case: the angle about axis,
+ * rank 3). Returns 0; 1 when t is not determined (no parallax): R alone with
+ * t held, the t diagonal 1e30; -1 when R is not determined either (every
+ * diagonal entry 1e30).
+ *
+ * Absolute pose: the tangent-plane reprojection residuals (reproj_lm.h;
+ * points behind the camera left out), *mean_depth the inliers' mean depth
+ * along their bearings. Returns 0, or -1 (every diagonal entry 1e30).
  */
-int sfmi_relpose_normal(const double *b1, const double *b2, const int *idx, int m,
-                        const double *R, const double *t, const double *axis, double *JtJ,
-                        double *G, double *ssr);
-
-/*
- * Absolute pose, tangent-plane reprojection residuals (2 per point) of the
- * points idx[0..m) at (R, t). Parameters w (R <- exp([w]x) R) and t (np = 6,
- * G = I). Returns 6; *ssr as above; *mean_depth the mean depth of the
- * points in front.
- */
-int sfmi_abspose_normal(const double *b, const double *X, const int *idx, int m,
-                        const double *R, const double *t, double *JtJ, double *G, double *ssr,
-                        double *mean_depth);
+int sfmi_relpose_covariance(const double *b1, const double *b2, const int *idx, int m,
+                            const double *R, const double *t, const double *axis, double *cov6,
+                            double *ssr);
+int sfmi_abspose_covariance(const double *b, const double *X, const int *idx, int m,
+                            const double *R, const double *t, double *cov6, double *ssr,
+                            double *mean_depth);
 
 #endif

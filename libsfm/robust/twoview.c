@@ -12,6 +12,7 @@
 #include "robust/support_check.h"
 #include "robust/support_pose.h"
 #include "robust/twoview_degeneracy.h"
+#include "solvers/homography_decompose.h"
 #include "solvers/normalize.h"
 
 static void layout(sfmi_arena *a, int n, size_t eng_size, twoview_ws *w)
@@ -181,8 +182,8 @@ static int in_view(const double *p1, const double *p2, const int *idx, int m, in
 }
 
 /* The support checks of sfm_ransac.h on the inliers idx[0..m) of (R, t):
- * SFM_OK with *flags updated (LOW_PARALLAX) and cov6 filled, or
- * SFM_E_NO_MODEL / SFM_E_DEGENERATE. tau: angular threshold. */
+ * SFM_OK with *flags updated (LOW_PARALLAX) and cov6 the pose covariance,
+ * or SFM_E_NO_MODEL / SFM_E_DEGENERATE. tau: angular threshold. */
 static int support(const twoview_ctx *c, twoview_ws *w, int sample, int m, const double *R,
                    const double *t, double tau, double focal, int *flags, double *cov6)
 {
@@ -203,31 +204,18 @@ static int support(const twoview_ctx *c, twoview_ws *w, int sample, int m, const
         if (hi1 < SFMI_CLUSTER_ANGLE * focal || hi2 < SFMI_CLUSTER_ANGLE * focal)
             return SFM_E_DEGENERATE;
     }
-    double JtJ[25], G[30], ssr;
-    const double *axis = c->d2;
-    int np = sfmi_relpose_normal(c->b1, c->b2, w->idx, m, R, t, axis, JtJ, G, &ssr);
-    const int nr = axis ? 1 : 3;
+    /* the covariance for a unit residual variance, scaled for the test by
+     * the inliers' variance, floored at (tau / 3)^2 */
+    double cov1[36], ssr;
+    const int np = c->d2 ? 3 : 5;
+    if (sfmi_relpose_covariance(c->b1, c->b2, w->idx, m, R, t, c->d2, cov1, &ssr) < 0)
+        return SFM_E_DEGENERATE;
     double s2 = m > np ? ssr / (m - np) : ssr;
     double s2_test = s2 > tau * tau / 9.0 ? s2 : tau * tau / 9.0;
     double cov_test[36];
-    if (sfmi_pose_covariance(JtJ, np, G, s2_test, cov_test) < 0) {
-        /* t undetermined (no parallax): R alone, t held fixed */
-        double Gr[18], Jr[9];
-        for (int r = 0; r < 6; r++)
-            for (int q = 0; q < nr; q++)
-                Gr[r * nr + q] = G[r * np + q];
-        for (int p = 0; p < nr; p++)
-            for (int q = 0; q < nr; q++)
-                Jr[p * nr + q] = JtJ[p * np + q];
-        if (sfmi_pose_covariance(Jr, nr, Gr, s2_test, cov_test) < 0)
-            return SFM_E_DEGENERATE;
-        for (int r = 3; r < 6; r++)
-            cov_test[7 * r] = 1e30;
-        sfmi_pose_covariance(Jr, nr, Gr, s2, cov6);
-        for (int r = 3; r < 6; r++)
-            cov6[7 * r] = 1e30;
-    } else {
-        sfmi_pose_covariance(JtJ, np, G, s2, cov6);
+    for (int j = 0; j < 36; j++) {
+        cov_test[j] = cov1[j] >= 1e30 ? cov1[j] : s2_test * cov1[j];
+        cov6[j] = cov1[j] >= 1e30 ? cov1[j] : s2 * cov1[j];
     }
     if (sfmi_block_sd(cov_test, 0) > SFMI_ROT_SD_MAX)
         return SFM_E_DEGENERATE;
@@ -236,9 +224,44 @@ static int support(const twoview_ctx *c, twoview_ws *w, int sample, int m, const
     return SFM_OK;
 }
 
+/* Points of the plane the sign tests of the decomposition average over. */
+#define TWIN_POINTS 32
+
+/* The dominant plane's second pose: of the two decompositions of its
+ * homography H (z = 1 points p1, p2, the plane's indexed by sel[0..np)),
+ * the one farther from the returned pose (R, t) (the other is that pose up
+ * to noise). Returns 1 with *twin written, 0 when H yields fewer than two. */
+static int plane_twin(const double *H, const double *p1, const double *p2, const int *sel, int np,
+                      const double *R, const double *t, sfm_pose *twin)
+{
+    double q1[2 * TWIN_POINTS], q2[2 * TWIN_POINTS], Rs[2][9], ts[2][3];
+    const int k = np < TWIN_POINTS ? np : TWIN_POINTS;
+    for (int j = 0; j < k; j++) {
+        int i = sel[(int)(((long long)j * np) / k)];
+        q1[2 * j] = p1[2 * i];
+        q1[2 * j + 1] = p1[2 * i + 1];
+        q2[2 * j] = p2[2 * i];
+        q2[2 * j + 1] = p2[2 * i + 1];
+    }
+    if (sfmi_homography_decompose(H, q1, q2, k, Rs, ts) != 2)
+        return 0;
+    /* closeness: trace(R^T R_k) (3 for the same rotation) plus t . t_k */
+    double near[2];
+    for (int s = 0; s < 2; s++) {
+        double tr = 0.0;
+        for (int j = 0; j < 9; j++)
+            tr += R[j] * Rs[s][j];
+        near[s] = tr + t[0] * ts[s][0] + t[1] * ts[s][1] + t[2] * ts[s][2];
+    }
+    const int far = near[0] < near[1] ? 0 : 1;
+    memcpy(twin->R, Rs[far], sizeof twin->R);
+    memcpy(twin->t, ts[far], sizeof twin->t);
+    return 1;
+}
+
 static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
                   const twoview_model *model, double tau, double focal, int n_inl,
-                  const sfm_ransac_stats *est)
+                  const sfm_ransac_stats *est, int want_cov)
 {
     const double tau2 = tau * tau;
     const int upright = c->d2 != NULL;
@@ -254,8 +277,18 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
     } else if (sfmi_robust_pose_from_essential(model->E, c->b1, c->b2, w->idx, m, R, t) < 0) {
         return SFM_E_NO_CONVERGENCE;
     }
+    double H[9];
+    int n_plane = 0;
     int flags = sfmi_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
-                                              w->p2, w->sel);
+                                              w->p2, w->sel, H, &n_plane);
+    sfm_pose twin;
+    int has_twin = (flags & SFM_RANSAC_FLAG_PLANAR) && !upright &&
+                   plane_twin(H, w->p1, w->p2, w->sel, n_plane, R, t, &twin);
+    /* the decomposition of a homography fitted on the z = 1 plane, refined
+     * on the inliers as the pose was (both poses fit the plane's points) */
+    if (has_twin)
+        has_twin = sfmi_robust_sampson_lm(c->b1, c->b2, w->idx, m, NULL, tau,
+                                          4 * SFM_TWOVIEW_LM_STEPS, twin.R, twin.t) >= 0;
     double cov6[36];
     int st = support(c, w, call->sample, m, R, t, tau, focal, &flags, cov6);
     if (st < 0)
@@ -275,8 +308,12 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
         *call->stats = *est;
         call->stats->score = est->score * focal * focal;
         call->stats->flags = flags;
-        call->stats->cov_dim = 6;
-        memcpy(call->stats->covariance, cov6, sizeof cov6);
+        call->stats->has_twin = has_twin;
+        if (has_twin)
+            call->stats->twin = twin;
+        call->stats->cov_dim = want_cov ? 6 : 0;
+        if (want_cov)
+            memcpy(call->stats->covariance, cov6, sizeof cov6);
     }
     return n_inl;
 }
@@ -299,5 +336,5 @@ int sfmi_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
     int ni = sfm_ransac_run(&est, c->n, eopt, (double *)&model, NULL, &es, w->eng, w->eng_size);
     if (ni < 0)
         return ni;
-    return finish(call, c, w, &model, eopt->threshold, focal, ni, &es);
+    return finish(call, c, w, &model, eopt->threshold, focal, ni, &es, eopt->want_covariance != 0);
 }

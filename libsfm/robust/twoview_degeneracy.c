@@ -93,9 +93,20 @@ static int project_plane(const double *b1, const double *b2, const int *idx, int
     return m;
 }
 
+/* The PLANAR answer with its homography and the size of its support. */
+static int planar(const double *H, int c, double *H_out, int *n_plane)
+{
+    if (H_out != NULL)
+        for (int k = 0; k < 9; k++)
+            H_out[k] = H[k];
+    if (n_plane != NULL)
+        *n_plane = c;
+    return SFM_RANSAC_FLAG_PLANAR;
+}
+
 int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
                                   const double *R_pose, double tau, uint64_t seed, double *p1,
-                                  double *p2, int *sel)
+                                  double *p2, int *sel, double *H_out, int *n_plane)
 {
     if (n < 5)
         return 0;
@@ -155,7 +166,7 @@ int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int
         return 0;
     c = homography_count(p1, p2, m, m, bestH, tol, sel);
     if (c >= need)
-        return SFM_RANSAC_FLAG_PLANAR;
+        return planar(bestH, c, H_out, n_plane);
     /* a homography from four noisy points of a dominant plane still
      * explains most of it: below half the quota there is no plane to refit */
     if (c < 4 || 2 * c < need)
@@ -172,5 +183,6 @@ int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int
     if (sfm_homography_dlt(p1, p2, c, &H2) != 1)
         return 0;
     m = project_plane(b1, b2, idx, n, p1, p2);
-    return homography_count(p1, p2, m, m, H2.m, tol, sel) >= need ? SFM_RANSAC_FLAG_PLANAR : 0;
+    c = homography_count(p1, p2, m, m, H2.m, tol, sel);
+    return c >= need ? planar(H2.m, c, H_out, n_plane) : 0;
 }

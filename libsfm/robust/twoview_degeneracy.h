@@ -21,10 +21,13 @@
  * b1, b2: unit bearings; idx[0..n): inliers of the relative pose; R_pose:
  * its rotation; tau: the angular inlier threshold; seed: for the homography
  * samples. p1, p2: scratch of 2 n doubles each, sel: n ints.
- * Returns SFM_RANSAC_FLAG_* bits (PURE_ROTATION, PLANAR) or 0.
+ * Returns SFM_RANSAC_FLAG_* bits (PURE_ROTATION, PLANAR) or 0. With PLANAR,
+ * H (9 doubles, may be NULL) gets the plane's homography on the z = 1
+ * plane (x2 ~ H x1), and p1, p2 hold the inliers' z = 1 points, the
+ * plane's first: sel[0..*n_plane) indexes them (n_plane may be NULL).
  */
 int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
                                   const double *R_pose, double tau, uint64_t seed, double *p1,
-                                  double *p2, int *sel);
+                                  double *p2, int *sel, double *H, int *n_plane);
 
 #endif

@@ -110,11 +110,18 @@ def _pose(pose):
     return np.array(list(pose.R)).reshape(3, 3), np.array(list(pose.t))
 
 
-def _relative(upright, p1, p2, K1, K2, d1, d2, dist1, dist2, options):
+def _want_covariance(opt, covariance):
+    if covariance not in (True, False, 0, 1):
+        raise ValueError("covariance must be True or False, got %r" % (covariance,))
+    opt.want_covariance = 1 if covariance else 0
+
+
+def _relative(upright, p1, p2, K1, K2, d1, d2, dist1, dist2, options, covariance=False):
     p1, p2 = pairs(p1, p2, 3 if upright else 5)
     n = p1.shape[0]
     c1, c2 = as_camera(K1, dist1, "K1"), as_camera(K2, dist2, "K2")
     opt, keep = ransac_options(n=n, **options)
+    _want_covariance(opt, covariance)
     pose = ffi.new("sfm_pose *")
     E = np.zeros((3, 3))
     mask = np.zeros(n, dtype=np.uint8)
@@ -136,9 +143,13 @@ def _relative(upright, p1, p2, K1, K2, d1, d2, dist1, dist2, options):
     check(rc, where, inputs)
     R, t = _pose(pose)
     del keep, buf
+    twin = None
+    if st.has_twin:
+        twin = (np.array(list(st.twin.R)).reshape(3, 3), np.array(list(st.twin.t)))
     return ransac_result(st, mask, where, R=R, t=t, E=E,
                          planar=bool(st.flags & lib.SFM_RANSAC_FLAG_PLANAR),
-                         pure_rotation=bool(st.flags & lib.SFM_RANSAC_FLAG_PURE_ROTATION))
+                         pure_rotation=bool(st.flags & lib.SFM_RANSAC_FLAG_PURE_ROTATION),
+                         twin=twin)
 
 
 def estimate_relative_pose(p1, p2, K1, K2, *, dist1=None, dist2=None,
@@ -146,7 +157,7 @@ def estimate_relative_pose(p1, p2, K1, K2, *, dist1=None, dist2=None,
                            confidence=_D["confidence"], max_iterations=_D["max_iterations"],
                            min_iterations=_D["min_iterations"], lo_rounds=_D["lo_rounds"],
                            polish_rounds=_D["polish_rounds"], use_sprt=_D["use_sprt"],
-                           quality=None):
+                           quality=None, covariance=False):
     """Calibrated relative pose from n >= 5 pixel pairs (5-point RANSAC).
 
     p1, p2: (n, 2) pixels in images 1 and 2. K1, K2: libsfm.Camera or 3x3 K
@@ -156,8 +167,12 @@ def estimate_relative_pose(p1, p2, K1, K2, *, dist1=None, dist2=None,
     Returns a Result with R (3, 3), t (3,), |t| = 1, x_cam2 = R x_cam1 + t;
     E (3, 3), unit Frobenius norm, x2^T E x1 = 0 for normalized x; planar and
     pure_rotation (bools: the inliers are explained by one homography, or by
-    a rotation alone; t is then not to be trusted)."""
-    return _relative(False, p1, p2, K1, K2, None, None, dist1, dist2, options_of(locals()))
+    a rotation alone; t is then not to be trusted); twin: with planar, the
+    plane's second pose (R, t), the truth being (R, t) or twin (None
+    otherwise). covariance=True adds the
+    (6, 6) pose covariance (Result.covariance; None otherwise)."""
+    return _relative(False, p1, p2, K1, K2, None, None, dist1, dist2, options_of(locals()),
+                     covariance)
 
 
 def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, *, dist1=None, dist2=None,
@@ -166,14 +181,14 @@ def estimate_relative_pose_upright(p1, p2, K1, K2, d1, d2, *, dist1=None, dist2=
                                    max_iterations=_D["max_iterations"],
                                    min_iterations=_D["min_iterations"],
                                    lo_rounds=_D["lo_rounds"], polish_rounds=_D["polish_rounds"],
-                                   use_sprt=_D["use_sprt"], quality=None):
+                                   use_sprt=_D["use_sprt"], quality=None, covariance=False):
     """Relative pose from n >= 3 pixel pairs and a direction known in both
     frames (3-point upright RANSAC).
 
     p1, p2: (n, 2) pixels; K1, K2 as estimate_relative_pose; d1 (3,): the
     direction (e.g. gravity) in camera 1, d2 (3,) = R d1 in camera 2.
     Returns the entries of estimate_relative_pose."""
-    return _relative(True, p1, p2, K1, K2, d1, d2, dist1, dist2, options_of(locals()))
+    return _relative(True, p1, p2, K1, K2, d1, d2, dist1, dist2, options_of(locals()), covariance)
 
 
 def estimate_absolute_pose(p, X, K, *, dist=None, threshold_px=_D["threshold_px"],
@@ -181,12 +196,13 @@ def estimate_absolute_pose(p, X, K, *, dist=None, threshold_px=_D["threshold_px"
                            max_iterations=_D["max_iterations"],
                            min_iterations=_D["min_iterations"], lo_rounds=_D["lo_rounds"],
                            polish_rounds=_D["polish_rounds"], use_sprt=_D["use_sprt"],
-                           quality=None):
+                           quality=None, covariance=False):
     """Absolute pose from n >= 3 pixels and their world points (P3P RANSAC).
 
     p: (n, 2) pixels; X: (n, 3) world points (any unit); K: libsfm.Camera or
     3x3 K (dist: OpenCV Brown vector for a K). Options: see libsfm.robust.
-    Returns a Result with R (3, 3), t (3,) in X's unit, x_cam = R X + t."""
+    Returns a Result with R (3, 3), t (3,) in X's unit, x_cam = R X + t;
+    covariance=True adds the (6, 6) pose covariance."""
     p = as_array(p, (None, 2), "p")
     n = p.shape[0]
     X = as_array(X, (n, 3), "X")
@@ -196,6 +212,7 @@ def estimate_absolute_pose(p, X, K, *, dist=None, threshold_px=_D["threshold_px"
         raise ValueError("at most %d points, got %d" % (lib.SFM_RANSAC_MAX_POINTS, n))
     cam = as_camera(K, dist, "K")
     opt, keep = ransac_options(n=n, **options_of(locals()))
+    _want_covariance(opt, covariance)
     buf, ws, wsn = workspace(lib.sfm_ransac_abspose_workspace_size(n))
     pose = ffi.new("sfm_pose *")
     mask = np.zeros(n, dtype=np.uint8)

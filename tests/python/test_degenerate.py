@@ -250,6 +250,8 @@ def test_result_fields_and_refusals():
     s = ds.scene(rng, "general")
     r = libsfm.estimate_relative_pose(s["x"][0], s["x"][1], ds.K, ds.K)
     assert r["degenerate"] is False and r["degeneracy"] == ""
+    assert r["covariance"] is None  # on request only
+    r = libsfm.estimate_relative_pose(s["x"][0], s["x"][1], ds.K, ds.K, covariance=True)
     C = r["covariance"]
     assert C.shape == (6, 6) and np.allclose(C, C.T, atol=1e-15)
     w = np.linalg.eigvalsh(C)

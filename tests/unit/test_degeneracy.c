@@ -135,8 +135,16 @@ SFM_TEST(degenerate_relpose_general_scene_has_covariance)
         render(t, ND, 2, 0.3, 0.2);
         sfm_pose pose;
         sfm_ransac_stats st;
+        /* not asked: no covariance */
         int r = sfm_ransac_relpose(Q[0], Q[1], ND, &cam, &cam, NULL, &pose, NULL, NULL, &st, DWS,
                                    sizeof DWS);
+        SFM_CHECK(r >= 50);
+        SFM_CHECK_EQ_INT(st.cov_dim, 0);
+        sfm_ransac_options o;
+        sfm_ransac_default_options(&o);
+        o.want_covariance = 1;
+        r = sfm_ransac_relpose(Q[0], Q[1], ND, &cam, &cam, &o, &pose, NULL, NULL, &st, DWS,
+                               sizeof DWS);
         SFM_CHECK(r >= 50);
         SFM_CHECK_EQ_INT(st.cov_dim, 6);
         double R[9], tr[3];
