@@ -56,16 +56,20 @@ typedef struct sfm_r2r_transform {
     sfm_vec3 p;
 } sfm_r2r_transform;
 
-/* The 14 base systems: per step, the measurements in canonical form (after
- * exchanging the robots so that b1 is the more frequent bearing, and ordering
- * the steps by their number of equations). */
+/* The 14 classes of six-equation sequences: per step, the measurements in
+ * canonical form (after exchanging the robots so that b1 is the more
+ * frequent bearing, and ordering the steps by their number of equations).
+ * Two of them are not minimal: {d,b1} at two steps fixes robot 2's position
+ * in {1} at both, and C may still turn about the second (likewise {d,b1}
+ * {d,b2}); their six equations have rank five and sfm_r2r_solve says
+ * SFM_E_DEGENERATE. */
 typedef enum sfm_r2r_system {
     SFM_R2R_SYS_NONE = 0,
     SFM_R2R_SYS_DB1B2_D = 1,     /* {d,b1,b2} {d} */
     SFM_R2R_SYS_B1B2_B1 = 2,     /* {b1,b2} {b1} */
     SFM_R2R_SYS_B1B2_D_D = 3,    /* {b1,b2} {d} {d} */
-    SFM_R2R_SYS_DB1_DB1 = 4,     /* {d,b1} {d,b1} */
-    SFM_R2R_SYS_DB1_DB2 = 5,     /* {d,b1} {d,b2} */
+    SFM_R2R_SYS_DB1_DB1 = 4,     /* {d,b1} {d,b1}: rank 5, SFM_E_DEGENERATE */
+    SFM_R2R_SYS_DB1_DB2 = 5,     /* {d,b1} {d,b2}: rank 5, SFM_E_DEGENERATE */
     SFM_R2R_SYS_DB1_B1_D = 6,    /* {d,b1} {b1} {d} */
     SFM_R2R_SYS_DB1_B2_D = 7,    /* {d,b1} {b2} {d} */
     SFM_R2R_SYS_DB1_D_D_D = 8,   /* {d,b1} {d} {d} {d}: the paper's System 10 */
