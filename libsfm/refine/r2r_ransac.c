@@ -12,6 +12,8 @@
  * six equations among the drawn measurements is reachable that way, and an
  * all-inlier prefix needs only its own measurements to be inliers, so the
  * engine's forecast (all six inliers) is an upper bound on the draws.
+ * The file lives in refine/, beside the refit it calls: robust/ sits below
+ * refine/ and may not call up into it.
  */
 #include <math.h>
 #include <string.h>
