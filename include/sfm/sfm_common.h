@@ -14,9 +14,8 @@
  * (a count written back is the return value, never an extra argument); last
  * the caller's work memory as (void *ws, size_t ws_size), sized by the
  * function's *_workspace_size(). Optional outputs (inlier masks, statistics,
- * covariances) may be NULL. Still taking ws before their outputs, and to
- * follow the order before 1.0: sfm_ba_solve, sfm_features_detect,
- * sfm_features_match and sfm_features_associate_three_views.
+ * covariances) may be NULL. Two outputs that share one capacity (keypoints
+ * and their descriptors, matches and their distances) sit together before it.
  *
  * Names: sfm_<module>_<verb> for the API; minimal solvers name the problem and
  * the sample size (sfm_relpose_5pt, sfm_fundamental_8pt, sfm_p3p), capacities

@@ -392,7 +392,7 @@ static void run_features(void)
     fp.n_levels = 3;
     if (!ws_ok("features", sfm_features_workspace_size(&fp, W, H)))
         return;
-    int r = sfm_features_detect(&im, &fp, g_ws, WS_BYTES, kps, desc, CAP);
+    int r = sfm_features_detect(&im, &fp, kps, desc, CAP, g_ws, WS_BYTES);
     emit_bytes("features.keypoints", r, kps, r > 0 ? (size_t)r * sizeof kps[0] : 0);
     emit_bytes("features.descriptors", r, desc, r > 0 ? (size_t)r * SFM_FEATURES_DESC_BYTES : 0);
     /* matched against itself shifted by one feature: a fixed call */
