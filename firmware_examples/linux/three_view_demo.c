@@ -640,8 +640,8 @@ int main(int argc, char **argv)
             memcpy(hp + 2 * ((size_t)ni + nh), px2 + 2 * k, 2 * sizeof(double));
             nh++;
         }
-    double H[9];
-    int on_plane = sfm_ransac_homography(hp, hp + 2 * (size_t)ni, nh, &cams[0], &cams[1], &ro, H, NULL,
+    sfm_mat3 H;
+    int on_plane = sfm_ransac_homography(hp, hp + 2 * (size_t)ni, nh, &cams[0], &cams[1], &ro, &H, NULL,
                                          NULL, ws, ws_size);
     if (on_plane >= 0) {
         printf("inliers on one plane (homography 1-2 within %.2f px): %d of %d (%.0f%%)\n", threshold,

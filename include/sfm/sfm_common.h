@@ -17,6 +17,10 @@
  * covariances) may be NULL. Two outputs that share one capacity (keypoints
  * and their descriptors, matches and their distances) sit together before it.
  *
+ * Types: a 3x3 model (essential E, fundamental F, homography H) is an
+ * sfm_mat3, in and out, in solvers and estimators alike; a solver writes an
+ * array of them. Rotations stay double[9] inside sfm_pose.
+ *
  * Names: sfm_<module>_<verb> for the API; minimal solvers name the problem and
  * the sample size (sfm_relpose_5pt, sfm_fundamental_8pt, sfm_p3p), capacities
  * are SFM_<SOLVER>_MAX_SOLUTIONS. The library's internal symbols carry sfmi_

@@ -295,10 +295,11 @@ size_t sfm_ransac_fundamental_workspace_size(int n)
 }
 
 int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sfm_camera *cam1,
-                           const sfm_camera *cam2, const sfm_ransac_options *opt, double F[9],
+                           const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_mat3 *F_out,
                            uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                            size_t ws_size)
 {
+    double *F = F_out ? F_out->m : NULL;
     if (F == NULL || n < 8)
         return SFM_E_ARGUMENT;
     pixel_pairs pp;

@@ -102,9 +102,10 @@ size_t sfm_ransac_homography_workspace_size(int n)
 }
 
 int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm_camera *cam1,
-                          const sfm_camera *cam2, const sfm_ransac_options *opt, double H[9],
+                          const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_mat3 *H_out,
                           uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
 {
+    double *H = H_out ? H_out->m : NULL;
     if (H == NULL)
         return SFM_E_ARGUMENT;
     pixel_pairs pp;

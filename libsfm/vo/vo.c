@@ -418,15 +418,15 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
     sfm_ransac_options o;
     ransac_opts(vo, t0, &o);
     sfm_pose rel;
-    double E[9];
+    sfm_mat3 E;
     sfm_ransac_stats rs;
     int inl;
     if (gravity != NULL && ref->has_gravity)
         inl = sfm_ransac_relpose_upright(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole,
-                                         ref->gravity, gravity, &o, &rel, E, vo->mask, &rs,
+                                         ref->gravity, gravity, &o, &rel, &E, vo->mask, &rs,
                                          vo->ransac_ws, vo->ransac_ws_size);
     else
-        inl = sfm_ransac_relpose(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole, &o, &rel, E,
+        inl = sfm_ransac_relpose(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole, &o, &rel, &E,
                                  vo->mask, &rs, vo->ransac_ws, vo->ransac_ws_size);
     if (inl < 0) {
         /* The estimator's refusals are states of this frame, not errors:

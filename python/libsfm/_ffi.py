@@ -243,6 +243,13 @@ def dptr(arr):
     return ffi.cast("double *", ffi.from_buffer(arr))
 
 
+def mptr(arr):
+    """sfm_mat3* into a C-contiguous float64 numpy array of 9 values (3 x 3, row-major)."""
+    if arr.size != 9:
+        raise ValueError("a 3x3 matrix has 9 values, got %d" % arr.size)
+    return ffi.cast("sfm_mat3 *", ffi.from_buffer(arr))
+
+
 def iptr(arr):
     """int* into a C-contiguous int32 numpy array."""
     return ffi.cast("int *", ffi.from_buffer(arr))
