@@ -72,9 +72,11 @@ typedef enum sfm_status {
 /* A short constant English description of a status code; never NULL. */
 SFM_API const char *sfm_status_str(int status);
 
-/* Library version as MAJOR*10000 + MINOR*100 + PATCH. */
+/* Library version as MAJOR*10000 + MINOR*100 + PATCH. Before 1.0 a new
+ * MINOR changes the API (and the ABI of libsfm.so.0): callers built for
+ * another minor must be rebuilt. */
 #define SFM_VERSION_MAJOR 0
-#define SFM_VERSION_MINOR 2
+#define SFM_VERSION_MINOR 3
 #define SFM_VERSION_PATCH 0
 SFM_API int sfm_version(void);
 
