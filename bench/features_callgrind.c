@@ -33,7 +33,7 @@ int main(int argc, char **argv)
     sfm_keypoint *kps = malloc(sizeof(sfm_keypoint) * (size_t)p.max_features);
     uint8_t *desc = malloc((size_t)SFM_FEATURES_DESC_BYTES * (size_t)p.max_features);
     sfm_image_u8 im = {img, w, h, w};
-    int n = sfm_features_detect(&im, &p, ws, need, kps, desc, p.max_features);
+    int n = sfm_features_detect(&im, &p, kps, desc, p.max_features, ws, need);
     printf("%d keypoints, workspace %zu bytes\n", n, need);
     free(img);
     free(ws);

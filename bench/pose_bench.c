@@ -78,7 +78,7 @@ typedef struct problem {
     double R[9], t[3];
     double x[9], X[9];      /* P3P: bearings, world points */
     double x1[9], x2[9], d1[3], d2[3]; /* upright */
-    double E[9];
+    sfm_mat3 E;
     double ex1[3 * 50], ex2[3 * 50];
     double P[24], xp[4], f[6];
 } problem;
@@ -119,7 +119,7 @@ static void make_pool(void)
         double S[9] = {0, -q->t[2], q->t[1], q->t[2], 0, -q->t[0], -q->t[1], q->t[0], 0};
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++)
-                q->E[3 * r + c] = S[3 * r] * q->R[c] + S[3 * r + 1] * q->R[3 + c] + S[3 * r + 2] * q->R[6 + c];
+                q->E.m[3 * r + c] = S[3 * r] * q->R[c] + S[3 * r + 1] * q->R[3 + c] + S[3 * r + 2] * q->R[6 + c];
         for (int i = 0; i < 50; i++) {
             double d = uni(2, 20), X[3] = {uni(-0.8, 0.8) * d, uni(-0.8, 0.8) * d, d}, Y[3];
             mv(q->R, X, Y);
@@ -171,7 +171,7 @@ static int call(int which, const problem *q)
         break;
     case 2: {
         int cnt[4];
-        n = sfm_essential_to_poses(q->E, q->ex1, q->ex2, 50, out, cnt);
+        n = sfm_essential_to_poses(&q->E, q->ex1, q->ex2, 50, out, cnt);
         break;
     }
     case 3: {

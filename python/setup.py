@@ -14,6 +14,7 @@ make's -j (default 2); LIBSFM_MAKE_ARGS adds make variables (for example
 """
 import glob
 import os
+import re
 import shlex
 import shutil
 import subprocess
@@ -37,6 +38,13 @@ def c_source_dir():
         if d and os.path.exists(os.path.join(d, "Makefile")) and os.path.isdir(os.path.join(d, "libsfm")):
             return os.path.abspath(d)
     raise RuntimeError("libsfm C sources not found (a checkout's python/, an sdist's csrc/, or LIBSFM_SOURCE_DIR)")
+
+
+def header_version():
+    """MAJOR.MINOR.PATCH from include/sfm/sfm_common.h: the package is the library's version."""
+    with open(os.path.join(c_source_dir(), "include", "sfm", "sfm_common.h")) as f:
+        hdr = f.read()
+    return ".".join(re.search(r"#define SFM_VERSION_%s (\d+)" % k, hdr).group(1) for k in ("MAJOR", "MINOR", "PATCH"))
 
 
 class BuildPyWithLibrary(build_py):
@@ -88,5 +96,5 @@ class BinaryDistribution(Distribution):
         return True
 
 
-setup(distclass=BinaryDistribution,
+setup(version=header_version(), distclass=BinaryDistribution,
       cmdclass={"build_py": BuildPyWithLibrary, "sdist": SdistWithSources, "bdist_wheel": PlatformWheel})

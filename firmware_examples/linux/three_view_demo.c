@@ -423,7 +423,7 @@ int main(int argc, char **argv)
         }
         sfm_image_u8 img = {fr.data, fr.width, fr.height, fr.stride};
         status = fr.width == w && fr.height == h
-                     ? sfm_features_detect(&img, &fp, ws, ws_size, kps[v], desc[v], cap)
+                     ? sfm_features_detect(&img, &fp, kps[v], desc[v], cap, ws, ws_size)
                      : SFM_E_FORMAT;
         sfm_capture_release(src, &fr);
         if (status < 0) {
@@ -440,7 +440,7 @@ int main(int argc, char **argv)
     int nm[3];
     for (int p = 0; p < 3; p++) {
         int a = p, b = (p + 1) % 3;
-        status = sfm_features_match(desc[a], nf[a], desc[b], nf[b], &mp, ws, ws_size, matches[p], NULL, cap);
+        status = sfm_features_match(desc[a], nf[a], desc[b], nf[b], &mp, matches[p], NULL, cap, ws, ws_size);
         if (status < 0) {
             fprintf(stderr, "three_view_demo: matching %d-%d: %s (%d)\n", a + 1, b + 1, sfm_status_str(status), status);
             goto done;
@@ -448,7 +448,7 @@ int main(int argc, char **argv)
         nm[p] = status;
     }
     status = sfm_features_associate_three_views(matches[0], nm[0], matches[1], nm[1], matches[2], nm[2],
-                                                nf[0], nf[1], nf[2], ws, ws_size, trip, cap);
+                                                nf[0], nf[1], nf[2], trip, cap, ws, ws_size);
     if (status < 0) {
         fprintf(stderr, "three_view_demo: association: %s (%d)\n", sfm_status_str(status), status);
         goto done;
@@ -640,8 +640,8 @@ int main(int argc, char **argv)
             memcpy(hp + 2 * ((size_t)ni + nh), px2 + 2 * k, 2 * sizeof(double));
             nh++;
         }
-    double H[9];
-    int on_plane = sfm_ransac_homography(hp, hp + 2 * (size_t)ni, nh, &cams[0], &cams[1], &ro, H, NULL,
+    sfm_mat3 H;
+    int on_plane = sfm_ransac_homography(hp, hp + 2 * (size_t)ni, nh, &cams[0], &cams[1], &ro, &H, NULL,
                                          NULL, ws, ws_size);
     if (on_plane >= 0) {
         printf("inliers on one plane (homography 1-2 within %.2f px): %d of %d (%.0f%%)\n", threshold,

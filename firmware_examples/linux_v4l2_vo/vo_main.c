@@ -227,7 +227,7 @@ int main(int argc, char **argv)
     size_t ws_size = sfm_vo_workspace_size(&dims);
     void *ws = ws_size ? malloc(ws_size) : NULL;
     sfm_vo *vo = NULL;
-    st = ws ? sfm_vo_init(&dims, &p, ws, ws_size, &vo) : SFM_E_WORKSPACE;
+    st = ws ? sfm_vo_init(&dims, &p, &vo, ws, ws_size) : SFM_E_WORKSPACE;
     if (st < 0) {
         free(ws);
         sfm_capture_close(cap);

@@ -14,9 +14,12 @@
  * (a count written back is the return value, never an extra argument); last
  * the caller's work memory as (void *ws, size_t ws_size), sized by the
  * function's *_workspace_size(). Optional outputs (inlier masks, statistics,
- * covariances) may be NULL. Still taking ws before their outputs, and to
- * follow the order before 1.0: sfm_ba_solve, sfm_features_detect,
- * sfm_features_match and sfm_features_associate_three_views.
+ * covariances) may be NULL. Two outputs that share one capacity (keypoints
+ * and their descriptors, matches and their distances) sit together before it.
+ *
+ * Types: a 3x3 model (essential E, fundamental F, homography H) is an
+ * sfm_mat3, in and out, in solvers and estimators alike; a solver writes an
+ * array of them. Rotations stay double[9] inside sfm_pose.
  *
  * Names: sfm_<module>_<verb> for the API; minimal solvers name the problem and
  * the sample size (sfm_relpose_5pt, sfm_fundamental_8pt, sfm_p3p), capacities
@@ -69,9 +72,11 @@ typedef enum sfm_status {
 /* A short constant English description of a status code; never NULL. */
 SFM_API const char *sfm_status_str(int status);
 
-/* Library version as MAJOR*10000 + MINOR*100 + PATCH. */
+/* Library version as MAJOR*10000 + MINOR*100 + PATCH. Before 1.0 a new
+ * MINOR changes the API (and the ABI of libsfm.so.0): callers built for
+ * another minor must be rebuilt. */
 #define SFM_VERSION_MAJOR 0
-#define SFM_VERSION_MINOR 2
+#define SFM_VERSION_MINOR 3
 #define SFM_VERSION_PATCH 0
 SFM_API int sfm_version(void);
 

@@ -85,8 +85,8 @@ SFM_API size_t sfm_features_workspace_size(const sfm_features_params *p, int wid
  * On failure nothing is written to kps or desc. Outputs must not alias the
  * image or the workspace. */
 SFM_API int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p,
-                                void *ws, size_t ws_size,
-                                sfm_keypoint *kps, uint8_t *desc, int capacity);
+                                sfm_keypoint *kps, uint8_t *desc, int capacity,
+                                void *ws, size_t ws_size);
 
 /* Hamming distance between two 256-bit descriptors (portable popcount). */
 SFM_API int sfm_features_hamming(const uint8_t *a, const uint8_t *b);
@@ -115,8 +115,8 @@ SFM_API size_t sfm_features_match_workspace_size(int n1, int n2);
  *   SFM_E_WORKSPACE  ws_size < sfm_features_match_workspace_size(n1, n2).
  * On failure nothing is written. */
 SFM_API int sfm_features_match(const uint8_t *d1, int n1, const uint8_t *d2, int n2,
-                               const sfm_match_params *p, void *ws, size_t ws_size,
-                               int *matches, int *distances, int capacity);
+                               const sfm_match_params *p, int *matches, int *distances, int capacity,
+                               void *ws, size_t ws_size);
 
 /* Workspace bytes sfm_features_associate_three_views needs. */
 SFM_API size_t sfm_features_associate_workspace_size(int n1, int n2, int n3);
@@ -136,7 +136,7 @@ SFM_API size_t sfm_features_associate_workspace_size(int n1, int n2, int n3);
  * On failure nothing is written. */
 SFM_API int sfm_features_associate_three_views(const int *m12, int n12, const int *m23, int n23,
                                                const int *m31, int n31, int n1, int n2, int n3,
-                                               void *ws, size_t ws_size, int *out, int capacity);
+                                               int *out, int capacity, void *ws, size_t ws_size);
 
 #ifdef __cplusplus
 }

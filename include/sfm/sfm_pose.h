@@ -77,7 +77,7 @@ SFM_API int sfm_relpose_upright_3pt(const double x1[9], const double x2[9],
  * n_front may be NULL.
  * Returns: 4; 0 when E has rank below 2 (nothing written); SFM_E_ARGUMENT
  * (NULL E or poses, n < 0, NULL points with n > 0); SFM_E_NONFINITE. */
-SFM_API int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2,
+SFM_API int sfm_essential_to_poses(const sfm_mat3 *E, const double *x1, const double *x2,
                                    int n, sfm_pose poses[SFM_ESSENTIAL_POSES],
                                    int n_front[SFM_ESSENTIAL_POSES]);
 

@@ -377,7 +377,7 @@ SFM_API int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ran
 SFM_API size_t sfm_ransac_relpose_workspace_size(int n);
 SFM_API int sfm_ransac_relpose(const double *px1, const double *px2, int n,
                                const sfm_camera *cam1, const sfm_camera *cam2,
-                               const sfm_ransac_options *opt, sfm_pose *pose, double E[9],
+                               const sfm_ransac_options *opt, sfm_pose *pose, sfm_mat3 *E,
                                uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                                size_t ws_size);
 
@@ -394,7 +394,7 @@ SFM_API int sfm_ransac_relpose_upright(const double *px1, const double *px2, int
                                        const sfm_camera *cam1, const sfm_camera *cam2,
                                        const double d1[3], const double d2[3],
                                        const sfm_ransac_options *opt, sfm_pose *pose,
-                                       double E[9], uint8_t *inlier_mask,
+                                       sfm_mat3 *E, uint8_t *inlier_mask,
                                        sfm_ransac_stats *stats, void *ws, size_t ws_size);
 
 /*
@@ -430,7 +430,7 @@ SFM_API int sfm_ransac_abspose(const double *px, const double *X, int n, const s
 SFM_API size_t sfm_ransac_fundamental_workspace_size(int n);
 SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
                                    const sfm_camera *cam1, const sfm_camera *cam2,
-                                   const sfm_ransac_options *opt, double F[9],
+                                   const sfm_ransac_options *opt, sfm_mat3 *F,
                                    uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                                    size_t ws_size);
 
@@ -449,7 +449,7 @@ SFM_API int sfm_ransac_fundamental(const double *px1, const double *px2, int n,
 SFM_API size_t sfm_ransac_homography_workspace_size(int n);
 SFM_API int sfm_ransac_homography(const double *px1, const double *px2, int n,
                                   const sfm_camera *cam1, const sfm_camera *cam2,
-                                  const sfm_ransac_options *opt, double H[9],
+                                  const sfm_ransac_options *opt, sfm_mat3 *H,
                                   uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                                   size_t ws_size);
 

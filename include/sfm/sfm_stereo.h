@@ -87,7 +87,7 @@ SFM_API int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src
  * source pixel is H^-1; give H as it maps source to rectified), for the
  * uncalibrated rectification below. Statuses as sfm_stereo_rectify_map,
  * and SFM_E_SINGULAR for a singular H. */
-SFM_API int sfm_stereo_homography_map(const double H[9], int src_width, int src_height,
+SFM_API int sfm_stereo_homography_map(const sfm_mat3 *H, int src_width, int src_height,
                                       int out_width, int out_height, int32_t *map,
                                       size_t map_len);
 
@@ -109,9 +109,9 @@ SFM_API int sfm_stereo_remap(const uint8_t *src, int src_width, int src_height, 
  * Statuses: SFM_OK; SFM_E_ARGUMENT; SFM_E_NONFINITE; SFM_E_SINGULAR (F not
  * of rank 2, an epipole inside image 2's bounds enlarged by half, or
  * degenerate matches). Nothing is written on failure. */
-SFM_API int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1,
+SFM_API int sfm_stereo_rectify_uncalibrated(const sfm_mat3 *F, const double *x1,
                                             const double *x2, int n, int width, int height,
-                                            double H1[9], double H2[9]);
+                                            sfm_mat3 *H1, sfm_mat3 *H2);
 
 /* Rectify matched pixels of the source images (n x 2 each) and report the
  * vertical disparity after rectification: median and maximum |v1 - v2| in
@@ -120,7 +120,7 @@ SFM_API int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1,
  * used (>= 0) or a status (SFM_E_ARGUMENT, SFM_E_NONFINITE). */
 SFM_API int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam2,
                                            const sfm_stereo_rectification *rect,
-                                           const double H1[9], const double H2[9],
+                                           const sfm_mat3 *H1, const sfm_mat3 *H2,
                                            const double *x1, const double *x2, int n,
                                            double *median_dy, double *max_dy);
 

@@ -77,7 +77,7 @@ SFM_API int sfm_triangulate_optimal2(const double P1[12], const double P2[12], i
  * Returns: SFM_OK, SFM_E_ARGUMENT (NULL; F zero: common centre),
  * SFM_E_NONFINITE. */
 SFM_API int sfm_fundamental_from_projections(const double P1[12], const double P2[12],
-                                             double F[9]);
+                                             sfm_mat3 *F);
 
 #ifdef __cplusplus
 }

@@ -42,7 +42,8 @@ SFM_API int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3]
  * F21 = [e']_x [T1, T2, T3] e'', F31 = [e'']_x [T1^T, T2^T, T3^T] e', and
  * F32 from the cameras of sfm_trifocal_cameras.
  * Statuses: as sfm_trifocal_epipoles. */
-SFM_API int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], double F32[9]);
+SFM_API int sfm_trifocal_fundamentals(const double T[27], sfm_mat3 *F21, sfm_mat3 *F31,
+                                      sfm_mat3 *F32);
 
 /* Compatible projective cameras from T, with P1 = [I | 0] implied:
  * P2 = [[T1, T2, T3] e'' | e'], P3 = [(e'' e''^T - I)[T1^T, T2^T, T3^T] e' | e''].
@@ -55,7 +56,7 @@ SFM_API int sfm_trifocal_cameras(const double T[27], double P2[12], double P3[12
  * transferring many points).
  * Statuses: SFM_OK, SFM_E_ARGUMENT, SFM_E_NONFINITE, SFM_E_SINGULAR (the
  * transferred point is at infinity or x2 is at the epipole). */
-SFM_API int sfm_trifocal_transfer(const double T[27], const double F21[9], const double x1[2],
+SFM_API int sfm_trifocal_transfer(const double T[27], const sfm_mat3 *F21, const double x1[2],
                                   const double x2[2], double x3[2]);
 
 /* Line transfer: l1_i = l2_j l3_k T_i^{jk} (homogeneous lines, output not

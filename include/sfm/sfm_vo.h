@@ -211,8 +211,8 @@ SFM_API size_t sfm_vo_workspace_size(const sfm_vo_dims *dims);
  * SFM_E_UNSUPPORTED (params->calibrated == 0 with a camera model other than
  * pinhole: self-calibration does not find distortion).
  * Nothing is written on failure. */
-SFM_API int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, void *ws,
-                        size_t ws_size, sfm_vo **vo);
+SFM_API int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, sfm_vo **vo,
+                        void *ws, size_t ws_size);
 
 /* Drops the map and starts over (the next frame becomes the origin again; a
  * self-calibrated focal length is dropped too). */

@@ -44,7 +44,7 @@ static int fill(int32_t *f, int n_from, int n_to, const int *pairs, int n)
 }
 
 int sfm_features_associate_three_views(const int *m12, int n12, const int *m23, int n23, const int *m31, int n31,
-                                       int n1, int n2, int n3, void *ws, size_t ws_size, int *out, int capacity)
+                                       int n1, int n2, int n3, int *out, int capacity, void *ws, size_t ws_size)
 {
     if (ws == NULL || out == NULL || n12 < 0 || n23 < 0 || n31 < 0 || n1 < 0 || n2 < 0 || n3 < 0 ||
         (m12 == NULL && n12 > 0) || (m23 == NULL && n23 > 0) || (m31 == NULL && n31 > 0))

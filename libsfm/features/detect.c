@@ -329,8 +329,8 @@ static int emit(const sfmi_feat_level *lv, const uint8_t *smooth, int32_t *steer
     return 1;
 }
 
-int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p, void *ws, size_t ws_size,
-                        sfm_keypoint *kps, uint8_t *desc, int capacity)
+int sfm_features_detect(const sfm_image_u8 *image, const sfm_features_params *p, sfm_keypoint *kps, uint8_t *desc,
+                        int capacity, void *ws, size_t ws_size)
 {
     if (image == NULL || image->data == NULL || p == NULL || ws == NULL || kps == NULL || desc == NULL)
         return SFM_E_ARGUMENT;

@@ -104,7 +104,7 @@ static void block(const uint8_t *d1, int i0, int nq, const uint8_t *d2, int n2, 
 }
 
 int sfm_features_match(const uint8_t *d1, int n1, const uint8_t *d2, int n2, const sfm_match_params *p,
-                       void *ws, size_t ws_size, int *matches, int *distances, int capacity)
+                       int *matches, int *distances, int capacity, void *ws, size_t ws_size)
 {
     if (p == NULL || ws == NULL || matches == NULL || n1 < 0 || n2 < 0 || (d1 == NULL && n1 > 0) ||
         (d2 == NULL && n2 > 0))

@@ -73,19 +73,19 @@ static int start_from_focal(sfmi_mu *c, double f, sfm_pose poses[3])
 {
     bearings(c, f);
     const double kd[3] = {f, f, 1};
-    double E[2][9];
+    sfm_mat3 E[2];
     for (int e = 0; e < c->nv - 1; e++)
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
-                E[e][3 * r + k] = kd[r] * c->F[e][3 * r + k] * kd[k];
+                E[e].m[3 * r + k] = kd[r] * c->F[e].m[3 * r + k] * kd[k];
     sfm_pose cand[4];
     identity_pose(&poses[0]);
     const double *b1 = c->bear;
-    if (sfm_essential_to_poses(E[0], b1, &c->bear[(size_t)c->m * 3], c->m, cand, NULL) != 4)
+    if (sfm_essential_to_poses(&E[0], b1, &c->bear[(size_t)c->m * 3], c->m, cand, NULL) != 4)
         return 0;
     poses[1] = cand[0];
     if (c->nv == 3) {
-        if (sfm_essential_to_poses(E[1], b1, &c->bear[(size_t)2 * c->m * 3], c->m, cand, NULL) != 4)
+        if (sfm_essential_to_poses(&E[1], b1, &c->bear[(size_t)2 * c->m * 3], c->m, cand, NULL) != 4)
             return 0;
         if (sfm_triangulate_midpoint(2, poses, c->m, c->bear, c->X, c->flags) <= 0)
             return 0;

@@ -18,7 +18,7 @@ typedef struct sfmi_mu {
     int m;            /* current inliers, compacted into x */
     double *x[3];     /* m x 2 centred pixels per view */
     int *idx;         /* m: input index of each inlier */
-    double F[2][9];   /* F21, F31 (x_v^T F x_1 = 0, centred pixels) */
+    sfm_mat3 F[2];    /* F21, F31 (x_v^T F x_1 = 0, centred pixels) */
     double thr;       /* pixels per view */
     double *bear;     /* nv x m x 3 */
     double *X;        /* m x 3 (BA points, compacted) */

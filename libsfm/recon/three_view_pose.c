@@ -323,19 +323,20 @@ int sfm_recon_three_view_pose(const double *px1, const double *px2, const double
     double best_cost = HUGE_VAL, cost;
 
     int m = gather(&w, cams, n, cnt);
-    double F21[9], F31[9], E21[9], E31[9], K1[9], K2[9], K3[9];
-    int st = sfm_trifocal_fundamentals(T, F21, F31, NULL);
+    sfm_mat3 F21, F31, E21, E31;
+    double K1[9], K2[9], K3[9];
+    int st = sfm_trifocal_fundamentals(T, &F21, &F31, NULL);
     if (st < 0)
         return st;
     K_of(cam1, K1);
     K_of(cam2, K2);
     K_of(cam3, K3);
-    essential(F21, K1, K2, E21);
-    essential(F31, K1, K3, E31);
+    essential(F21.m, K1, K2, E21.m);
+    essential(F31.m, K1, K3, E31.m);
     const double *b1 = w.bear, *b2 = &w.bear[(size_t)m * 3], *b3 = &w.bear[(size_t)2 * m * 3];
     sfm_pose c2[4], c3[4];
-    if (sfm_essential_to_poses(E21, b1, b2, m, c2, NULL) == 4 &&
-        sfm_essential_to_poses(E31, b1, b3, m, c3, NULL) == 4 &&
+    if (sfm_essential_to_poses(&E21, b1, b2, m, c2, NULL) == 4 &&
+        sfm_essential_to_poses(&E31, b1, b3, m, c3, NULL) == 4 &&
         try_start(&w, cams, m, &c2[0], &c3[0], cand, &cost))
         keep_better(&w, cams, n, tau, cand, cost, best, &best_in, &best_cost);
 

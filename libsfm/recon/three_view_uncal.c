@@ -114,7 +114,7 @@ static int attempt_once(tu_ws *w, int n, const sfm_uncal_options *o, int width, 
     st = SFM_E_SINGULAR;
     if (m < SFM_TRIFOCAL_MIN_POINTS + 1)
         return st;
-    st = sfm_trifocal_fundamentals(T, mu->F[0], mu->F[1], NULL);
+    st = sfm_trifocal_fundamentals(T, &mu->F[0], &mu->F[1], NULL);
     if (st < 0)
         return st;
 

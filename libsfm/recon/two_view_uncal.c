@@ -117,7 +117,7 @@ static int once2(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double 
     const int n = c->n, width = c->width, height = c->height;
     rep->stage = SFM_UNCAL_STAGE_RANSAC;
     sfmi_mu *mu = &w->mu;
-    int cnt = sfm_ransac_fundamental(w->xc[0], w->xc[1], n, NULL, NULL, &o->ransac, mu->F[0], w->mask,
+    int cnt = sfm_ransac_fundamental(w->xc[0], w->xc[1], n, NULL, NULL, &o->ransac, &mu->F[0], w->mask,
                                      &rep->ransac, w->ransac_ws, w->ransac_size);
     int st = cnt;
     if (cnt < 0)
@@ -130,11 +130,11 @@ static int once2(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double 
      * P1 = [I | 0], P2 = [[e']x F | e'] */
     double e[3], P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, P2[12];
     st = SFM_E_SINGULAR;
-    if (!left_null(mu->F[0], e))
+    if (!left_null(mu->F[0].m, e))
         return st;
     for (int r = 0; r < 3; r++) {
         for (int k = 0; k < 3; k++) {
-            const double *F = mu->F[0];
+            const double *F = mu->F[0].m;
             double ex[9] = {0, -e[2], e[1], e[2], 0, -e[0], -e[1], e[0], 0};
             P2[4 * r + k] = ex[3 * r] * F[k] + ex[3 * r + 1] * F[3 + k] + ex[3 * r + 2] * F[6 + k];
         }
@@ -177,8 +177,8 @@ static int once2(void *ctx, const sfm_uncal_options *o, sfm_pose est[3], double 
         double Ft[9];
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
-                Ft[3 * r + k] = mu->F[0][3 * k + r];
-        double f2 = bougnoux(mu->F[0]), f1 = bougnoux(Ft);
+                Ft[3 * r + k] = mu->F[0].m[3 * k + r];
+        double f2 = bougnoux(mu->F[0].m), f1 = bougnoux(Ft);
         if (f1 > 0 && f2 > 0)
             rep->focal_linear = 0.5 * (f1 + f2);
         else

@@ -18,6 +18,12 @@
 
 #define ABS_LM_STEPS 4
 
+/* The model the engine carries (it copies models as bytes,
+ * SFM_RANSAC_ABSPOSE_MODEL doubles): the pose x_cam = R X + t. */
+typedef sfm_pose abs_model;
+_Static_assert(sizeof(abs_model) == SFM_RANSAC_ABSPOSE_MODEL * sizeof(double),
+               "abs_model is the engine's model size");
+
 typedef struct abs_ctx {
     const double *b; /* unit bearings n x 3 */
     const double *X; /* world points n x 3 */
@@ -34,36 +40,40 @@ static int solve_p3p(void *ctx, const int *s, double *models)
     int ns = sfm_p3p(x, X, P);
     if (ns < 0)
         return ns == SFM_E_NONFINITE ? 0 : ns;
-    for (int k = 0; k < ns; k++) {
-        memcpy(models + 12 * k, P[k].R, 9 * sizeof(double));
-        memcpy(models + 12 * k + 9, P[k].t, 3 * sizeof(double));
-    }
+    abs_model *m = (abs_model *)models;
+    for (int k = 0; k < ns; k++)
+        m[k] = P[k];
     return ns;
 }
 
-static double residual(void *ctx, const double *m, int i)
+static double pose_residual(const abs_ctx *c, const abs_model *m, int i)
 {
-    const abs_ctx *c = ctx;
-    return sfmi_robust_reproj2(m, m + 9, c->b + 3 * i, c->X + 3 * i);
+    return sfmi_robust_reproj2(m->R, m->t, c->b + 3 * i, c->X + 3 * i);
 }
 
-static int refine(void *ctx, const int *inl, int n, double *m)
+static double residual(void *ctx, const double *model, int i)
+{
+    return pose_residual(ctx, (const abs_model *)model, i);
+}
+
+static int refine(void *ctx, const int *inl, int n, double *model)
 {
     const abs_ctx *c = ctx;
+    abs_model *m = (abs_model *)model;
     if (n < 3)
         return -1;
-    return sfmi_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m, m + 9) < 0 ? -1 : 0;
+    return sfmi_robust_reproj_lm(c->b, c->X, inl, n, c->scale, ABS_LM_STEPS, m->R, m->t) < 0 ? -1 : 0;
 }
 
 /* The support checks of sfm_ransac.h on the inliers of model (tau: the
  * normalised threshold, f: the focal length in pixels). */
-static int support(const abs_ctx *c, const double *px, int n, const double *m, double tau,
+static int support(const abs_ctx *c, const double *px, int n, const abs_model *m, double tau,
                    double f, int *idx, double *cov6)
 {
     const double tau2 = tau * tau;
     int k = 0;
     for (int i = 0; i < n; i++)
-        if (residual((void *)c, m, i) < tau2)
+        if (pose_residual(c, m, i) < tau2)
             idx[k++] = i;
     double diag;
     double area = sfmi_bbox_area(px, 2, n, &diag);
@@ -74,7 +84,7 @@ static int support(const abs_ctx *c, const double *px, int n, const double *m, d
     if (sfmi_spread_collinear(lo, hi, tau * f) || hi < SFMI_CLUSTER_ANGLE * f)
         return SFM_E_DEGENERATE;
     double cov1[36], ssr, depth;
-    if (sfmi_abspose_covariance(c->b, c->X, idx, k, m, m + 9, cov1, &ssr, &depth) < 0)
+    if (sfmi_abspose_covariance(c->b, c->X, idx, k, m->R, m->t, cov1, &ssr, &depth) < 0)
         return SFM_E_DEGENERATE;
     double s2 = k > 6 ? ssr / (2 * k - 6) : ssr;
     double s2_test = s2 > tau2 / 9.0 ? s2 : tau2 / 9.0;
@@ -153,9 +163,9 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     abs_ctx c = {b, X, eopt.threshold};
     sfm_ransac_estimator est = {3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL, solve_p3p,
                                 residual, refine, NULL, NULL, &c, NULL};
-    double model[SFM_RANSAC_ABSPOSE_MODEL];
+    abs_model model;
     sfm_ransac_stats s;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &s, eng, es);
+    int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &s, eng, es);
     if (ni == SFM_E_NO_CONVERGENCE) {
         /* P3P has no solution for points on one line (their image is a
          * line): name the degeneracy rather than the symptom */
@@ -167,16 +177,15 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
     if (ni < 0)
         return ni;
     double cov6[36];
-    st = support(&c, px, n, model, eopt.threshold, f, idx, cov6);
+    st = support(&c, px, n, &model, eopt.threshold, f, idx, cov6);
     if (st < 0)
         return st;
     const int want_cov = eopt.want_covariance != 0;
     /* outputs from here on: nothing can fail any more */
-    memcpy(pose->R, model, 9 * sizeof(double));
-    memcpy(pose->t, model + 9, 3 * sizeof(double));
+    *pose = model;
     if (inlier_mask != NULL)
         for (int i = 0; i < n; i++)
-            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < eopt.threshold * eopt.threshold);
+            inlier_mask[i] = (uint8_t)(pose_residual(&c, &model, i) < eopt.threshold * eopt.threshold);
     if (stats != NULL) {
         *stats = s;
         stats->score = s.score * f * f;

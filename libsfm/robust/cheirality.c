@@ -30,7 +30,9 @@ int sfmi_robust_pose_from_essential(const double E[9], const double *b1, const d
                                    const int *idx, int n, double R[9], double t[3])
 {
     sfm_pose poses[SFM_ESSENTIAL_POSES];
-    if (sfm_essential_to_poses(E, NULL, NULL, 0, poses, NULL) != SFM_ESSENTIAL_POSES)
+    sfm_mat3 Em;
+    memcpy(Em.m, E, sizeof Em.m);
+    if (sfm_essential_to_poses(&Em, NULL, NULL, 0, poses, NULL) != SFM_ESSENTIAL_POSES)
         return -1;
     int best = -1, best_k = 0;
     for (int k = 0; k < SFM_ESSENTIAL_POSES; k++) {

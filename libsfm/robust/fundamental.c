@@ -18,7 +18,7 @@
  * off the plane, e' = (H x1 x x1') x (H x2 x x2') and F = [e']x H; the best
  * of DEGENSAC_PAIRS pairs by MSAC replaces the model when it scores better.
  *
- * Model: F[9], then 1 when plane-and-parallax produced it, else 0.
+ * Model: f_model below (F and whether plane-and-parallax produced it).
  * SFM_RANSAC_FLAG_DEGENSAC is raised when at least half of the final F's
  * inliers lie on one plane (DEGENSAC's, or one found among those inliers),
  * so a chance coplanar sample in a general scene does not raise it.
@@ -40,13 +40,20 @@
 #include "solvers/normalize.h"
 
 #define FMODEL SFM_RANSAC_FUNDAMENTAL_MODEL
-#define F_PP 9 /* plane-and-parallax mark */
 /* Pairs of off-plane points tried by plane-and-parallax. */
 #define DEGENSAC_PAIRS 100
 /* Homographies tried on the final inliers when DEGENSAC found no plane. */
 #define PLANE_TRIES 50
 /* LM steps per refinement round. */
 #define F_LM_STEPS 6
+
+/* The model the engine carries (it copies models as bytes, FMODEL doubles). */
+typedef struct f_model {
+    double F[9];            /* unit Frobenius norm */
+    int32_t plane_parallax; /* 1: DEGENSAC's plane and parallax produced F */
+    int32_t unused;
+} f_model;
+_Static_assert(sizeof(f_model) == FMODEL * sizeof(double), "f_model is the engine's model size");
 
 typedef struct f_ctx {
     const double *p1, *p2;
@@ -81,39 +88,42 @@ static int solve7(void *ctx, const int *s, double *models)
     for (int k = 0; k < ns; k++) {
         if (!sfmi_oriented_epipolar(F[k].m, h1, h2, 7))
             continue;
-        double *m = models + FMODEL * kept;
-        memcpy(m, F[k].m, 9 * sizeof(double));
-        sfmi_normalize9(m);
-        m[F_PP] = 0.0;
+        f_model *m = (f_model *)models + kept;
+        memcpy(m->F, F[k].m, sizeof m->F);
+        sfmi_normalize9(m->F);
+        m->plane_parallax = 0;
+        m->unused = 0;
         kept++;
     }
     return kept;
 }
 
-static double residual(void *ctx, const double *m, int i)
+static double residual(void *ctx, const double *model, int i)
 {
     const f_ctx *c = ctx;
-    return sfmi_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    const f_model *m = (const f_model *)model;
+    return sfmi_sampson_pixel2(m->F, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
 /* Linear refit, then LM from whichever of it and the current model has the
  * lower robust cost. Only F changes: the plane-and-parallax mark stays. */
-static int refine(void *ctx, const int *inl, int n, double *m)
+static int refine(void *ctx, const int *inl, int n, double *model)
 {
     f_ctx *c = ctx;
+    f_model *m = (f_model *)model;
     if (n < 8)
         return -1;
     sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
     sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double F[9];
-    memcpy(F, m, sizeof F);
+    memcpy(F, m->F, sizeof F);
     sfm_mat3 L;
     if (sfm_fundamental_8pt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
         sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, L.m) <
             sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, F))
         memcpy(F, L.m, sizeof F);
     (void)sfmi_robust_fundamental_lm(c->g1, c->g2, n, c->tau, F_LM_STEPS, F);
-    memcpy(m, F, sizeof F);
+    memcpy(m->F, F, sizeof F);
     return 0;
 }
 
@@ -197,13 +207,14 @@ static int plane_refit(f_ctx *c, double *H)
 static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
 {
     f_ctx *c = ctx;
+    f_model *m = (f_model *)model;
     double H[9];
     if (!degenerate_h(c, s, H))
         return 0;
     int off = plane_refit(c, H);
     if (off < 2)
         return 0;
-    double best = score(c, model), bestF[9];
+    double best = score(c, m->F), bestF[9];
     int improved = 0;
     for (int it = 0; it < DEGENSAC_PAIRS; it++) {
         int a = c->idx[sfm_rng_bounded(rng, (uint32_t)off)];
@@ -236,8 +247,8 @@ static int fix_best(void *ctx, const int *s, double *model, sfm_rng *rng)
     }
     if (!improved)
         return 0;
-    memcpy(model, bestF, sizeof bestF);
-    model[F_PP] = 1.0;
+    memcpy(m->F, bestF, sizeof bestF);
+    m->plane_parallax = 1;
     return 1;
 }
 
@@ -255,11 +266,11 @@ static int plane_support(const f_ctx *c, const double *H, const int *idx, int m)
  * of PLANE_TRIES homographies through four inliers drawn with rng (the final
  * F may come from a sample with few plane points, which DEGENSAC never
  * sees). */
-static int dominant_plane(f_ctx *c, const double *m, sfm_rng *rng)
+static int dominant_plane(f_ctx *c, const double *F, sfm_rng *rng)
 {
     int in = 0;
     for (int i = 0; i < c->n; i++)
-        if (sfmi_sampson_pixel2(m, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2)
+        if (sfmi_sampson_pixel2(F, c->p1 + 2 * i, c->p2 + 2 * i) < c->tau2)
             c->idx[in++] = i;
     if (in < 8)
         return 0;
@@ -295,10 +306,11 @@ size_t sfm_ransac_fundamental_workspace_size(int n)
 }
 
 int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sfm_camera *cam1,
-                           const sfm_camera *cam2, const sfm_ransac_options *opt, double F[9],
+                           const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_mat3 *F_out,
                            uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                            size_t ws_size)
 {
+    double *F = F_out ? F_out->m : NULL;
     if (F == NULL || n < 8)
         return SFM_E_ARGUMENT;
     pixel_pairs pp;
@@ -320,14 +332,14 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
     c.tau2 = eopt.threshold * eopt.threshold;
     sfm_ransac_estimator est = {7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
                                 refine, NULL, fix_best, &c, NULL};
-    double model[FMODEL];
+    f_model model;
     sfm_ransac_stats s;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &s, pp.eng, pp.eng_size);
+    int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &s, pp.eng, pp.eng_size);
     if (ni < 0)
         return ni;
     int m = 0;
     for (int i = 0; i < n; i++)
-        if (residual(&c, model, i) < c.tau2)
+        if (sfmi_sampson_pixel2(model.F, c.p1 + 2 * i, c.p2 + 2 * i) < c.tau2)
             pp.idx[m++] = i;
     /* a random pair is an inlier when it lands in a band of about
      * 2 sqrt(2) tau across image 2 (the Sampson error splits the distance
@@ -341,13 +353,13 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
     /* outputs from here on: nothing can fail any more */
     if (inlier_mask != NULL)
         for (int i = 0; i < n; i++)
-            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < c.tau2);
-    memcpy(F, model, 9 * sizeof(double));
+            inlier_mask[i] = (uint8_t)(sfmi_sampson_pixel2(model.F, c.p1 + 2 * i, c.p2 + 2 * i) < c.tau2);
+    memcpy(F, model.F, sizeof model.F);
     if (stats != NULL) {
         sfm_rng rng;
         sfm_rng_seed(&rng, eopt.seed ^ 0x9e3779b97f4a7c15u);
         *stats = s;
-        stats->flags = dominant_plane(&c, model, &rng) ? SFM_RANSAC_FLAG_DEGENSAC : 0;
+        stats->flags = dominant_plane(&c, model.F, &rng) ? SFM_RANSAC_FLAG_DEGENSAC : 0;
     }
     return ni;
 }

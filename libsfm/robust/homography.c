@@ -25,20 +25,26 @@
 /* LM steps per refinement round. */
 #define H_LM_STEPS 4
 
+/* The model the engine carries (it copies models as bytes, HMODEL doubles). */
+typedef struct h_model {
+    double H[9]; /* unit Frobenius norm, not singular */
+} h_model;
+_Static_assert(sizeof(h_model) == HMODEL * sizeof(double), "h_model is the engine's model size");
+
 typedef struct h_ctx {
     const double *p1, *p2;
     double *g1, *g2;
     double tau;
 } h_ctx;
 
-/* Unit Frobenius norm; 0 when H is singular. */
-static int finish_model(const double *H, double *m)
+/* m = H at unit Frobenius norm; 0 when H is singular. */
+static int finish_model(const double *H, h_model *m)
 {
     double adj[9];
-    memmove(m, H, 9 * sizeof(double));
-    if (sfmi_normalize9(m))
+    memmove(m->H, H, sizeof m->H);
+    if (sfmi_normalize9(m->H))
         return 0;
-    double det = sfmi_adj3(m, adj);
+    double det = sfmi_adj3(m->H, adj);
     if (!(fabs(det) > 1e-15))
         return 0;
     return 1;
@@ -56,13 +62,14 @@ static int solve4(void *ctx, const int *s, double *models)
         return ns == SFM_E_NONFINITE ? 0 : ns;
     if (ns == 0)
         return 0;
-    return finish_model(H.m, models);
+    return finish_model(H.m, (h_model *)models);
 }
 
-static double residual(void *ctx, const double *m, int i)
+static double residual(void *ctx, const double *model, int i)
 {
     const h_ctx *c = ctx;
-    return sfmi_robust_homography_sampson2(m, c->p1 + 2 * i, c->p2 + 2 * i);
+    const h_model *m = (const h_model *)model;
+    return sfmi_robust_homography_sampson2(m->H, c->p1 + 2 * i, c->p2 + 2 * i);
 }
 
 /* A linear refit (normalised DLT), then LM on the Sampson error from
@@ -74,25 +81,26 @@ static double residual(void *ctx, const double *m, int i)
  * is 2 tau: the Sampson errors of true inliers reach tau (3 sigma), and a
  * scale of tau would down-weight them too (on synthetic planes that cost
  * about 2 % of accuracy against the truth). */
-static int refine(void *ctx, const int *inl, int n, double *m)
+static int refine(void *ctx, const int *inl, int n, double *model)
 {
     h_ctx *c = ctx;
+    h_model *m = (h_model *)model;
     if (n < 4)
         return -1;
     sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
     sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double H[9];
-    memcpy(H, m, sizeof H);
+    memcpy(H, m->H, sizeof H);
     sfm_mat3 L;
     if (sfm_homography_dlt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
         sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
             sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
         memcpy(H, L.m, sizeof H);
     (void)sfmi_robust_homography_lm(c->g1, c->g2, n, 2.0 * c->tau, H_LM_STEPS, H);
-    double tmp[HMODEL];
-    if (!finish_model(H, tmp))
+    h_model tmp;
+    if (!finish_model(H, &tmp))
         return -1;
-    memcpy(m, tmp, sizeof tmp);
+    *m = tmp;
     return 0;
 }
 
@@ -102,9 +110,10 @@ size_t sfm_ransac_homography_workspace_size(int n)
 }
 
 int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm_camera *cam1,
-                          const sfm_camera *cam2, const sfm_ransac_options *opt, double H[9],
+                          const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_mat3 *H_out,
                           uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws, size_t ws_size)
 {
+    double *H = H_out ? H_out->m : NULL;
     if (H == NULL)
         return SFM_E_ARGUMENT;
     pixel_pairs pp;
@@ -118,15 +127,15 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2, eopt.threshold};
     sfm_ransac_estimator est = {4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, solve4,
                                 residual, refine, NULL, NULL, &c, NULL};
-    double model[HMODEL];
+    h_model model;
     sfm_ransac_stats rs;
-    int ni = sfm_ransac_run(&est, n, &eopt, model, NULL, &rs, pp.eng, pp.eng_size);
+    int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &rs, pp.eng, pp.eng_size);
     if (ni < 0)
         return ni;
     const double tau2 = eopt.threshold * eopt.threshold;
     int m = 0;
     for (int i = 0; i < n; i++)
-        if (residual(&c, model, i) < tau2)
+        if (sfmi_robust_homography_sampson2(model.H, c.p1 + 2 * i, c.p2 + 2 * i) < tau2)
             pp.idx[m++] = i;
     /* a random pair is an inlier when it lands within about sqrt(2) tau of
      * the transfer (the Sampson error splits the distance over both images) */
@@ -137,10 +146,11 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     if (st < 0)
         return st;
     /* outputs from here on: nothing can fail any more */
-    memcpy(H, model, 9 * sizeof(double));
+    memcpy(H, model.H, sizeof model.H);
     if (inlier_mask != NULL)
         for (int i = 0; i < n; i++)
-            inlier_mask[i] = (uint8_t)(residual(&c, model, i) < tau2);
+            inlier_mask[i] =
+                (uint8_t)(sfmi_robust_homography_sampson2(model.H, c.p1 + 2 * i, c.p2 + 2 * i) < tau2);
     if (stats != NULL) {
         *stats = rs;
         stats->cov_dim = 0;

@@ -43,9 +43,10 @@ size_t sfm_ransac_relpose_workspace_size(int n)
 
 int sfm_ransac_relpose(const double *px1, const double *px2, int n, const sfm_camera *cam1,
                        const sfm_camera *cam2, const sfm_ransac_options *opt, sfm_pose *pose,
-                       double E[9], uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
+                       sfm_mat3 *E_out, uint8_t *inlier_mask, sfm_ransac_stats *stats, void *ws,
                        size_t ws_size)
 {
+    double *E = E_out ? E_out->m : NULL;
     if (pose == NULL)
         return SFM_E_ARGUMENT;
     twoview_call call = {px1, px2, n, cam1, cam2, opt, 5, SFM_RELPOSE_5PT_MAX_SOLUTIONS, solve5,

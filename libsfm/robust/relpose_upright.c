@@ -52,9 +52,10 @@ static int unit(const double *d, double *u)
 int sfm_ransac_relpose_upright(const double *px1, const double *px2, int n,
                                const sfm_camera *cam1, const sfm_camera *cam2, const double d1[3],
                                const double d2[3], const sfm_ransac_options *opt, sfm_pose *pose,
-                               double E[9], uint8_t *inlier_mask, sfm_ransac_stats *stats,
+                               sfm_mat3 *E_out, uint8_t *inlier_mask, sfm_ransac_stats *stats,
                                void *ws, size_t ws_size)
 {
+    double *E = E_out ? E_out->m : NULL;
     if (pose == NULL || d1 == NULL || d2 == NULL)
         return SFM_E_ARGUMENT;
     double u1[3], u2[3];

@@ -2,7 +2,7 @@
  * Trifocal RANSAC estimator: 7-triplet samples, three-view reprojection
  * error after optimal triangulation for scoring (the error BoofCV's study of
  * trifocal estimation found most reliable), gold-standard LO.
- * Model layout: T (27) | P2 (12) | P3 (12).
+ * Model: tf_model below (T and the compatible cameras P2, P3; P1 = [I | 0]).
  */
 #include <math.h>
 #include <string.h>
@@ -26,6 +26,13 @@
  * and the final polish (POLISH_ROUNDS refits on every inlier at tau, kept
  * while the MSAC cost drops) restores the full fit. */
 enum { MODEL = 51, SAMPLE = SFM_TRIFOCAL_MIN_POINTS, LO_ITERS = 8, LO_POINTS = 192, POLISH_ROUNDS = 1 };
+
+/* The model the engine carries (it copies models as bytes, MODEL doubles). */
+typedef struct tf_model {
+    double T[27];
+    double P2[12], P3[12]; /* cameras compatible with T, P1 = [I | 0] */
+} tf_model;
+_Static_assert(sizeof(tf_model) == MODEL * sizeof(double), "tf_model is the engine's model size");
 
 typedef struct tf_ctx {
     const double *x1, *x2, *x3;
@@ -102,17 +109,19 @@ static int tf_solve(void *vctx, const int *sample, double *models)
         return 0; /* a degenerate sample */
     if (st < 0)
         return st;
-    if (sfm_trifocal_cameras(T, &models[27], &models[39]) != SFM_OK)
+    tf_model *m = (tf_model *)models;
+    if (sfm_trifocal_cameras(T, m->P2, m->P3) != SFM_OK)
         return 0;
-    memcpy(models, T, sizeof T);
+    memcpy(m->T, T, sizeof T);
     return 1;
 }
 
 static double tf_residual(void *vctx, const double *model, int i)
 {
     tf_ctx *c = (tf_ctx *)vctx;
+    const tf_model *m = (const tf_model *)model;
     double e;
-    if (sfm_trifocal_point_error(P1, &model[27], &model[39], &c->x1[2 * i], &c->x2[2 * i],
+    if (sfm_trifocal_point_error(P1, m->P2, m->P3, &c->x1[2 * i], &c->x2[2 * i],
                                  &c->x3[2 * i], &e, NULL) != SFM_OK)
         return HUGE_VAL;
     return e / 3.0;
@@ -121,6 +130,7 @@ static double tf_residual(void *vctx, const double *model, int i)
 static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *model)
 {
     tf_ctx *c = (tf_ctx *)vctx;
+    tf_model *m = (tf_model *)model;
     if (n_inliers < SAMPLE)
         return -1;
     if (!c->full && n_inliers > LO_POINTS) {
@@ -130,17 +140,17 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
         n_inliers = LO_POINTS;
     }
     double P2[12], P3[12], T[27];
-    memcpy(P2, &model[27], sizeof P2);
-    memcpy(P3, &model[39], sizeof P3);
+    memcpy(P2, m->P2, sizeof P2);
+    memcpy(P3, m->P3, sizeof P3);
     int st;
     sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, P2, P3, LO_ITERS, &c->refine, &st);
     if (st < 0)
         return st;
     if (sfm_trifocal_from_cameras(P1, P2, P3, T) != SFM_OK)
         return -1;
-    memcpy(model, T, sizeof T);
-    memcpy(&model[27], P2, sizeof P2);
-    memcpy(&model[39], P3, sizeof P3);
+    memcpy(m->T, T, sizeof T);
+    memcpy(m->P2, P2, sizeof P2);
+    memcpy(m->P3, P3, sizeof P3);
     return 0;
 }
 
@@ -273,13 +283,13 @@ static int tf_polish(tf_ctx *c, int n, double *model, double tau2, int *idx, sfm
 }
 
 /* The support checks of sfm_ransac.h on the inliers of model. */
-static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const double *model, double tau,
+static int tf_support(tf_ctx *c, tf_support_ws *w, int n, const tf_model *model, double tau,
                       int checks)
 {
     const double tau2 = tau * tau;
     int m = 0;
     for (int i = 0; i < n; i++)
-        if (tf_residual(c, model, i) < tau2)
+        if (tf_residual(c, (const double *)model, i) < tau2)
             w->idx[m++] = i;
     const double *x[3] = {c->x1, c->x2, c->x3};
     double diag[3];
@@ -334,25 +344,26 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
         return SFM_E_WORKSPACE;
     tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine, lay.thin, 0};
     sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};
-    double model[MODEL];
+    tf_model model;
     sfm_ransac_stats rs;
-    int cnt = sfm_ransac_run(&est, n, &o, model, NULL, &rs, lay.ransac_ws, lay.ransac_size);
+    int cnt = sfm_ransac_run(&est, n, &o, (double *)&model, NULL, &rs, lay.ransac_ws, lay.ransac_size);
     if (cnt < 0)
         return cnt;
-    cnt = tf_polish(&ctx, n, model, o.threshold * o.threshold, lay.sup.idx, &rs);
-    int st = tf_support(&ctx, &lay.sup, n, model, o.threshold, checks);
+    cnt = tf_polish(&ctx, n, (double *)&model, o.threshold * o.threshold, lay.sup.idx, &rs);
+    int st = tf_support(&ctx, &lay.sup, n, &model, o.threshold, checks);
     if (st < 0)
         return st;
     /* outputs from here on: nothing can fail any more */
     if (inlier_mask != NULL)
         for (int i = 0; i < n; i++)
-            inlier_mask[i] = (uint8_t)(tf_residual(&ctx, model, i) < o.threshold * o.threshold);
+            inlier_mask[i] = (uint8_t)(tf_residual(&ctx, (const double *)&model, i) < o.threshold * o.threshold);
     if (stats != NULL)
         *stats = rs;
-    memcpy(T, model, 27 * sizeof(double));
+    memcpy(T, model.T, sizeof model.T);
     if (P != NULL) {
         memcpy(P, P1, sizeof P1);
-        memcpy(&P[12], &model[27], 24 * sizeof(double));
+        memcpy(&P[12], model.P2, sizeof model.P2);
+        memcpy(&P[24], model.P3, sizeof model.P3);
     }
     return cnt;
 }

@@ -89,9 +89,10 @@ static int count_front(const double R[9], const double t[3], const double *x1, c
     return cnt;
 }
 
-int sfm_essential_to_poses(const double E[9], const double *x1, const double *x2, int n,
+int sfm_essential_to_poses(const sfm_mat3 *E_in, const double *x1, const double *x2, int n,
                            sfm_pose poses[SFM_ESSENTIAL_POSES], int n_front[SFM_ESSENTIAL_POSES])
 {
+    const double *E = E_in ? E_in->m : NULL;
     if (!E || !poses || n < 0 || (n > 0 && (!x1 || !x2)))
         return SFM_E_ARGUMENT;
     if (!sfmi_la_all_finite(E, 9) ||

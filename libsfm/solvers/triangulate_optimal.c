@@ -30,8 +30,9 @@ static double det4_rows(const double *a0, const double *a1, const double *b0, co
     return s;
 }
 
-int sfm_fundamental_from_projections(const double P1[12], const double P2[12], double F[9])
+int sfm_fundamental_from_projections(const double P1[12], const double P2[12], sfm_mat3 *F_out)
 {
+    double *F = F_out ? F_out->m : NULL;
     if (!P1 || !P2 || !F)
         return SFM_E_ARGUMENT;
     if (!sfmi_la_all_finite(P1, 12) || !sfmi_la_all_finite(P2, 12))
@@ -69,8 +70,9 @@ int sfm_triangulate_optimal2(const double P1[12], const double P2[12], int npoin
     if (!sfmi_la_all_finite(P1, 12) || !sfmi_la_all_finite(P2, 12) || !sfmi_la_all_finite(x1, 2L * npoints) ||
         !sfmi_la_all_finite(x2, 2L * npoints))
         return SFM_E_NONFINITE;
-    double F[9];
-    int st = sfm_fundamental_from_projections(P1, P2, F);
+    sfm_mat3 Fm;
+    int st = sfm_fundamental_from_projections(P1, P2, &Fm);
+    const double *F = Fm.m;
     if (st < 0)
         return st;
     double P[24];

@@ -215,11 +215,15 @@ int sfm_trifocal_cameras(const double T[27], double P2[12], double P3[12])
     return SFM_OK;
 }
 
-int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], double F32[9])
+int sfm_trifocal_fundamentals(const double T[27], sfm_mat3 *F21_out, sfm_mat3 *F31_out, sfm_mat3 *F32_out)
 {
+    double *F21 = F21_out ? F21_out->m : NULL;
+    double *F31 = F31_out ? F31_out->m : NULL;
+    double *F32 = F32_out ? F32_out->m : NULL;
     if (T == NULL)
         return SFM_E_ARGUMENT;
-    double e2[3], e3[3], a[9], b[9], c[9];
+    double e2[3], e3[3], a[9], b[9];
+    sfm_mat3 c;
     int st = sfm_trifocal_epipoles(T, e2, e3);
     if (st < 0)
         return st;
@@ -240,7 +244,7 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
     if (F32 != NULL) {
         double P2[12], P3[12];
         cameras_from(T, e2, e3, P2, P3);
-        st = sfm_fundamental_from_projections(P2, P3, c);
+        st = sfm_fundamental_from_projections(P2, P3, &c);
         if (st < 0)
             return st;
     }
@@ -249,23 +253,25 @@ int sfm_trifocal_fundamentals(const double T[27], double F21[9], double F31[9], 
     if (F31 != NULL)
         memcpy(F31, b, sizeof b);
     if (F32 != NULL)
-        memcpy(F32, c, sizeof c);
+        memcpy(F32, c.m, sizeof c.m);
     return SFM_OK;
 }
 
-int sfm_trifocal_transfer(const double T[27], const double F21[9], const double x1[2],
+int sfm_trifocal_transfer(const double T[27], const sfm_mat3 *F21_in, const double x1[2],
                           const double x2[2], double x3[2])
 {
+    const double *F21 = F21_in ? F21_in->m : NULL;
     if (T == NULL || x1 == NULL || x2 == NULL || x3 == NULL)
         return SFM_E_ARGUMENT;
     if (!sfmi_la_all_finite(T, 27) || !sfmi_la_all_finite(x1, 2) || !sfmi_la_all_finite(x2, 2) ||
         (F21 != NULL && !sfmi_la_all_finite(F21, 9)))
         return SFM_E_NONFINITE;
-    double F[9];
+    sfm_mat3 Fm;
+    const double *F = Fm.m;
     if (F21 != NULL) {
-        memcpy(F, F21, sizeof F);
+        memcpy(Fm.m, F21, sizeof Fm.m);
     } else {
-        int st = sfm_trifocal_fundamentals(T, F, NULL, NULL);
+        int st = sfm_trifocal_fundamentals(T, &Fm, NULL, NULL);
         if (st < 0)
             return st;
     }

@@ -292,9 +292,10 @@ int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
     return SFM_OK;
 }
 
-int sfm_stereo_homography_map(const double H[9], int src_width, int src_height, int out_width,
+int sfm_stereo_homography_map(const sfm_mat3 *H_in, int src_width, int src_height, int out_width,
                               int out_height, int32_t *map, size_t map_len)
 {
+    const double *H = H_in ? H_in->m : NULL;
     if (!H || !map || src_width < 2 || src_height < 2 || out_width < 1 || out_height < 1 ||
         src_width > 32767 || src_height > 32767 || out_width > 32767 || out_height > 32767)
         return SFM_E_ARGUMENT;
@@ -381,10 +382,12 @@ static int apply_h(const double *H, const double *px, double *out)
 }
 
 int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam2,
-                                   const sfm_stereo_rectification *rect, const double H1[9],
-                                   const double H2[9], const double *x1, const double *x2, int n,
+                                   const sfm_stereo_rectification *rect, const sfm_mat3 *H1_in,
+                                   const sfm_mat3 *H2_in, const double *x1, const double *x2, int n,
                                    double *median_dy, double *max_dy)
 {
+    const double *H1 = H1_in ? H1_in->m : NULL;
+    const double *H2 = H2_in ? H2_in->m : NULL;
     if (!x1 || !x2 || n < 0 || !median_dy || !max_dy)
         return SFM_E_ARGUMENT;
     if (rect ? (!cam1 || !cam2) : (!H1 || !H2))

@@ -30,9 +30,12 @@ static int dehom(const double *H, const double *px, double *out)
     return 1;
 }
 
-int sfm_stereo_rectify_uncalibrated(const double F[9], const double *x1, const double *x2, int n,
-                                    int width, int height, double H1[9], double H2[9])
+int sfm_stereo_rectify_uncalibrated(const sfm_mat3 *F_in, const double *x1, const double *x2, int n,
+                                    int width, int height, sfm_mat3 *H1_out, sfm_mat3 *H2_out)
 {
+    const double *F = F_in ? F_in->m : NULL;
+    double *H1 = H1_out ? H1_out->m : NULL;
+    double *H2 = H2_out ? H2_out->m : NULL;
     if (!F || !x1 || !x2 || !H1 || !H2 || n < 8 || width < 8 || height < 8 ||
         width > 32767 || height > 32767)
         return SFM_E_ARGUMENT;

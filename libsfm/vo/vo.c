@@ -223,8 +223,8 @@ static int params_check(const sfm_vo_dims *d, const sfm_vo_params *p, size_t fea
     return SFM_OK;
 }
 
-int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, void *ws, size_t ws_size,
-                sfm_vo **out)
+int sfm_vo_init(const sfm_vo_dims *dims, const sfm_vo_params *params, sfm_vo **out, void *ws,
+                size_t ws_size)
 {
     if (params == NULL || ws == NULL || out == NULL || !dims_ok(dims))
         return SFM_E_ARGUMENT;
@@ -506,15 +506,15 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
     sfm_ransac_options o;
     ransac_opts(vo, t0, &o);
     sfm_pose rel;
-    double E[9];
+    sfm_mat3 E;
     sfm_ransac_stats rs;
     int inl;
     if (gravity != NULL && ref->has_gravity)
         inl = sfm_ransac_relpose_upright(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole,
-                                         ref->gravity, gravity, &o, &rel, E, vo->mask, &rs,
+                                         ref->gravity, gravity, &o, &rel, &E, vo->mask, &rs,
                                          vo->ransac_ws, vo->ransac_ws_size);
     else
-        inl = sfm_ransac_relpose(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole, &o, &rel, E,
+        inl = sfm_ransac_relpose(vo->m_c, vo->m_b, nm, &vo->pinhole, &vo->pinhole, &o, &rel, &E,
                                  vo->mask, &rs, vo->ransac_ws, vo->ransac_ws_size);
     if (inl < 0) {
         /* The estimator's refusals are states of this frame, not errors:
@@ -945,8 +945,8 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
 
     sfm_features_params fp = vo->p.features;
     fp.max_features = vo->feat_count;
-    int n = sfm_features_detect(image, &fp, vo->feat_ws, vo->feat_ws_size, vo->kps, vo->desc,
-                                vo->dims.max_features);
+    int n = sfm_features_detect(image, &fp, vo->kps, vo->desc, vo->dims.max_features, vo->feat_ws,
+                                vo->feat_ws_size);
     if (n < 0)
         return n;
     if (vo->feat_count < vo->p.max_features)

@@ -20,6 +20,9 @@ _ROOT = os.path.dirname(os.path.dirname(_HERE))
 # The shared object's major version this binding is written for
 # (SFM_VERSION_MAJOR; the file is libsfm.so.<major>).
 SO_MAJOR = 0
+# Before 1.0 each minor version changes the API: the MINOR this binding's
+# calls are written for (SFM_VERSION_MINOR); another one is refused at import.
+API_MINOR = 3
 
 
 def _first(paths):
@@ -108,6 +111,10 @@ def find_companion(stem, env):
 
 
 ffi, lib, _libpath, _found_by = _open()
+if SO_MAJOR == 0 and lib.sfm_version() // 100 != API_MINOR:
+    raise ImportError("%s is libsfm %d.%d; this binding drives %d.%d (rebuild or reinstall the library)"
+                      % (_libpath, lib.sfm_version() // 10000, lib.sfm_version() // 100 % 100, SO_MAJOR,
+                         API_MINOR))
 
 
 class SfmError(RuntimeError):
@@ -241,6 +248,13 @@ def int_array(a, shape, name, lo=INT_MIN, hi=INT_MAX):
 def dptr(arr):
     """double* into a C-contiguous float64 numpy array."""
     return ffi.cast("double *", ffi.from_buffer(arr))
+
+
+def mptr(arr):
+    """sfm_mat3* into a C-contiguous float64 numpy array of 9 values (3 x 3, row-major)."""
+    if arr.size != 9:
+        raise ValueError("a 3x3 matrix has 9 values, got %d" % arr.size)
+    return ffi.cast("sfm_mat3 *", ffi.from_buffer(arr))
 
 
 def iptr(arr):

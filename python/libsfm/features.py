@@ -105,9 +105,9 @@ def detect_and_describe(image, max_features=_F["max_features"], n_levels=_F["n_l
     cap = max(p.max_features, 1)
     kps = np.empty(cap, dtype=_KP_DTYPE)
     desc = np.empty((cap, 32), dtype=np.uint8)
-    n = check(lib.sfm_features_detect(view, p, ffi.from_buffer(ws), ws.nbytes,
-                                      ffi.cast("sfm_keypoint *", ffi.from_buffer(kps)),
-                                      ffi.cast("uint8_t *", ffi.from_buffer(desc)), cap),
+    n = check(lib.sfm_features_detect(view, p, ffi.cast("sfm_keypoint *", ffi.from_buffer(kps)),
+                                      ffi.cast("uint8_t *", ffi.from_buffer(desc)), cap,
+                                      ffi.from_buffer(ws), ws.nbytes),
               "sfm_features_detect")
     kps = kps[:n]
     out = np.empty((n, 6), dtype=np.float64)
@@ -143,9 +143,9 @@ def match(d1, d2, ratio=_M["ratio"], mutual=_M["mutual"], max_distance=_M["max_d
     dist = np.zeros(max(n1, 1), dtype=np.int32)
     n = check(lib.sfm_features_match(ffi.cast("const uint8_t *", ffi.from_buffer(a)), n1,
                                      ffi.cast("const uint8_t *", ffi.from_buffer(b)), n2, p,
-                                     ffi.from_buffer(ws), ws.nbytes,
                                      ffi.cast("int *", ffi.from_buffer(out)),
-                                     ffi.cast("int *", ffi.from_buffer(dist)), n1),
+                                     ffi.cast("int *", ffi.from_buffer(dist)), n1,
+                                     ffi.from_buffer(ws), ws.nbytes),
               "sfm_features_match")
     m = out[:n].astype(np.intp)
     if return_distances:
@@ -189,9 +189,9 @@ def associate_three_views(m12, m23, m31, n1=None, n2=None, n3=None):
 
     try:
         n = check(lib.sfm_features_associate_three_views(ptr(a), len(a), ptr(b), len(b), ptr(c),
-                                                         len(c), n1, n2, n3, ffi.from_buffer(ws),
-                                                         ws.nbytes,
-                                                         ffi.cast("int *", ffi.from_buffer(out)), cap),
+                                                         len(c), n1, n2, n3,
+                                                         ffi.cast("int *", ffi.from_buffer(out)), cap,
+                                                         ffi.from_buffer(ws), ws.nbytes),
                   "sfm_features_associate_three_views")
     except SfmError as e:
         # The one argument error left once the ranges are checked here: a

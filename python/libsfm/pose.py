@@ -5,7 +5,7 @@ world: x_cam2 = R x_cam1 + t. Bearings are (n, 3) arrays, image points (n, 2).
 """
 import numpy as np
 
-from ._ffi import as_array, check, dptr, ffi, iptr, lib
+from ._ffi import as_array, check, dptr, ffi, iptr, lib, mptr
 
 _TRI_METHODS = ("dlt", "midpoint", "optimal")
 
@@ -87,12 +87,12 @@ def essential_to_poses(E, x1=None, x2=None):
     buf, poses = _pose_buffer(4)
     counts = np.zeros(4, dtype=np.int32)
     if x1 is None:
-        n = check(lib.sfm_essential_to_poses(dptr(E), ffi.NULL, ffi.NULL, 0, poses, iptr(counts)),
+        n = check(lib.sfm_essential_to_poses(mptr(E), ffi.NULL, ffi.NULL, 0, poses, iptr(counts)),
                   "sfm_essential_to_poses", {"E": E})
     else:
         x1 = as_array(x1, (None, 3), "x1")
         x2 = as_array(x2, (x1.shape[0], 3), "x2")
-        n = check(lib.sfm_essential_to_poses(dptr(E), dptr(x1), dptr(x2), x1.shape[0], poses,
+        n = check(lib.sfm_essential_to_poses(mptr(E), dptr(x1), dptr(x2), x1.shape[0], poses,
                                              iptr(counts)), "sfm_essential_to_poses",
                   {"E": E, "x1": x1, "x2": x2})
     return _poses_to_list(buf, n), counts

@@ -30,7 +30,7 @@ argument); a C failure raises SfmError.
 """
 import numpy as np
 
-from ._ffi import (as_array, check, dptr, ffi, lib, to_float, to_int, to_seed, u8ptr,
+from ._ffi import (as_array, check, dptr, ffi, lib, mptr, to_float, to_int, to_seed, u8ptr,
                    workspace)
 from .camera import as_camera
 from .results import ransac_result
@@ -134,11 +134,11 @@ def _relative(upright, p1, p2, K1, K2, d1, d2, dist1, dist2, options, covariance
         where = "sfm_ransac_relpose_upright"
         buf, ws, wsn = workspace(lib.sfm_ransac_relpose_upright_workspace_size(n))
         rc = lib.sfm_ransac_relpose_upright(dptr(p1), dptr(p2), n, c1._c, c2._c, dptr(d1), dptr(d2),
-                                            opt, pose, dptr(E), u8ptr(mask), st, ws, wsn)
+                                            opt, pose, mptr(E), u8ptr(mask), st, ws, wsn)
     else:
         where = "sfm_ransac_relpose"
         buf, ws, wsn = workspace(lib.sfm_ransac_relpose_workspace_size(n))
-        rc = lib.sfm_ransac_relpose(dptr(p1), dptr(p2), n, c1._c, c2._c, opt, pose, dptr(E),
+        rc = lib.sfm_ransac_relpose(dptr(p1), dptr(p2), n, c1._c, c2._c, opt, pose, mptr(E),
                                     u8ptr(mask), st, ws, wsn)
     check(rc, where, inputs)
     R, t = _pose(pose)
@@ -239,7 +239,7 @@ def _uncalibrated(fn, size_fn, minimum, p1, p2, K1, K2, dist1, dist2, options, w
     M = np.zeros((3, 3))
     mask = np.zeros(n, dtype=np.uint8)
     st = ffi.new("sfm_ransac_stats *")
-    check(fn(dptr(p1), dptr(p2), n, c1, c2, opt, dptr(M), u8ptr(mask), st, ws, wsn), where,
+    check(fn(dptr(p1), dptr(p2), n, c1, c2, opt, mptr(M), u8ptr(mask), st, ws, wsn), where,
           {"p1": p1, "p2": p2})
     del keep, buf
     return st, mask, M

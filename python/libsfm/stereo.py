@@ -8,7 +8,7 @@ disparity d = u1 - u2 is NaN where the matcher has no answer.
 import numpy as np
 
 from .camera import as_camera
-from ._ffi import as_array, check, dptr, ffi, lib, to_float, to_int, workspace
+from ._ffi import as_array, check, dptr, ffi, lib, mptr, to_float, to_int, workspace
 
 __all__ = ["rectify_pair", "remap", "rectify_uncalibrated", "homography_maps",
            "rectification_error", "disparity_sgm", "disparity_block", "disparity_to_depth",
@@ -109,7 +109,7 @@ def homography_maps(H1, H2, size, out_size=None):
     for name, H in (("H1", H1), ("H2", H2)):
         H = as_array(H, (3, 3), name)
         out = np.empty((oh, ow, 2), dtype=np.int32)
-        check(lib.sfm_stereo_homography_map(dptr(H), w, h, ow, oh,
+        check(lib.sfm_stereo_homography_map(mptr(H), w, h, ow, oh,
                                             ffi.cast("int32_t *", ffi.from_buffer(out)), out.size),
               "sfm_stereo_homography_map")
         maps.append(out)
@@ -144,8 +144,8 @@ def rectify_uncalibrated(F, x1, x2, size):
     w, h = _size(size)
     H1 = np.empty((3, 3))
     H2 = np.empty((3, 3))
-    check(lib.sfm_stereo_rectify_uncalibrated(dptr(F), dptr(x1), dptr(x2), x1.shape[0], w, h,
-                                              dptr(H1), dptr(H2)),
+    check(lib.sfm_stereo_rectify_uncalibrated(mptr(F), dptr(x1), dptr(x2), x1.shape[0], w, h,
+                                              mptr(H1), mptr(H2)),
           "sfm_stereo_rectify_uncalibrated")
     return H1, H2
 
@@ -166,7 +166,7 @@ def rectification_error(x1, x2, rect=None, K1=None, K2=None, dist1=None, dist2=N
     else:
         H1 = as_array(H1, (3, 3), "H1")
         H2 = as_array(H2, (3, 3), "H2")
-        n = lib.sfm_stereo_rectification_error(ffi.NULL, ffi.NULL, ffi.NULL, dptr(H1), dptr(H2),
+        n = lib.sfm_stereo_rectification_error(ffi.NULL, ffi.NULL, ffi.NULL, mptr(H1), mptr(H2),
                                                dptr(x1), dptr(x2), x1.shape[0], med, mx)
     check(n, "sfm_stereo_rectification_error")
     return float(med[0]), float(mx[0]), int(n)

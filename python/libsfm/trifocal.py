@@ -3,7 +3,7 @@ Zisserman), view 1 the reference, and the calibrated three-view pose.
 Pixels are (n, 2) float arrays; cameras (3, 4)."""
 import numpy as np
 
-from ._ffi import as_array, check, dptr, ffi, lib, u8ptr, workspace
+from ._ffi import as_array, check, dptr, ffi, lib, mptr, u8ptr, workspace
 from .camera import as_camera
 from .results import ransac_result
 from .robust import RANSAC_DEFAULTS as _D
@@ -57,7 +57,7 @@ def trifocal_fundamentals(T):
     pixels."""
     T = as_array(T, (3, 3, 3), "T")
     F = np.empty((3, 3, 3))
-    check(lib.sfm_trifocal_fundamentals(dptr(T), dptr(F[0]), dptr(F[1]), dptr(F[2])),
+    check(lib.sfm_trifocal_fundamentals(dptr(T), mptr(F[0]), mptr(F[1]), mptr(F[2])),
           "trifocal_fundamentals", {"T": T})
     return F[0], F[1], F[2]
 
@@ -85,7 +85,7 @@ def trifocal_transfer(T, x1, x2):
     F21 = np.ascontiguousarray(F21)
     out = np.empty((n, 2))
     for p in range(n):
-        check(lib.sfm_trifocal_transfer(dptr(T), dptr(F21), dptr(x1[p]), dptr(x2[p]), dptr(out[p])),
+        check(lib.sfm_trifocal_transfer(dptr(T), mptr(F21), dptr(x1[p]), dptr(x2[p]), dptr(out[p])),
               "trifocal_transfer", {"T": T, "x1": x1, "x2": x2})
     return out[0] if one else out
 

@@ -125,7 +125,7 @@ class VisualOdometry:
         self._vo = ffi.new("sfm_vo **")
         self._dims = dims
         self._params = p
-        check(lib.sfm_vo_init(dims, p, ffi.from_buffer(self._ws), size, self._vo), "sfm_vo_init")
+        check(lib.sfm_vo_init(dims, p, self._vo, ffi.from_buffer(self._ws), size), "sfm_vo_init")
         self.width, self.height = int(width), int(height)
         self.workspace_bytes = int(size)
         self._img = ffi.new("sfm_image_u8 *")

@@ -159,13 +159,13 @@ static void run_relpose(const scene *s, const sfm_ransac_options *opt)
     if (!ws_ok("relpose", sfm_ransac_relpose_workspace_size(NPTS)))
         return;
     sfm_pose pose;
-    double E[9];
+    sfm_mat3 E;
     uint8_t mask[NPTS];
     sfm_ransac_stats st;
-    int r = sfm_ransac_relpose(s->px[0], s->px[1], NPTS, &s->cam[0], &s->cam[1], opt, &pose, E,
+    int r = sfm_ransac_relpose(s->px[0], s->px[1], NPTS, &s->cam[0], &s->cam[1], opt, &pose, &E,
                                mask, &st, g_ws, WS_BYTES);
     emit_bytes("ransac_relpose.pose", r, &pose, sizeof pose);
-    emit_bytes("ransac_relpose.E", r, E, sizeof E);
+    emit_bytes("ransac_relpose.E", r, E.m, sizeof E.m);
     emit_ransac("ransac_relpose.mask", "ransac_relpose.stats", r, mask, &st);
 }
 
@@ -184,20 +184,20 @@ static void run_abspose(const scene *s, const sfm_ransac_options *opt)
 
 static void run_fundamental_homography(const scene *s, const sfm_ransac_options *opt)
 {
-    double F[9];
+    sfm_mat3 F;
     uint8_t mask[NPTS];
     sfm_ransac_stats st;
     if (ws_ok("fundamental", sfm_ransac_fundamental_workspace_size(NPTS))) {
-        int r = sfm_ransac_fundamental(s->px[0], s->px[1], NPTS, NULL, NULL, opt, F, mask, &st,
+        int r = sfm_ransac_fundamental(s->px[0], s->px[1], NPTS, NULL, NULL, opt, &F, mask, &st,
                                        g_ws, WS_BYTES);
-        emit_bytes("ransac_fundamental.F", r, F, sizeof F);
+        emit_bytes("ransac_fundamental.F", r, F.m, sizeof F.m);
         emit("ransac_fundamental.mask+st", r,
              r < 0 ? FNV_INIT : hash_stats(fnv1a(FNV_INIT, mask, sizeof mask), &st));
     }
     if (ws_ok("homography", sfm_ransac_homography_workspace_size(NPTS))) {
-        int r = sfm_ransac_homography(s->px[0], s->px[1], NPTS, NULL, NULL, opt, F, mask, &st,
+        int r = sfm_ransac_homography(s->px[0], s->px[1], NPTS, NULL, NULL, opt, &F, mask, &st,
                                       g_ws, WS_BYTES);
-        emit_bytes("ransac_homography.H", r, F, sizeof F);
+        emit_bytes("ransac_homography.H", r, F.m, sizeof F.m);
         emit("ransac_homography.mask+st", r,
              r < 0 ? FNV_INIT : hash_stats(fnv1a(FNV_INIT, mask, sizeof mask), &st));
     }
@@ -392,7 +392,7 @@ static void run_features(void)
     fp.n_levels = 3;
     if (!ws_ok("features", sfm_features_workspace_size(&fp, W, H)))
         return;
-    int r = sfm_features_detect(&im, &fp, g_ws, WS_BYTES, kps, desc, CAP);
+    int r = sfm_features_detect(&im, &fp, kps, desc, CAP, g_ws, WS_BYTES);
     emit_bytes("features.keypoints", r, kps, r > 0 ? (size_t)r * sizeof kps[0] : 0);
     emit_bytes("features.descriptors", r, desc, r > 0 ? (size_t)r * SFM_FEATURES_DESC_BYTES : 0);
     /* matched against itself shifted by one feature: a fixed call */

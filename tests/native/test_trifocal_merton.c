@@ -85,17 +85,18 @@ SFM_TEST(trifocal_merton_transfer_against_ground_truth)
     SFM_CHECK(n > 200);
     if (n < 7)
         return;
-    double Tgt[27], Te[27], F21gt[9], F21[9];
+    double Tgt[27], Te[27];
+    sfm_mat3 F21, F21gt;
     SFM_CHECK_EQ_INT(sfm_trifocal_from_cameras(P[0], P[1], P[2], Tgt), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_trifocal_7pt(x1, x2, x3, n, Te, ws, sizeof ws), SFM_OK);
-    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Tgt, F21gt, NULL, NULL), SFM_OK);
-    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Te, F21, NULL, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Tgt, &F21gt, NULL, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Te, &F21, NULL, NULL), SFM_OK);
     static double err_e[MAX_TRIPLETS], err_g[MAX_TRIPLETS], err_d[MAX_TRIPLETS];
     int m = 0;
     for (int p = 0; p < n; p++) {
         double ye[2], yg[2];
-        if (sfm_trifocal_transfer(Te, F21, &x1[2 * p], &x2[2 * p], ye) != SFM_OK ||
-            sfm_trifocal_transfer(Tgt, F21gt, &x1[2 * p], &x2[2 * p], yg) != SFM_OK)
+        if (sfm_trifocal_transfer(Te, &F21, &x1[2 * p], &x2[2 * p], ye) != SFM_OK ||
+            sfm_trifocal_transfer(Tgt, &F21gt, &x1[2 * p], &x2[2 * p], yg) != SFM_OK)
             continue;
         err_e[m] = hypot(ye[0] - x3[2 * p], ye[1] - x3[2 * p + 1]);
         err_g[m] = hypot(yg[0] - x3[2 * p], yg[1] - x3[2 * p + 1]);

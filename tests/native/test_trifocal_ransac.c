@@ -109,7 +109,8 @@ static void run_case(sfm_test_ctx *t, double ratio)
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
     opt.threshold = 2.0;
-    double T[27], P[36], F21[9];
+    double T[27], P[36];
+    sfm_mat3 F21;
     uint8_t mask[N];
     sfm_ransac_stats st;
     int cnt = sfm_ransac_trifocal(sc.x[0], sc.x[1], sc.x[2], N, &opt, T, P, mask, &st, ws, need);
@@ -123,12 +124,12 @@ static void run_case(sfm_test_ctx *t, double ratio)
         fp += mask[i] && !sc.inlier[i];
     }
     /* transfer of noise-free points through the estimated tensor */
-    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, F21, NULL, NULL), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, &F21, NULL, NULL), SFM_OK);
     double err = 0;
     int m = 0;
     for (int i = 0; i < N; i++) {
         double y[2];
-        if (sfm_trifocal_transfer(T, F21, &sc.clean[0][2 * i], &sc.clean[1][2 * i], y) != SFM_OK)
+        if (sfm_trifocal_transfer(T, &F21, &sc.clean[0][2 * i], &sc.clean[1][2 * i], y) != SFM_OK)
             continue;
         err += hypot(y[0] - sc.clean[2][2 * i], y[1] - sc.clean[2][2 * i + 1]);
         m++;

@@ -96,17 +96,17 @@ static int relpose(sfm_test_ctx *t, int upright, int n)
     sfm_pose pose;
     memset(&pose, 0x5a, sizeof pose);
     sfm_pose before = pose;
-    double E[9];
+    sfm_mat3 E;
     sfm_ransac_stats st;
     int r;
     if (upright) {
         double d1[3] = {0, 1, 0}, R[9], tr[3], d2[3];
         camera(1, R, tr);
         scene_matvec(R, d1, d2);
-        r = sfm_ransac_relpose_upright(Q[0], Q[1], n, &cam, &cam, d1, d2, NULL, &pose, E, NULL,
+        r = sfm_ransac_relpose_upright(Q[0], Q[1], n, &cam, &cam, d1, d2, NULL, &pose, &E, NULL,
                                        &st, DWS, sizeof DWS);
     } else {
-        r = sfm_ransac_relpose(Q[0], Q[1], n, &cam, &cam, NULL, &pose, E, NULL, &st, DWS,
+        r = sfm_ransac_relpose(Q[0], Q[1], n, &cam, &cam, NULL, &pose, &E, NULL, &st, DWS,
                                sizeof DWS);
     }
     if (r < 0)
@@ -165,19 +165,19 @@ SFM_TEST(degenerate_relpose_general_scene_has_covariance)
 
 SFM_TEST(degenerate_homography_on_a_line_and_a_cluster)
 {
-    double H[9] = {0};
+    sfm_mat3 H = {{0}};
     for (int it = 0; it < 4; it++) {
         points(t, LINE, ND, X3);
         render(t, ND, 2, 0.3, 0.0);
-        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, H, NULL, NULL,
+        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, &H, NULL, NULL,
                                                DWS, sizeof DWS),
                          SFM_E_DEGENERATE);
         points(t, CLUSTER, ND, X3);
         render(t, ND, 2, 0.3, 0.2);
-        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, H, NULL, NULL,
+        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, &H, NULL, NULL,
                                                DWS, sizeof DWS),
                          SFM_E_DEGENERATE);
-        SFM_CHECK(H[0] == 0.0 && H[8] == 0.0);
+        SFM_CHECK(H.m[0] == 0.0 && H.m[8] == 0.0);
     }
 }
 
@@ -193,11 +193,11 @@ SFM_TEST(degenerate_random_matches_are_no_model)
         SFM_CHECK_EQ_INT(sfm_ransac_abspose(Q[1], X3, ND, &cam, NULL, &pose, NULL, NULL, DWS,
                                             sizeof DWS),
                          SFM_E_NO_MODEL);
-        double M[9];
-        SFM_CHECK_EQ_INT(sfm_ransac_fundamental(Q[0], Q[1], ND, NULL, NULL, NULL, M, NULL, NULL,
+        sfm_mat3 M;
+        SFM_CHECK_EQ_INT(sfm_ransac_fundamental(Q[0], Q[1], ND, NULL, NULL, NULL, &M, NULL, NULL,
                                                 DWS, sizeof DWS),
                          SFM_E_NO_MODEL);
-        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, M, NULL, NULL,
+        SFM_CHECK_EQ_INT(sfm_ransac_homography(Q[0], Q[1], ND, NULL, NULL, NULL, &M, NULL, NULL,
                                                DWS, sizeof DWS),
                          SFM_E_NO_MODEL);
         double T[27];
@@ -284,12 +284,13 @@ SFM_TEST(degenerate_trifocal_algebra)
 
 SFM_TEST(degenerate_essential_rank_one_and_scaled_bearings)
 {
-    double u[3] = {0.3, -0.5, 0.8}, v[3] = {0.6, 0.2, -0.1}, E[9];
+    double u[3] = {0.3, -0.5, 0.8}, v[3] = {0.6, 0.2, -0.1};
+    sfm_mat3 E;
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
-            E[3 * r + c] = u[r] * v[c];
+            E.m[3 * r + c] = u[r] * v[c];
     sfm_pose poses[4];
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, NULL, 0, poses, NULL), 0);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, NULL, NULL, 0, poses, NULL), 0);
     /* 5-point: only directions matter */
     points(t, GENERAL, 5, X3);
     double R[9], tr[3], b1[15], b2[15];

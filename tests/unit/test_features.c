@@ -48,7 +48,7 @@ static int detect(const uint8_t *img, int w, int h, const sfm_features_params *p
     size_t need = sfm_features_workspace_size(p, w, h);
     if (need == 0 || need > WS_BYTES)
         return -100;
-    return sfm_features_detect(&im, p, ws_buf, need, kp, desc, MAXF);
+    return sfm_features_detect(&im, p, kp, desc, MAXF, ws_buf, need);
 }
 
 SFM_TEST(features_corners_subpixel)
@@ -154,7 +154,7 @@ SFM_TEST(features_descriptors_follow_known_rotation)
     sfm_features_default_match_params(&mp);
     size_t need = sfm_features_match_workspace_size(na, nb);
     SFM_CHECK(need <= WS_BYTES);
-    int m = sfm_features_match(desc_a, na, desc_b, nb, &mp, ws_buf, need, pairs, dists, MAXF);
+    int m = sfm_features_match(desc_a, na, desc_b, nb, &mp, pairs, dists, MAXF, ws_buf, need);
     SFM_CHECK(m > 0);
     /* a point x_b of image b shows world A x_b + b = x_a (world = image a) */
     const double c = cos(th), s = sin(th), x0 = 0.5 * (W - 1), y0 = 0.5 * (H - 1);
@@ -257,7 +257,7 @@ SFM_TEST(features_matcher_equals_bruteforce_reference)
         for (int r = 0; r < 3; r++)
             for (int mutual = 0; mutual <= 1; mutual++) {
                 sfm_match_params mp = {ratios[r], mutual, it % 2 ? 256 : 100};
-                int m = sfm_features_match(desc_a, n1, desc_b, n2, &mp, ws_buf, WS_BYTES, pairs, dists, MAXF);
+                int m = sfm_features_match(desc_a, n1, desc_b, n2, &mp, pairs, dists, MAXF, ws_buf, WS_BYTES);
                 int mr = match_ref(desc_a, n1, desc_b, n2, ratios[r], mutual, mp.max_distance, pairs_ref);
                 SFM_CHECK_EQ_INT(m, mr);
                 if (m == mr && m >= 0) {
@@ -300,7 +300,7 @@ SFM_TEST(features_cyclic_association_on_known_permutation)
         n31++;
     }
     size_t need = sfm_features_associate_workspace_size(N, N, N);
-    int n = sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N);
+    int n = sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, N, ws_buf, need);
     int expect = 0;
     for (int i = 0; i < N; i++)
         if (i % 5 != 0 && i % 7 != 0) {
@@ -316,25 +316,25 @@ SFM_TEST(features_cyclic_association_on_known_permutation)
     /* a repeated source index is a broken contract: nothing written */
     m23[2 * 1] = m23[2 * 0];
     sfm_test_fill_canary(out, sizeof out);
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, N, ws_buf, need),
                      SFM_E_ARGUMENT);
     SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
     m23[2 * 1] = 1;
     m23[2 * 1 + 1] = N; /* out of range */
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, N, ws_buf, need),
                      SFM_E_ARGUMENT);
     m23[2 * 1 + 1] = p23[1];
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need - 1, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, N, ws_buf, need - 1),
                      SFM_E_WORKSPACE);
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, n12 - 1),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, n12 - 1, ws_buf, need),
                      SFM_E_CAPACITY);
     SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, n12, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, n12, m23, N, m31, n31, N, N, N, out, N, ws_buf, need),
                      SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, 0, m23, N, m31, n31, N, N, N, ws_buf, need, out, N), 0);
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, NULL, need, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(NULL, 0, m23, N, m31, n31, N, N, N, out, N, ws_buf, need), 0);
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, n12, m23, N, m31, n31, N, N, N, out, N, NULL, need),
                      SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, -1, m23, N, m31, n31, N, N, N, ws_buf, need, out, N),
+    SFM_CHECK_EQ_INT(sfm_features_associate_three_views(m12, -1, m23, N, m31, n31, N, N, N, out, N, ws_buf, need),
                      SFM_E_ARGUMENT);
 }
 
@@ -351,42 +351,42 @@ SFM_TEST(features_detect_contract)
     SFM_CHECK(need > 0 && need <= WS_BYTES);
     sfm_test_fill_canary(kp_a, sizeof kp_a);
     sfm_test_fill_canary(desc_a, sizeof desc_a);
-    SFM_CHECK_EQ_INT(sfm_features_detect(NULL, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, NULL, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, NULL, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, NULL, desc_a, MAXF), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, kp_a, NULL, MAXF), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need - 1, kp_a, desc_a, MAXF), SFM_E_WORKSPACE);
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, ws_buf, need, kp_a, desc_a, p.max_features - 1), SFM_E_CAPACITY);
+    SFM_CHECK_EQ_INT(sfm_features_detect(NULL, &p, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, NULL, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, kp_a, desc_a, MAXF, NULL, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, NULL, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, kp_a, NULL, MAXF, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, kp_a, desc_a, MAXF, ws_buf, need - 1), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &p, kp_a, desc_a, p.max_features - 1, ws_buf, need), SFM_E_CAPACITY);
     sfm_image_u8 bad = im;
     bad.stride = W - 1;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     bad = im;
     bad.data = NULL;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     bad = im;
     bad.width = 0;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&bad, &p, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     sfm_features_params q = p;
     q.scale_factor = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_features_workspace_size(&q, W, H), 0);
     q = p;
     q.n_levels = SFM_FEATURES_MAX_LEVELS + 1;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     q = p;
     q.max_features = 0;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     q = p;
     q.fast_threshold = 0;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, need, kp_a, desc_a, MAXF), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, kp_a, desc_a, MAXF, ws_buf, need), SFM_E_ARGUMENT);
     SFM_CHECK(sfm_test_canary_intact(kp_a, sizeof kp_a));
     SFM_CHECK(sfm_test_canary_intact(desc_a, sizeof desc_a));
 
     /* exact size works at every alignment; same input, same bytes out */
     int n0 = -1;
     for (int off = 0; off < 16; off += 5) {
-        int n = sfm_features_detect(&im, &p, ws_buf + off, need, kp_a, desc_a, MAXF);
+        int n = sfm_features_detect(&im, &p, kp_a, desc_a, MAXF, ws_buf + off, need);
         SFM_CHECK(n > 0 && n <= p.max_features);
         if (off == 0) {
             n0 = n;
@@ -407,7 +407,7 @@ SFM_TEST(features_detect_contract)
     /* the budget is a hard cap */
     q = p;
     q.max_features = 7;
-    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, ws_buf, WS_BYTES, kp_a, desc_a, 7), 7);
+    SFM_CHECK_EQ_INT(sfm_features_detect(&im, &q, kp_a, desc_a, 7, ws_buf, WS_BYTES), 7);
 
     /* tiny images: valid, no room for a feature */
     const int sides[4][2] = {{1, 1}, {32, 32}, {W, 20}, {20, H}};
@@ -415,12 +415,12 @@ SFM_TEST(features_detect_contract)
         sfm_image_u8 tiny = {img_a, sides[k][0], sides[k][1], W};
         size_t tn = sfm_features_workspace_size(&p, sides[k][0], sides[k][1]);
         SFM_CHECK(tn > 0);
-        SFM_CHECK_EQ_INT(sfm_features_detect(&tiny, &p, ws_buf, tn, kp_a, desc_a, MAXF), 0);
+        SFM_CHECK_EQ_INT(sfm_features_detect(&tiny, &p, kp_a, desc_a, MAXF, ws_buf, tn), 0);
     }
     /* the smallest image that holds a feature */
     sfm_image_u8 small = {img_a, 2 * SFM_FEATURES_BORDER + 1, 2 * SFM_FEATURES_BORDER + 1, W};
     size_t sn = sfm_features_workspace_size(&p, small.width, small.height);
-    SFM_CHECK(sfm_features_detect(&small, &p, ws_buf, sn, kp_a, desc_a, MAXF) >= 0);
+    SFM_CHECK(sfm_features_detect(&small, &p, kp_a, desc_a, MAXF, ws_buf, sn) >= 0);
 }
 
 SFM_TEST(features_match_contract)
@@ -436,30 +436,30 @@ SFM_TEST(features_match_contract)
     SFM_CHECK(need > 0);
     sfm_test_fill_canary(pairs, sizeof pairs);
     sfm_test_fill_canary(dists, sizeof dists);
-    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 10, desc_b, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, NULL, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, NULL, need, pairs, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need, NULL, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, -1, desc_b, 10, &mp, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need - 1, pairs, dists, 10), SFM_E_WORKSPACE);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, ws_buf, need, pairs, dists, 9), SFM_E_CAPACITY);
+    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 10, desc_b, 10, &mp, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 10, &mp, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, NULL, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, pairs, dists, 10, NULL, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, NULL, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, -1, desc_b, 10, &mp, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, pairs, dists, 10, ws_buf, need - 1), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &mp, pairs, dists, 9, ws_buf, need), SFM_E_CAPACITY);
     sfm_match_params bad = mp;
     bad.ratio = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
     bad = mp;
     bad.ratio = 0.0;
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
     bad = mp;
     bad.max_distance = 257;
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, ws_buf, need, pairs, dists, 10), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, desc_b, 10, &bad, pairs, dists, 10, ws_buf, need), SFM_E_ARGUMENT);
     SFM_CHECK(sfm_test_canary_intact(pairs, sizeof pairs));
     SFM_CHECK(sfm_test_canary_intact(dists, sizeof dists));
     /* empty sets are valid; distances may be NULL */
-    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 0, desc_b, 10, &mp, ws_buf, WS_BYTES, pairs, NULL, 0), 0);
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 0, &mp, ws_buf, WS_BYTES, pairs, NULL, 10), 0);
+    SFM_CHECK_EQ_INT(sfm_features_match(NULL, 0, desc_b, 10, &mp, pairs, NULL, 0, ws_buf, WS_BYTES), 0);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 10, NULL, 0, &mp, pairs, NULL, 10, ws_buf, WS_BYTES), 0);
     /* one train descriptor: no second neighbour, the ratio test passes */
-    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 1, desc_a, 1, &mp, ws_buf, WS_BYTES, pairs, dists, 1), 1);
+    SFM_CHECK_EQ_INT(sfm_features_match(desc_a, 1, desc_a, 1, &mp, pairs, dists, 1, ws_buf, WS_BYTES), 1);
     SFM_CHECK_EQ_INT(dists[0], 0);
     SFM_CHECK_EQ_INT(sfm_features_hamming(NULL, desc_a), SFM_E_ARGUMENT);
 }

@@ -530,11 +530,12 @@ SFM_TEST(essential_to_poses_recovers_truth)
     const int iters = SFM_TEST_ITERS(20000);
     int found = 0, chosen = 0, bad = 0;
     for (int it = 0; it < iters; it++) {
-        double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
-        essential_problem(t, N, R, tr, E, x1, x2);
+        double R[9], tr[3], x1[3 * N], x2[3 * N];
+        sfm_mat3 E;
+        essential_problem(t, N, R, tr, E.m, x1, x2);
         sfm_pose poses[4];
         int cnt[4];
-        int n = sfm_essential_to_poses(E, x1, x2, N, poses, cnt);
+        int n = sfm_essential_to_poses(&E, x1, x2, N, poses, cnt);
         if (n != 4) {
             bad++;
             continue;
@@ -566,16 +567,18 @@ SFM_TEST(essential_to_poses_noisy_and_degenerate)
     int chosen = 0;
     const int iters = SFM_TEST_ITERS(2000);
     for (int it = 0; it < iters; it++) {
-        double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
-        essential_problem(t, N, R, tr, E, x1, x2);
-        double En[9], mx = 0.0;
+        double R[9], tr[3], x1[3 * N], x2[3 * N];
+        sfm_mat3 E;
+        essential_problem(t, N, R, tr, E.m, x1, x2);
+        double mx = 0.0;
+        sfm_mat3 En;
         for (int i = 0; i < 9; i++)
-            mx = fmax(mx, fabs(E[i]));
+            mx = fmax(mx, fabs(E.m[i]));
         for (int i = 0; i < 9; i++)
-            En[i] = E[i] + sfm_test_normal(t, 1e-4 * mx);
+            En.m[i] = E.m[i] + sfm_test_normal(t, 1e-4 * mx);
         sfm_pose poses[4];
         int cnt[4];
-        SFM_CHECK_EQ_INT(sfm_essential_to_poses(En, x1, x2, N, poses, cnt), 4);
+        SFM_CHECK_EQ_INT(sfm_essential_to_poses(&En, x1, x2, N, poses, cnt), 4);
         /* every R is a rotation even for a noisy E */
         for (int s = 0; s < 4; s++) {
             double Rt[9], RtR[9];
@@ -591,53 +594,55 @@ SFM_TEST(essential_to_poses_noisy_and_degenerate)
     }
     SFM_CHECK((double)chosen / iters >= 0.99);
     /* no points: fixed order, zero counts, no point arrays needed */
-    double R[9], tr[3], E[9];
-    essential_problem(t, 0, R, tr, E, NULL, NULL);
+    double R[9], tr[3];
+    sfm_mat3 E;
+    essential_problem(t, 0, R, tr, E.m, NULL, NULL);
     sfm_pose poses[4];
     int cnt[4] = {7, 7, 7, 7};
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, NULL, 0, poses, cnt), 4);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, NULL, NULL, 0, poses, cnt), 4);
     SFM_CHECK(cnt[0] == 0 && cnt[3] == 0);
     for (int k = 0; k < 3; k++) {
         SFM_CHECK_NEAR(poses[0].t[k], -poses[1].t[k], 0.0);
         SFM_CHECK_NEAR(poses[2].t[k], poses[0].t[k], 0.0);
     }
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, NULL, 0, poses, NULL), 4);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, NULL, NULL, 0, poses, NULL), 4);
     /* zero and rank-1 E: 0, nothing written */
-    double Z[9] = {0};
+    sfm_mat3 Z = {{0}};
     sfm_test_fill_canary(poses, sizeof poses);
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(Z, NULL, NULL, 0, poses, NULL), 0);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&Z, NULL, NULL, 0, poses, NULL), 0);
     double a[3] = {1, 2, 3}, b[3] = {-1, 0.5, 2};
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
-            Z[3 * r + c] = a[r] * b[c];
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(Z, NULL, NULL, 0, poses, NULL), 0);
+            Z.m[3 * r + c] = a[r] * b[c];
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&Z, NULL, NULL, 0, poses, NULL), 0);
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
 }
 
 SFM_TEST(essential_to_poses_contract)
 {
     enum { N = 5 };
-    double R[9], tr[3], E[9], x1[3 * N], x2[3 * N];
-    essential_problem(t, N, R, tr, E, x1, x2);
+    double R[9], tr[3], x1[3 * N], x2[3 * N];
+    sfm_mat3 E;
+    essential_problem(t, N, R, tr, E.m, x1, x2);
     sfm_pose poses[4];
     int cnt[4];
     sfm_test_fill_canary(poses, sizeof poses);
     sfm_test_fill_canary(cnt, sizeof cnt);
     SFM_CHECK_EQ_INT(sfm_essential_to_poses(NULL, x1, x2, N, poses, cnt), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, x2, N, NULL, cnt), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, NULL, x2, N, poses, cnt), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, NULL, N, poses, cnt), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, x2, -1, poses, cnt), SFM_E_ARGUMENT);
-    double b[9];
-    memcpy(b, E, sizeof b);
-    b[4] = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
-    b[4] = HUGE_VAL;
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, x1, x2, N, NULL, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, NULL, x2, N, poses, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, x1, NULL, N, poses, cnt), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, x1, x2, -1, poses, cnt), SFM_E_ARGUMENT);
+    sfm_mat3 b;
+    memcpy(b.m, E.m, sizeof b.m);
+    b.m[4] = (double)NAN;
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
+    b.m[4] = HUGE_VAL;
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&b, x1, x2, N, poses, cnt), SFM_E_NONFINITE);
     double xb[3 * N];
     memcpy(xb, x2, sizeof xb);
     xb[3 * N - 1] = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_essential_to_poses(E, x1, xb, N, poses, cnt), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_essential_to_poses(&E, x1, xb, N, poses, cnt), SFM_E_NONFINITE);
     SFM_CHECK(sfm_test_canary_intact(poses, sizeof poses));
     SFM_CHECK(sfm_test_canary_intact(cnt, sizeof cnt));
 }

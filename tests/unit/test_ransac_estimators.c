@@ -50,9 +50,9 @@ SFM_TEST(relpose_outlier_levels_noise_floor)
              * sample in ~2500; 0.999 confidence needs ~17000 */
             opt.max_iterations = 20000;
             sfm_pose pose;
-            double E[9];
+            sfm_mat3 E;
             sfm_ransac_stats st;
-            int ni = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &pose, E, MASK, &st, WS,
+            int ni = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &pose, &E, MASK, &st, WS,
                                         sizeof WS);
             SFM_CHECK(ni >= 5);
             if (ni < 5) {
@@ -129,14 +129,14 @@ SFM_TEST(relpose_same_seed_bit_identical)
     opt.seed = 77;
     opt.max_iterations = SFM_TEST_ITERS(10000);
     sfm_pose a, b;
-    double Ea[9], Eb[9];
+    sfm_mat3 Ea, Eb;
     sfm_ransac_stats sa, sb;
-    int na = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &a, Ea, MASK, &sa, WS, sizeof WS);
-    int nb = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &b, Eb, MASK2, &sb, WS, sizeof WS);
+    int na = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &a, &Ea, MASK, &sa, WS, sizeof WS);
+    int nb = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &b, &Eb, MASK2, &sb, WS, sizeof WS);
     SFM_CHECK(na > 0);
     SFM_CHECK_EQ_INT(na, nb);
     SFM_CHECK(memcmp(&a, &b, sizeof a) == 0);
-    SFM_CHECK(memcmp(Ea, Eb, sizeof Ea) == 0);
+    SFM_CHECK(memcmp(Ea.m, Eb.m, sizeof Ea.m) == 0);
     SFM_CHECK(memcmp(MASK, MASK2, sizeof MASK) == 0);
     SFM_CHECK_EQ_INT(sa.iterations, sb.iterations);
 }
@@ -198,24 +198,24 @@ SFM_TEST(relpose_contract)
     sfm_ransac_options opt;
     sfm_ransac_default_options(&opt);
     sfm_pose pose;
-    double E[9];
+    sfm_mat3 E;
     sfm_ransac_stats st;
     sfm_test_fill_canary(&pose, sizeof pose);
-    sfm_test_fill_canary(E, sizeof E);
+    sfm_test_fill_canary(E.m, sizeof E.m);
     sfm_test_fill_canary(MASK, sizeof MASK);
     sfm_test_fill_canary(&st, sizeof st);
     size_t need = sfm_ransac_relpose_workspace_size(NE);
     SFM_CHECK(need > 0 && need <= sizeof WS);
     SFM_CHECK_EQ_INT(sfm_ransac_relpose_workspace_size(4), 0);
 #define RP(a, b, n, c1, c2, o, ws, wsn)                                                    \
-    sfm_ransac_relpose(a, b, n, c1, c2, o, &pose, E, MASK, &st, ws, wsn)
+    sfm_ransac_relpose(a, b, n, c1, c2, o, &pose, &E, MASK, &st, ws, wsn)
     SFM_CHECK_EQ_INT(RP(NULL, P2, NE, &cam, &cam, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(RP(P1, NULL, NE, &cam, &cam, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, NULL, &cam, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(RP(P1, P2, 4, &cam, &cam, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &cam, &opt, NULL, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &cam, &opt, WS, need - 1), SFM_E_WORKSPACE);
-    SFM_CHECK_EQ_INT(sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, NULL, E, MASK, &st, WS,
+    SFM_CHECK_EQ_INT(sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, NULL, &E, MASK, &st, WS,
                                         sizeof WS), SFM_E_ARGUMENT);
     double keep = P1[17];
     P1[17] = (double)NAN;
@@ -230,7 +230,7 @@ SFM_TEST(relpose_contract)
     bad.fx = 0.0;
     SFM_CHECK_EQ_INT(RP(P1, P2, NE, &cam, &bad, &opt, WS, sizeof WS), SFM_E_ARGUMENT);
     SFM_CHECK(sfm_test_canary_intact(&pose, sizeof pose));
-    SFM_CHECK(sfm_test_canary_intact(E, sizeof E));
+    SFM_CHECK(sfm_test_canary_intact(E.m, sizeof E.m));
     SFM_CHECK(sfm_test_canary_intact(MASK, sizeof MASK));
     SFM_CHECK(sfm_test_canary_intact(&st, sizeof st));
     /* exactly the reported size at an odd address works; NULL opt means defaults */
@@ -362,12 +362,12 @@ SFM_TEST(fundamental_recovers_epipolar_geometry)
         scene_twoview(t, &cam, NE, 0.4, 0.0, 0, C1, C2, TRUTH, R, tr);
         t->rng = keep;
         scene_twoview(t, &cam, NE, 0.4, 1.0, 0, P1, P2, TRUTH, R, tr);
-        double F[9];
+        sfm_mat3 F;
         sfm_ransac_stats st;
         sfm_ransac_options opt;
         sfm_ransac_default_options(&opt);
         opt.threshold = 1.5;
-        int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, F, MASK, &st, WS, sizeof WS);
+        int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, &F, MASK, &st, WS, sizeof WS);
         SFM_CHECK(ni >= 8);
         if (ni < 8)
             continue;
@@ -375,14 +375,14 @@ SFM_TEST(fundamental_recovers_epipolar_geometry)
         int m = 0;
         for (int i = 0; i < NE; i++)
             if (TRUTH[i])
-                d[m++] = epi_dist(F, C1 + 2 * i, C2 + 2 * i);
+                d[m++] = epi_dist(F.m, C1 + 2 * i, C2 + 2 * i);
         double med = scene_median(d, m);
         SFM_CHECK_MSG(med < 1.0, "median epipolar distance of true points %g px", med);
     }
-    double F[9];
-    SFM_CHECK_EQ_INT(sfm_ransac_fundamental(P1, P2, 7, NULL, NULL, NULL, F, NULL, NULL, WS, sizeof WS),
+    sfm_mat3 F;
+    SFM_CHECK_EQ_INT(sfm_ransac_fundamental(P1, P2, 7, NULL, NULL, NULL, &F, NULL, NULL, WS, sizeof WS),
                      SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_ransac_fundamental(P1, P2, NE, &cam, NULL, NULL, F, NULL, NULL, WS, sizeof WS),
+    SFM_CHECK_EQ_INT(sfm_ransac_fundamental(P1, P2, NE, &cam, NULL, NULL, &F, NULL, NULL, WS, sizeof WS),
                      SFM_E_ARGUMENT);
 }
 
@@ -413,16 +413,16 @@ SFM_TEST(fundamental_dominant_plane_degensac)
             P1[i] = C1[i] + sfm_test_normal(t, 0.5);
             P2[i] = C2[i] + sfm_test_normal(t, 0.5);
         }
-        double F[9];
+        sfm_mat3 F;
         sfm_ransac_stats st;
         sfm_ransac_options opt;
         sfm_ransac_default_options(&opt);
         opt.threshold = 1.5;
-        int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, F, NULL, &st, WS, sizeof WS);
+        int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, &F, NULL, &st, WS, sizeof WS);
         SFM_CHECK(ni >= 8);
         double d[NE];
         for (int i = 0; i < noff; i++)
-            d[i] = epi_dist(F, C1 + 2 * i, C2 + 2 * i);
+            d[i] = epi_dist(F.m, C1 + 2 * i, C2 + 2 * i);
         double med = scene_median(d, noff);
         ok += med < 2.0;
     }
@@ -441,11 +441,11 @@ SFM_TEST(homography_planar_scene)
         scene_twoview(t, &cam, NE, 0.5, 0.0, 1, C1, C2, TRUTH, R, tr);
         t->rng = keep;
         scene_twoview(t, &cam, NE, 0.5, 1.0, 1, P1, P2, TRUTH, R, tr);
-        double Hm[9];
+        sfm_mat3 Hm;
         sfm_ransac_options opt;
         sfm_ransac_default_options(&opt);
         opt.threshold = 3.0;
-        int ni = sfm_ransac_homography(P1, P2, NE, NULL, NULL, &opt, Hm, MASK, NULL, WS, sizeof WS);
+        int ni = sfm_ransac_homography(P1, P2, NE, NULL, NULL, &opt, &Hm, MASK, NULL, WS, sizeof WS);
         SFM_CHECK(ni >= 4);
         double d[NE];
         int m = 0;
@@ -453,9 +453,9 @@ SFM_TEST(homography_planar_scene)
             if (!TRUTH[i])
                 continue;
             const double *x = C1 + 2 * i, *y = C2 + 2 * i;
-            double w = Hm[6] * x[0] + Hm[7] * x[1] + Hm[8];
-            double u = (Hm[0] * x[0] + Hm[1] * x[1] + Hm[2]) / w - y[0];
-            double v = (Hm[3] * x[0] + Hm[4] * x[1] + Hm[5]) / w - y[1];
+            double w = Hm.m[6] * x[0] + Hm.m[7] * x[1] + Hm.m[8];
+            double u = (Hm.m[0] * x[0] + Hm.m[1] * x[1] + Hm.m[2]) / w - y[0];
+            double v = (Hm.m[3] * x[0] + Hm.m[4] * x[1] + Hm.m[5]) / w - y[1];
             d[m++] = sqrt(u * u + v * v);
         }
         /* 1 px noise in both images, ~80 inliers: the fit itself is off by ~0.5 px */

@@ -333,14 +333,15 @@ SFM_TEST(fundamental_degensac_flag_dominant_plane)
     int trials = SFM_TEST_ITERS(12), flagged = 0, good = 0;
     double worst = 0.0, worst_e = 0.0;
     for (int k = 0; k < trials; k++) {
-        double R[9], tr[3], F[9], Ft[9];
+        double R[9], tr[3], Ft[9];
+        sfm_mat3 F;
         const int noff = ND / 10, nout = ND / 5;
         dominant_plane(t, noff, nout, R, tr);
         sfm_ransac_options opt;
         sfm_ransac_default_options(&opt);
         opt.threshold = 1.5;
         sfm_ransac_stats st;
-        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, &F, NULL, &st, DWS,
                                         sizeof DWS);
         SFM_CHECK(ni >= 8);
         if (ni < 8)
@@ -350,8 +351,8 @@ SFM_TEST(fundamental_degensac_flag_dominant_plane)
          * epipolar lines of F, and the epipoles agree */
         double d[ND];
         for (int i = 0; i < noff; i++)
-            d[i] = sym_epi(F, E1 + 2 * i, E2 + 2 * i);
-        double med = scene_median(d, noff), ee = epipole_err_deg(F, R, tr);
+            d[i] = sym_epi(F.m, E1 + 2 * i, E2 + 2 * i);
+        double med = scene_median(d, noff), ee = epipole_err_deg(F.m, R, tr);
         true_f(R, tr, Ft);
         double et = epipole_err_deg(Ft, R, tr);
         SFM_CHECK(et < 1e-6);
@@ -371,13 +372,14 @@ SFM_TEST(fundamental_degensac_flag_quiet_on_general_scene)
     sfm_camera cam = scene_pinhole();
     int trials = SFM_TEST_ITERS(12), flagged = 0;
     for (int k = 0; k < trials; k++) {
-        double R[9], tr[3], F[9];
+        double R[9], tr[3];
+        sfm_mat3 F;
         scene_twoview(t, &cam, ND, 0.3, 0.5, 0, D1, D2, DT, R, tr);
         sfm_ransac_options opt;
         sfm_ransac_default_options(&opt);
         opt.threshold = 1.5;
         sfm_ransac_stats st;
-        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, F, NULL, &st, DWS,
+        int ni = sfm_ransac_fundamental(D1, D2, ND, NULL, NULL, &opt, &F, NULL, &st, DWS,
                                         sizeof DWS);
         SFM_CHECK(ni >= 8);
         flagged += ni >= 8 && (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;

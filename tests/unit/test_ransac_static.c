@@ -95,11 +95,12 @@ SFM_TEST(ransac_estimators_run_in_macro_sized_buffers)
     sfm_ransac_default_options(&opt);
     opt.threshold = 2.0;
     uint8_t mask[NS];
-    double R[9], tr[3], M[9];
+    double R[9], tr[3];
+    sfm_mat3 M;
     sfm_pose pose;
 
     scene_twoview(t, &cam, NS, 0.3, 0.5, 0, Q1, Q2, QT, R, tr);
-    int ni = sfm_ransac_relpose(Q1, Q2, NS, &cam, &cam, &opt, &pose, M, mask, NULL, WS_REL,
+    int ni = sfm_ransac_relpose(Q1, Q2, NS, &cam, &cam, &opt, &pose, &M, mask, NULL, WS_REL,
                                 sizeof WS_REL);
     SFM_CHECK(ni >= 5);
     if (ni >= 5) {
@@ -110,19 +111,19 @@ SFM_TEST(ransac_estimators_run_in_macro_sized_buffers)
     double d1[3], d2[3];
     sfm_test_random_unit(t, d1);
     scene_matvec(R, d1, d2);
-    ni = sfm_ransac_relpose_upright(Q1, Q2, NS, &cam, &cam, d1, d2, &opt, &pose, M, mask, NULL,
+    ni = sfm_ransac_relpose_upright(Q1, Q2, NS, &cam, &cam, d1, d2, &opt, &pose, &M, mask, NULL,
                                     WS_UP, sizeof WS_UP);
     SFM_CHECK(ni >= 3);
     if (ni >= 3)
         SFM_CHECK(scene_rot_err_deg(pose.R, R) < 1.0);
 
-    ni = sfm_ransac_fundamental(Q1, Q2, NS, NULL, NULL, &opt, M, mask, NULL, WS_F, sizeof WS_F);
+    ni = sfm_ransac_fundamental(Q1, Q2, NS, NULL, NULL, &opt, &M, mask, NULL, WS_F, sizeof WS_F);
     SFM_CHECK(ni >= 8);
     if (ni >= 8)
         SFM_CHECK(recall(mask) > 0.9);
 
     scene_twoview(t, &cam, NS, 0.3, 0.5, 1, Q1, Q2, QT, R, tr);
-    ni = sfm_ransac_homography(Q1, Q2, NS, NULL, NULL, &opt, M, mask, NULL, WS_H, sizeof WS_H);
+    ni = sfm_ransac_homography(Q1, Q2, NS, NULL, NULL, &opt, &M, mask, NULL, WS_H, sizeof WS_H);
     SFM_CHECK(ni >= 4);
     if (ni >= 4)
         SFM_CHECK(recall(mask) > 0.9);

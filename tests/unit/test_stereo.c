@@ -197,8 +197,8 @@ SFM_TEST(stereo_remap_is_bilinear)
     for (int i = 0; i < IW * IH; i++)
         g_left[i] = (uint8_t)sfm_test_uniform(t, 0, 256);
     /* rectified = source - (0.5, 0.25): the map reads source (u + 0.5, v + 0.25) */
-    double H[9] = {1, 0, -0.5, 0, 1, -0.25, 0, 0, 1};
-    SFM_CHECK_EQ_INT(sfm_stereo_homography_map(H, IW, IH, IW, IH, g_map, 2 * IW * IH), SFM_OK);
+    sfm_mat3 H = {{1, 0, -0.5, 0, 1, -0.25, 0, 0, 1}};
+    SFM_CHECK_EQ_INT(sfm_stereo_homography_map(&H, IW, IH, IW, IH, g_map, 2 * IW * IH), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_stereo_remap(g_left, IW, IH, IW, g_map, IW, IH, 7, g_right, IW), SFM_OK);
     int worst = 0, filled = 0;
     for (int v = 0; v < IH; v++)
@@ -231,7 +231,8 @@ SFM_TEST(stereo_uncalibrated_rectification_aligns_rows)
         /* F = K2^-T [t]_x R K1^-1 */
         double K1i[9] = {1 / c1.fx, 0, -c1.cx / c1.fx, 0, 1 / c1.fy, -c1.cy / c1.fy, 0, 0, 1};
         double K2i[9] = {1 / c2.fx, 0, -c2.cx / c2.fx, 0, 1 / c2.fy, -c2.cy / c2.fy, 0, 0, 1};
-        double Tx[9] = {0, -tv[2], tv[1], tv[2], 0, -tv[0], -tv[1], tv[0], 0}, E[9], A[9], F[9];
+        double Tx[9] = {0, -tv[2], tv[1], tv[2], 0, -tv[0], -tv[1], tv[0], 0}, E[9], A[9];
+        sfm_mat3 F;
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++) {
                 E[3 * r + c] = 0;
@@ -246,31 +247,33 @@ SFM_TEST(stereo_uncalibrated_rectification_aligns_rows)
             }
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++) {
-                F[3 * r + c] = 0;
+                F.m[3 * r + c] = 0;
                 for (int k = 0; k < 3; k++)
-                    F[3 * r + c] += K2i[3 * k + r] * A[3 * k + c];
+                    F.m[3 * r + c] += K2i[3 * k + r] * A[3 * k + c];
             }
-        double x1[2 * 80], x2[2 * 80], H1[9], H2[9], med, mx;
+        double x1[2 * 80], x2[2 * 80], med, mx;
+        sfm_mat3 H1, H2;
         int n = random_matches(t, &c1, &c2, R, tv, 640, 480, x1, x2, NULL, 80);
-        SFM_CHECK_EQ_INT(sfm_stereo_rectify_uncalibrated(F, x1, x2, n, 640, 480, H1, H2), SFM_OK);
-        SFM_CHECK(sfm_stereo_rectification_error(NULL, NULL, NULL, H1, H2, x1, x2, n, &med, &mx) == n);
+        SFM_CHECK_EQ_INT(sfm_stereo_rectify_uncalibrated(&F, x1, x2, n, 640, 480, &H1, &H2), SFM_OK);
+        SFM_CHECK(sfm_stereo_rectification_error(NULL, NULL, NULL, &H1, &H2, x1, x2, n, &med, &mx) == n);
         if (mx > worst)
             worst = mx;
         /* image 1 on the left: every match has a disparity >= 0 */
         for (int i = 0; i < n; i++) {
             double p[3] = {x1[2 * i], x1[2 * i + 1], 1}, q[3] = {x2[2 * i], x2[2 * i + 1], 1}, a[3], b[3];
-            matvec(H1, p, a);
-            matvec(H2, q, b);
+            matvec(H1.m, p, a);
+            matvec(H2.m, q, b);
             SFM_CHECK(a[0] / a[2] - b[0] / b[2] > -1e-6);
         }
     }
     SFM_TEST_LOG("max |v1 - v2| %.3g px", worst);
     SFM_CHECK(worst < 1e-6);
     /* forward motion: the epipole is inside the image */
-    double F[9] = {0, -1, 240, 1, 0, -320, -240, 320, 0}, x1[16], x2[16], H1[9], H2[9];
+    sfm_mat3 F = {{0, -1, 240, 1, 0, -320, -240, 320, 0}}, H1, H2;
+    double x1[16], x2[16];
     for (int i = 0; i < 16; i++)
         x1[i] = x2[i] = 100 + 7 * i;
-    SFM_CHECK_EQ_INT(sfm_stereo_rectify_uncalibrated(F, x1, x2, 8, 640, 480, H1, H2), SFM_E_SINGULAR);
+    SFM_CHECK_EQ_INT(sfm_stereo_rectify_uncalibrated(&F, x1, x2, 8, 640, 480, &H1, &H2), SFM_E_SINGULAR);
 }
 
 /* Left and right images of a scene with disparity d_top in the upper half

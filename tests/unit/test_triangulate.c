@@ -174,25 +174,25 @@ SFM_TEST(triangulate_fundamental_from_projections)
     static scene s;
     for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
         make_scene(t, &s, 2, 16, 5.0, 0.0);
-        double F[9];
-        SFM_CHECK_EQ_INT(sfm_fundamental_from_projections(s.Pp, s.Pp + 12, F), SFM_OK);
+        sfm_mat3 F;
+        SFM_CHECK_EQ_INT(sfm_fundamental_from_projections(s.Pp, s.Pp + 12, &F), SFM_OK);
         for (int j = 0; j < s.np; j++) {
             const double *a = s.xp + 2 * j, *b = s.xp + 2 * (s.np + j);
             double Fa[3];
             for (int r = 0; r < 3; r++)
-                Fa[r] = F[3 * r] * a[0] + F[3 * r + 1] * a[1] + F[3 * r + 2];
+                Fa[r] = F.m[3 * r] * a[0] + F.m[3 * r + 1] * a[1] + F.m[3 * r + 2];
             double e = b[0] * Fa[0] + b[1] * Fa[1] + Fa[2];
             /* distance of b to the epipolar line, pixels */
             SFM_CHECK(fabs(e) / hypot(Fa[0], Fa[1]) < 1e-8);
         }
     }
-    double F[9];
+    sfm_mat3 F;
     static scene s2;
     make_scene(t, &s2, 2, 1, 5.0, 0.0);
     double P2[12];
     memcpy(P2, s2.Pp, sizeof P2);
     /* same centre: F = 0 */
-    SFM_CHECK_EQ_INT(sfm_fundamental_from_projections(s2.Pp, P2, F), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_fundamental_from_projections(s2.Pp, P2, &F), SFM_E_ARGUMENT);
 }
 
 SFM_TEST(triangulate_optimal_beats_dlt_with_noise)

@@ -122,11 +122,12 @@ SFM_TEST(trifocal_incidence_epipoles_fundamentals_transfer)
 {
     int bad = 0;
     for (int it = 0; it < SFM_TEST_ITERS(200); it++) {
-        double P[3][12], T[27], e2[3], e3[3], F21[9], F31[9], F32[9];
+        double P[3][12], T[27], e2[3], e3[3];
+        sfm_mat3 F21, F31, F32;
         three_cameras(t, P);
         SFM_CHECK_EQ_INT(sfm_trifocal_from_cameras(P[0], P[1], P[2], T), SFM_OK);
         SFM_CHECK_EQ_INT(sfm_trifocal_epipoles(T, e2, e3), SFM_OK);
-        SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, F21, F31, F32), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, &F21, &F31, &F32), SFM_OK);
         /* Epipoles are the images of the first camera centre. */
         double A[12], S[3], V[16], C[4], ws_buf[1024];
         memcpy(A, P[0], sizeof A);
@@ -175,13 +176,13 @@ SFM_TEST(trifocal_incidence_epipoles_fundamentals_transfer)
             double f21 = 0, f31 = 0, f32 = 0;
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++) {
-                    f21 += h[1][r] * F21[r * 3 + c] * h[0][c];
-                    f31 += h[2][r] * F31[r * 3 + c] * h[0][c];
-                    f32 += h[2][r] * F32[r * 3 + c] * h[1][c];
+                    f21 += h[1][r] * F21.m[r * 3 + c] * h[0][c];
+                    f31 += h[2][r] * F31.m[r * 3 + c] * h[0][c];
+                    f32 += h[2][r] * F32.m[r * 3 + c] * h[1][c];
                 }
             SFM_CHECK(fabs(f21) < 1e-10 && fabs(f31) < 1e-10 && fabs(f32) < 1e-10);
             double x3[2];
-            int st = sfm_trifocal_transfer(T, F21, x[0], x[1], x3);
+            int st = sfm_trifocal_transfer(T, &F21, x[0], x[1], x3);
             if (st != SFM_OK || hypot(x3[0] - x[2][0], x3[1] - x[2][1]) > 1e-6)
                 bad++;
         }
@@ -251,7 +252,8 @@ SFM_TEST(trifocal_7pt_transfer_error_near_noise_floor)
     double sum = 0;
     int cnt = 0;
     for (int it = 0; it < SFM_TEST_ITERS(50); it++) {
-        double P[3][12], Te[27], F21[9], x1[2 * 100], x2[2 * 100], x3[2 * 100];
+        double P[3][12], Te[27], x1[2 * 100], x2[2 * 100], x3[2 * 100];
+        sfm_mat3 F21;
         double y1[2 * 100], y2[2 * 100], y3[2 * 100];
         three_cameras(t, P);
         if (!make_triplets(t, P, 100, x1, x2, x3, 0.0))
@@ -265,11 +267,11 @@ SFM_TEST(trifocal_7pt_transfer_error_near_noise_floor)
             y3[k] += sfm_test_normal(t, 0.5);
         }
         SFM_CHECK_EQ_INT(sfm_trifocal_7pt(y1, y2, y3, 100, Te, tf_ws, sizeof tf_ws), SFM_OK);
-        SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Te, F21, NULL, NULL), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(Te, &F21, NULL, NULL), SFM_OK);
         /* transfer noise-free x1, x2 through the estimated tensor */
         for (int p = 0; p < 100; p++) {
             double x3p[2];
-            if (sfm_trifocal_transfer(Te, F21, &x1[2 * p], &x2[2 * p], x3p) != SFM_OK)
+            if (sfm_trifocal_transfer(Te, &F21, &x1[2 * p], &x2[2 * p], x3p) != SFM_OK)
                 continue;
             sum += hypot(x3p[0] - x3[2 * p], x3p[1] - x3[2 * p + 1]);
             cnt++;
@@ -293,9 +295,10 @@ SFM_TEST(trifocal_rejects_match_on_shared_epipolar_line)
             for (int c = 0; c < 4; c++)
                 P[v][r * 4 + c] = c < 3 ? K[r * 3 + c] : -(K[r * 3] * C[0] + K[r * 3 + 1] * C[1] + K[r * 3 + 2] * C[2]);
     }
-    double T[27], F21[9], F31[9], F32[9];
+    double T[27];
+    sfm_mat3 F21, F31, F32;
     SFM_CHECK_EQ_INT(sfm_trifocal_from_cameras(P[0], P[1], P[2], T), SFM_OK);
-    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, F21, F31, F32), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_trifocal_fundamentals(T, &F21, &F31, &F32), SFM_OK);
     int caught = 0;
     for (int it = 0; it < 20; it++) {
         double X[3] = {sfm_test_uniform(t, -1, 1), sfm_test_uniform(t, -1, 1), sfm_test_uniform(t, 3, 6)};
@@ -305,7 +308,7 @@ SFM_TEST(trifocal_rejects_match_on_shared_epipolar_line)
         double l[3];
         const double h1[3] = {x[0][0], x[0][1], 1};
         for (int r = 0; r < 3; r++)
-            l[r] = F31[r * 3] * h1[0] + F31[r * 3 + 1] * h1[1] + F31[r * 3 + 2] * h1[2];
+            l[r] = F31.m[r * 3] * h1[0] + F31.m[r * 3 + 1] * h1[1] + F31.m[r * 3 + 2] * h1[2];
         double dn = hypot(l[0], l[1]);
         double w[2] = {x[2][0] + 15.0 * l[1] / dn, x[2][1] - 15.0 * l[0] / dn};
         /* pairwise epipolar distances of the wrong triplet stay tiny */
@@ -313,7 +316,7 @@ SFM_TEST(trifocal_rejects_match_on_shared_epipolar_line)
         double d31 = 0, d32 = 0, l32[3];
         for (int r = 0; r < 3; r++) {
             d31 += hw[r] * l[r];
-            l32[r] = F32[r * 3] * h2[0] + F32[r * 3 + 1] * h2[1] + F32[r * 3 + 2] * h2[2];
+            l32[r] = F32.m[r * 3] * h2[0] + F32.m[r * 3 + 1] * h2[1] + F32.m[r * 3 + 2] * h2[2];
             d32 += hw[r] * l32[r];
         }
         d31 = fabs(d31) / dn;

@@ -72,7 +72,7 @@ static sfm_vo *start_default(sfm_test_ctx *t)
     sfm_vo_params p;
     setup(&d, &p);
     sfm_vo *vo = NULL;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, VWS), SFM_OK);
     make_texture(t);
     return vo;
 }
@@ -94,33 +94,33 @@ SFM_TEST(vo_contract)
     SFM_CHECK_EQ_INT(sfm_vo_default_params(NULL, &p), SFM_E_ARGUMENT);
 
     sfm_vo *vo = NULL;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, need - 1, &vo), SFM_E_WORKSPACE);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, need - 1), SFM_E_WORKSPACE);
     SFM_CHECK(vo == NULL);
-    SFM_CHECK_EQ_INT(sfm_vo_init(NULL, &p, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, NULL, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, NULL, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(NULL, &p, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, NULL, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, NULL, need), SFM_E_ARGUMENT);
     sfm_vo_params q = p;
     q.calibrated = 0;
     q.camera.model = SFM_CAMERA_FISHEYE; /* self-calibration finds a pinhole camera only */
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_UNSUPPORTED);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_UNSUPPORTED);
     SFM_CHECK(vo == NULL);
     q = p;
     q.calibrated = 2;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
     q = p;
     q.threshold = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_NONFINITE);
     q = p;
     q.camera.fx = 0;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
     q = p;
     q.window = VWIN + 1; /* above the workspace's window */
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
     q = p;
     q.max_features = VNF + 1;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, g_vo_ws, need, &vo), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &vo, g_vo_ws, need), SFM_E_ARGUMENT);
     SFM_CHECK(vo == NULL);
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, need, &vo), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, need), SFM_OK);
     SFM_CHECK(vo != NULL);
 
     make_texture(t);
@@ -259,7 +259,7 @@ SFM_TEST(vo_time_budget_degrades)
     p.frame_budget = 0.006;
     p.min_inliers = 8; /* a quarter of the features must still initialise */
     sfm_vo *vo;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, VWS), SFM_OK);
     make_texture(t);
     sfm_image_u8 img = {g_frame, VW, VH, VW};
     int fewer = 0, skipped = 0, min_feat = VNF, kf_tracked = 0, states[5] = {0};
@@ -303,7 +303,7 @@ SFM_TEST(vo_self_calibration_refuses_pure_translation)
     setup(&d, &p);
     p.calibrated = 0;
     sfm_vo *vo;
-    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, g_vo_ws, VWS, &vo), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, VWS), SFM_OK);
     make_texture(t);
     sfm_image_u8 img = {g_frame, VW, VH, VW};
     for (int k = 0; k < 20; k++) {
