@@ -36,14 +36,17 @@ def pair():
     return q(L), q(R), scene.FX * 0.3 / Z
 
 
-def timed(fn, reps):
-    fn()
-    ts = []
+def timed_all(fns, reps):
+    """Every matcher once per repetition, in turn, so that a slow spell of
+    the machine hits them alike; returns (output, ms per repetition) each."""
+    outs = [fn() for fn in fns]
+    ts = [[] for _ in fns]
     for _ in range(reps):
-        t0 = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t0)
-    return out, 1e3 * min(ts), 1e3 * float(np.median(ts))
+        for k, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            outs[k] = fn()
+            ts[k].append(1e3 * (time.perf_counter() - t0))
+    return outs, [np.array(t) for t in ts]
 
 
 def quality(d, truth):
@@ -72,26 +75,26 @@ def main():
     lib.sfm_stereo_sgm_default_options(so)
     bo = ffi.new("sfm_stereo_block_options *")
     lib.sfm_stereo_block_default_options(bo)
-    rows = []
-    for name, fn, anchor in (
-            ("libsfm SGM, 5 paths", lambda: libsfm.disparity_sgm(L, R, ND), "sgbm"),
+    runs = (("libsfm SGM, 5 paths", lambda: libsfm.disparity_sgm(L, R, ND), "sgbm"),
             ("libsfm SGM, 8 paths", lambda: libsfm.disparity_sgm(L, R, ND, paths=8), "sgbm"),
             ("OpenCV StereoSGBM", lambda: cv_disp(sgbm.compute(L, R)), None),
             ("libsfm block (MW-SAD r=2)", lambda: libsfm.disparity_block(L, R, ND), "bm"),
-            ("OpenCV StereoBM 7x7", lambda: cv_disp(bm.compute(L, R)), None)):
-        d, best, med = timed(fn, a.reps)
-        rows.append((name, best, med, quality(d, truth), anchor))
-    t = {r[0]: r[1] for r in rows}
-    ref = {"sgbm": t["OpenCV StereoSGBM"], "bm": t["OpenCV StereoBM 7x7"]}
+            ("OpenCV StereoBM 7x7", lambda: cv_disp(bm.compute(L, R)), None))
+    outs, ts = timed_all([r[1] for r in runs], a.reps)
+    rows = [(name, float(t.min()), float(np.median(t)), quality(d, truth), anchor, t)
+            for (name, _, anchor), d, t in zip(runs, outs, ts)]
+    tt = {r[0]: r[5] for r in rows}
+    ref = {"sgbm": tt["OpenCV StereoSGBM"], "bm": tt["OpenCV StereoBM 7x7"]}
     ws = {"libsfm SGM, 5 paths": lib.sfm_stereo_sgm_workspace_size(w, h, so),
           "libsfm block (MW-SAD r=2)": lib.sfm_stereo_block_workspace_size(w, h, bo)}
     so.paths = 8
     ws["libsfm SGM, 8 paths"] = lib.sfm_stereo_sgm_workspace_size(w, h, so)
     print("%dx%d, %d disparities, single thread, %d repetitions" % (w, h, ND, a.reps))
+    print("ratio: the median over repetitions of this matcher's time over its anchor's in the same repetition")
     print("%-28s %9s %9s %7s %10s %7s %7s %7s" % ("matcher", "best ms", "med ms", "ratio", "ws bytes",
                                                 "valid", "bad-1", "bad-2"))
-    for name, best, med, (v, b1, b2), anchor in rows:
-        ratio = "%.2f" % (best / ref[anchor]) if anchor else "-"
+    for name, best, med, (v, b1, b2), anchor, t in rows:
+        ratio = "%.2f" % float(np.median(t / ref[anchor])) if anchor else "-"
         print("%-28s %9.2f %9.2f %7s %10s %7.3f %7.4f %7.4f" % (name, best, med, ratio,
                                                               ws.get(name, "-"), v, b1, b2))
 
