@@ -24,6 +24,21 @@ static inline int sfmi_la_all_finite(const double *a, size_t n)
     return 1;
 }
 
+/* R (row-major 3x3) is a proper rotation: R^T R within tol of I in every
+ * entry and det R > 0 (NaN fails). */
+static inline int sfmi_la_is_rotation(const double *R, double tol)
+{
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            double s = R[r] * R[c] + R[3 + r] * R[3 + c] + R[6 + r] * R[6 + c];
+            if (!(fabs(s - (r == c ? 1.0 : 0.0)) <= tol))
+                return 0;
+        }
+    double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+                 R[2] * (R[3] * R[7] - R[4] * R[6]);
+    return det > 0.0;
+}
+
 static inline double sfmi_la_max_abs(const double *a, size_t n)
 {
     double m = 0.0;

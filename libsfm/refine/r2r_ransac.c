@@ -18,6 +18,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/arena.h"
 #include "sfm/sfm_r2r.h"
 #include "sfm/sfm_ransac.h"
@@ -237,27 +238,6 @@ size_t sfm_r2r_ransac_workspace_size(int n_steps)
     return sfmi_arena_required(&a);
 }
 
-static int all_finite(const double *x, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(x[i]))
-            return 0;
-    return 1;
-}
-
-static int is_rotation(const double *R)
-{
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double d = R[i] * R[j] + R[3 + i] * R[3 + j] + R[6 + i] * R[6 + j];
-            if (fabs(d - (i == j ? 1.0 : 0.0)) > 1e-6)
-                return 0;
-        }
-    const double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
-                       R[2] * (R[3] * R[7] - R[4] * R[6]);
-    return det > 0.0;
-}
-
 /* The step checks sfm_r2r_refine applies, needed here before any sample is
  * drawn (a bad step must be refused, not outvoted). */
 static int check_steps(const sfm_r2r_step *s, int n, int *neq)
@@ -267,16 +247,16 @@ static int check_steps(const sfm_r2r_step *s, int n, int *neq)
         const unsigned h = s[k].has;
         if (h & ~(SFM_R2R_D | SFM_R2R_B1 | SFM_R2R_B2))
             return SFM_E_ARGUMENT;
-        if (!all_finite(s[k].R1.m, 9) || !all_finite(s[k].t1.v, 3) ||
-            !all_finite(s[k].R2.m, 9) || !all_finite(s[k].t2.v, 3) ||
+        if (!sfmi_la_all_finite(s[k].R1.m, 9) || !sfmi_la_all_finite(s[k].t1.v, 3) ||
+            !sfmi_la_all_finite(s[k].R2.m, 9) || !sfmi_la_all_finite(s[k].t2.v, 3) ||
             ((h & SFM_R2R_D) && !isfinite(s[k].d)) ||
-            ((h & SFM_R2R_B1) && !all_finite(s[k].b1.v, 3)) ||
-            ((h & SFM_R2R_B2) && !all_finite(s[k].b2.v, 3)))
+            ((h & SFM_R2R_B1) && !sfmi_la_all_finite(s[k].b1.v, 3)) ||
+            ((h & SFM_R2R_B2) && !sfmi_la_all_finite(s[k].b2.v, 3)))
             return SFM_E_NONFINITE;
         if (((h & SFM_R2R_D) && !(s[k].d > 0.0)) ||
             ((h & SFM_R2R_B1) && !(norm3(s[k].b1.v) > 0.0)) ||
             ((h & SFM_R2R_B2) && !(norm3(s[k].b2.v) > 0.0)) ||
-            !is_rotation(s[k].R1.m) || !is_rotation(s[k].R2.m))
+            !sfmi_la_is_rotation(s[k].R1.m, 1e-6) || !sfmi_la_is_rotation(s[k].R2.m, 1e-6))
             return SFM_E_ARGUMENT;
         *neq += ((h & SFM_R2R_D) ? 1 : 0) + ((h & SFM_R2R_B1) ? 2 : 0) + ((h & SFM_R2R_B2) ? 2 : 0);
     }
@@ -306,7 +286,7 @@ int sfm_r2r_ransac(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_ransac_
     else
         o = *opt;
     const double ov[3] = {o.refine.sigma_d, o.refine.sigma_b, o.ransac.threshold};
-    if (!all_finite(ov, 3))
+    if (!sfmi_la_all_finite(ov, 3))
         return SFM_E_NONFINITE;
     if (!(o.refine.sigma_d > 0.0) || !(o.refine.sigma_b > 0.0) || !(o.ransac.threshold > 0.0))
         return SFM_E_ARGUMENT;

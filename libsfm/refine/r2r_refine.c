@@ -25,7 +25,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/lm.h"
+#include "robust/epipolar.h"
 #include "sfm/sfm_r2r.h"
 
 /* Below this |w| (relative to the positions' scale) the robots coincide and
@@ -65,24 +67,6 @@ static double dot(const double *a, const double *b)
 
 /* e1, e2 completing the unit vector n to an orthonormal basis (the axis
  * least aligned with n crossed in, so the basis is a fixed function of n). */
-static void tangent_basis(const double *n, double *e1, double *e2)
-{
-    double a[3] = {0.0, 0.0, 0.0};
-    double ax = fabs(n[0]), ay = fabs(n[1]), az = fabs(n[2]);
-    if (ax <= ay && ax <= az)
-        a[0] = 1.0;
-    else if (ay <= az)
-        a[1] = 1.0;
-    else
-        a[2] = 1.0;
-    cross(n, a, e1);
-    double l = sqrt(dot(e1, e1));
-    e1[0] /= l;
-    e1[1] /= l;
-    e1[2] /= l;
-    cross(n, e1, e2);
-}
-
 /* Tangent residuals of the measured bearing m (not necessarily unit) against
  * the predicted direction v; with dv (3 x 6, row-major: d v / d (w, p)) the
  * two Jacobian rows into J (2 x 6). */
@@ -95,7 +79,7 @@ static void bearing_residual(const double *m, const double *v, const double *dv,
         mu[i] = m[i] / mn;
         u[i] = v[i] / vn;
     }
-    tangent_basis(mu, e[0], e[1]);
+    sfmi_tangent_basis(mu, e[0], e[1]);
     for (int k = 0; k < 2; k++) {
         double rk = dot(e[k], u);
         r[k] = rk * inv_sb;
@@ -199,44 +183,23 @@ int sfm_r2r_refine_default_options(sfm_r2r_refine_options *opt)
     return SFM_OK;
 }
 
-static int all_finite(const double *a, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(a[i]))
-            return 0;
-    return 1;
-}
-
 /* R^T R = I within tol and det R > 0. */
-static int is_rotation(const double *R, double tol)
-{
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double s = R[i] * R[j] + R[3 + i] * R[3 + j] + R[6 + i] * R[6 + j];
-            if (fabs(s - (i == j ? 1.0 : 0.0)) > tol)
-                return 0;
-        }
-    double c[3];
-    cross(R, R + 3, c);
-    return dot(c, R + 6) > 0.0;
-}
-
 /* Status of one step's content: SFM_OK, SFM_E_NONFINITE, SFM_E_ARGUMENT;
  * adds its equations to *neq. */
 static int check_step(const sfm_r2r_step *s, int *neq)
 {
     if (s->has & ~(SFM_R2R_D | SFM_R2R_B1 | SFM_R2R_B2))
         return SFM_E_ARGUMENT;
-    if (!all_finite(s->R1.m, 9) || !all_finite(s->t1.v, 3) || !all_finite(s->R2.m, 9) ||
-        !all_finite(s->t2.v, 3))
+    if (!sfmi_la_all_finite(s->R1.m, 9) || !sfmi_la_all_finite(s->t1.v, 3) || !sfmi_la_all_finite(s->R2.m, 9) ||
+        !sfmi_la_all_finite(s->t2.v, 3))
         return SFM_E_NONFINITE;
     if ((s->has & SFM_R2R_D) && !isfinite(s->d))
         return SFM_E_NONFINITE;
-    if ((s->has & SFM_R2R_B1) && !all_finite(s->b1.v, 3))
+    if ((s->has & SFM_R2R_B1) && !sfmi_la_all_finite(s->b1.v, 3))
         return SFM_E_NONFINITE;
-    if ((s->has & SFM_R2R_B2) && !all_finite(s->b2.v, 3))
+    if ((s->has & SFM_R2R_B2) && !sfmi_la_all_finite(s->b2.v, 3))
         return SFM_E_NONFINITE;
-    if (!is_rotation(s->R1.m, 1e-6) || !is_rotation(s->R2.m, 1e-6))
+    if (!sfmi_la_is_rotation(s->R1.m, 1e-6) || !sfmi_la_is_rotation(s->R2.m, 1e-6))
         return SFM_E_ARGUMENT;
     if ((s->has & SFM_R2R_D) && !(s->d > 0.0))
         return SFM_E_ARGUMENT;
@@ -253,7 +216,7 @@ static int check_options(const sfm_r2r_refine_options *o)
 {
     const double v[6] = {o->sigma_d, o->sigma_b, o->function_tolerance, o->gradient_tolerance,
                          o->step_tolerance, o->loss_scale};
-    if (!all_finite(v, 6))
+    if (!sfmi_la_all_finite(v, 6))
         return SFM_E_NONFINITE;
     if (!(o->sigma_d > 0.0) || !(o->sigma_b > 0.0) || o->max_iterations < 0 ||
         o->function_tolerance < 0.0 || o->gradient_tolerance < 0.0 || o->step_tolerance < 0.0)
@@ -290,9 +253,9 @@ int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transfo
     }
     if (neq < 6)
         return SFM_E_ARGUMENT;
-    if (!all_finite(init->C.m, 9) || !all_finite(init->p.v, 3))
+    if (!sfmi_la_all_finite(init->C.m, 9) || !sfmi_la_all_finite(init->p.v, 3))
         return SFM_E_NONFINITE;
-    if (!is_rotation(init->C.m, 1e-6))
+    if (!sfmi_la_is_rotation(init->C.m, 1e-6))
         return SFM_E_ARGUMENT;
 
     double C[9], p[3];
@@ -324,7 +287,7 @@ int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transfo
         return SFM_E_DEGENERATE;
     /* the driver's SO(3) update keeps C a rotation to rounding; re-project
      * nothing, but refuse a result that left the manifold */
-    if (!is_rotation(C, 1e-9) || !all_finite(p, 3))
+    if (!sfmi_la_is_rotation(C, 1e-9) || !sfmi_la_all_finite(p, 3))
         return SFM_E_NO_CONVERGENCE;
     memcpy(out->C.m, C, sizeof C);
     memcpy(out->p.v, p, sizeof p);

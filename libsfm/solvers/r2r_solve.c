@@ -67,6 +67,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "core/arena.h"
 #include "sfm/sfm_r2r.h"
 #include "solvers/r2r_solve_internal.h"
@@ -192,27 +193,6 @@ static double dist3(const double *a, const double *b)
     return norm3(d);
 }
 
-static int all_finite(const double *x, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (!isfinite(x[i]))
-            return 0;
-    return 1;
-}
-
-static int is_rotation(const double *R)
-{
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) {
-            double s = R[3 * r] * R[3 * c] + R[3 * r + 1] * R[3 * c + 1] + R[3 * r + 2] * R[3 * c + 2];
-            if (fabs(s - (r == c ? 1.0 : 0.0)) > ROT_TOL)
-                return 0;
-        }
-    double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
-                 R[2] * (R[3] * R[7] - R[4] * R[6]);
-    return det > 0.0;
-}
-
 /* Arguments of every step: the statuses of sfm_r2r_classify / solve. Writes
  * the number of scalar equations. */
 static int check_steps(const sfm_r2r_step *s, int n, int *eqs)
@@ -222,16 +202,16 @@ static int check_steps(const sfm_r2r_step *s, int n, int *eqs)
         const sfm_r2r_step *st = s + k;
         if (st->has & ~7u)
             return SFM_E_ARGUMENT;
-        if (!all_finite(st->R1.m, 9) || !all_finite(st->t1.v, 3) || !all_finite(st->R2.m, 9) ||
-            !all_finite(st->t2.v, 3))
+        if (!sfmi_la_all_finite(st->R1.m, 9) || !sfmi_la_all_finite(st->t1.v, 3) || !sfmi_la_all_finite(st->R2.m, 9) ||
+            !sfmi_la_all_finite(st->t2.v, 3))
             return SFM_E_NONFINITE;
-        if (((st->has & D_) && !isfinite(st->d)) || ((st->has & B1_) && !all_finite(st->b1.v, 3)) ||
-            ((st->has & B2_) && !all_finite(st->b2.v, 3)))
+        if (((st->has & D_) && !isfinite(st->d)) || ((st->has & B1_) && !sfmi_la_all_finite(st->b1.v, 3)) ||
+            ((st->has & B2_) && !sfmi_la_all_finite(st->b2.v, 3)))
             return SFM_E_NONFINITE;
     }
     for (int k = 0; k < n; k++) {
         const sfm_r2r_step *st = s + k;
-        if (!is_rotation(st->R1.m) || !is_rotation(st->R2.m))
+        if (!sfmi_la_is_rotation(st->R1.m, ROT_TOL) || !sfmi_la_is_rotation(st->R2.m, ROT_TOL))
             return SFM_E_ARGUMENT;
         if ((st->has & D_) && !(st->d > 0.0))
             return SFM_E_ARGUMENT;
@@ -358,8 +338,8 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
 {
     if (!step || !T)
         return SFM_E_ARGUMENT;
-    if (!all_finite(step->R1.m, 9) || !all_finite(step->t1.v, 3) || !all_finite(step->R2.m, 9) ||
-        !all_finite(step->t2.v, 3) || !all_finite(T->C.m, 9) || !all_finite(T->p.v, 3))
+    if (!sfmi_la_all_finite(step->R1.m, 9) || !sfmi_la_all_finite(step->t1.v, 3) || !sfmi_la_all_finite(step->R2.m, 9) ||
+        !sfmi_la_all_finite(step->t2.v, 3) || !sfmi_la_all_finite(T->C.m, 9) || !sfmi_la_all_finite(T->p.v, 3))
         return SFM_E_NONFINITE;
     double v[3], w[3], u1[3], u2[3];
     mv(T->C.m, step->t2.v, v);
@@ -376,7 +356,7 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
             u1[i] /= r;
             u2[i] = -u2[i] / r;
         }
-        if (!all_finite(u1, 3) || !all_finite(u2, 3))
+        if (!sfmi_la_all_finite(u1, 3) || !sfmi_la_all_finite(u2, 3))
             return SFM_E_NONFINITE;
     }
     if (!isfinite(r))
@@ -605,7 +585,7 @@ SFM_API size_t sfm_r2r_solve_workspace_size(int n_steps)
 /* RMS of the dimensionless residuals of T on all measurements. */
 static double score_all(const sfm_r2r_step *s, int n, const sfm_r2r_transform *T)
 {
-    if (!all_finite(T->C.m, 9) || !all_finite(T->p.v, 3))
+    if (!sfmi_la_all_finite(T->C.m, 9) || !sfmi_la_all_finite(T->p.v, 3))
         return HUGE_VAL;
     double sum = 0.0;
     int e = 0;

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_stereo.h"
@@ -17,20 +18,6 @@
 #include "stereo/stereo_internal.h"
 
 #define BORDER_SAMPLES 24 /* per image side */
-
-static int is_rotation(const double *R)
-{
-    double RtR[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            RtR[3 * r + c] = R[r] * R[c] + R[3 + r] * R[3 + c] + R[6 + r] * R[6 + c];
-    for (int i = 0; i < 9; i++)
-        if (fabs(RtR[i] - (i % 4 == 0 ? 1.0 : 0.0)) > 1e-4)
-            return 0;
-    double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
-                 R[2] * (R[3] * R[7] - R[4] * R[6]);
-    return fabs(det - 1.0) <= 1e-4;
-}
 
 /* Where the border of one image lands in rectified normalized coordinates:
  * the outer box of all border samples, and the inner rectangle bounded by
@@ -147,7 +134,7 @@ int sfm_stereo_rectify(const sfm_camera *cam1, const sfm_camera *cam2, int width
         return SFM_E_ARGUMENT;
     if (!(alpha == -1.0 || (alpha >= 0.0 && alpha <= 1.0)))
         return SFM_E_ARGUMENT;
-    if (!is_rotation(R))
+    if (!sfmi_la_is_rotation(R, 1e-4))
         return SFM_E_ARGUMENT;
     /* Rotations read from files carry a few digits only: use the nearest
      * rotation, so that the rectified frames are exactly orthonormal. */
