@@ -68,8 +68,9 @@ void sfm_test_fail(sfm_test_ctx *t, const char *file, int line, const char *fmt,
     } while (0)
 
 /* Loop counts for randomized tests: full on a host, a tenth on targets that
- * run under full-system emulation (built with -DSFM_TEST_REDUCED), where the
- * point is to prove the code runs there, not to repeat the statistics. */
+ * run under emulation (qemu-system-arm and qemu-aarch64; built with
+ * -DSFM_TEST_REDUCED), where the point is to prove the code runs there, not
+ * to repeat the statistics. */
 #ifdef SFM_TEST_REDUCED
 #define SFM_TEST_ITERS(n) (((n) / 10) > 0 ? ((n) / 10) : 1)
 #else
