@@ -354,16 +354,6 @@ static void refits(const engine *e, int rounds, double *model, double *score, in
 #define INNER_SAMPLES 40
 /* Inner RANSACs in a row while each improves the best model. */
 #define INNER_REPEATS 3
-/* Inner candidates whose raw MSAC cost is within this fraction of the
- * current model's get refits of their own, at most INNER_REFITS per inner
- * RANSAC. A raw minimal model seldom beats an already refitted one, so
- * without this an inner sample that lands in another basin of the
- * rotation-translation valley is never refitted and never compared; at a
- * threshold of twice the noise the refitted right basin wins on MSAC where
- * the raw model loses (relative pose, small baselines, 2 px: 90th
- * percentile of the direction error 1.49 -> 1.11 deg over 60 scenes). */
-#define INNER_MARGIN 0.05
-#define INNER_REFITS 6
 
 /* Inner RANSAC of LO-RANSAC (Chum, Matas & Kittler 2003, section 3): minimal
  * samples drawn from the model's points within the LO band, solved and
@@ -371,16 +361,12 @@ static void refits(const engine *e, int rounds, double *model, double *score, in
  * A noisy sample often lands in a wrong local minimum that explains part of
  * the inliers (for relative pose: along the rotation-translation valley);
  * the refits cannot leave it, but most samples from its support are clean
- * and reach the right one; the near candidates are refitted before they are
- * compared (INNER_MARGIN). rounds: refit rounds per candidate. Returns 1
- * when *model changed. */
-static int inner_ransac(const engine *e, int early, int rounds, sfm_rng *rng, double *model,
-                        double *score, int *ninl)
+ * and reach the right one. Returns 1 when *model changed. */
+static int inner_ransac(const engine *e, int early, sfm_rng *rng, double *model, double *score,
+                        int *ninl)
 {
-    int polished_cands = 0;
     const sfm_ransac_estimator *est = e->est;
-    const double band2 = lo_band2(e, model, 0);
-    int c = collect_within(e, model, band2, e->inl);
+    int c = collect_within(e, model, lo_band2(e, model, 0), e->inl);
     if (c < 2 * e->k)
         return 0;
     sfmi_sprt off;
@@ -403,23 +389,12 @@ static int inner_ransac(const engine *e, int early, int rounds, sfm_rng *rng, do
         if (nm > e->m)
             nm = e->m;
         for (int mi = 0; mi < nm; mi++) {
-            double *cand = e->inner + (size_t)mi * (size_t)e->s;
+            const double *cand = e->inner + (size_t)mi * (size_t)e->s;
             double sc;
             int ci;
-            const double bound = *score * (1.0 + INNER_MARGIN);
-            if (evaluate(e, &off, early, cand, &own_none, bound,
-                         (double)*ninl / (double)e->n, &sc, &ci) != EVAL_BETTER)
+            if (evaluate(e, &off, early, cand, &own_none, *score, (double)*ninl / (double)e->n, &sc,
+                         &ci) != EVAL_BETTER)
                 continue;
-            if (!(sc < *score)) {
-                if (polished_cands >= INNER_REFITS)
-                    continue;
-                polished_cands++;
-                refits(e, rounds, cand, &sc, &ci);
-                /* refits reused e->inl: the list to sample from again */
-                c = collect_within(e, model, band2, e->inl);
-                if (!(sc < *score))
-                    continue;
-            }
             memcpy(model, cand, sizeof(double) * (size_t)e->s);
             *score = sc;
             *ninl = ci;
@@ -685,7 +660,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             inner_done = 1;
             inner_runs++;
             memcpy(e.spare, e.best, sizeof(double) * (size_t)e.s);
-            if (inner_ransac(&e, use_sprt, opt->lo_rounds, &rng, e.spare, &sc, &ci)) {
+            if (inner_ransac(&e, use_sprt, &rng, e.spare, &sc, &ci)) {
                 refits(&e, opt->lo_rounds, e.spare, &sc, &ci);
                 if (sc < best_score) {
                     k_needed = new_best(&e, opt, &sprt, ci, &stop_share);
