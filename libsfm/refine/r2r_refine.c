@@ -29,6 +29,7 @@
 #include "core/lm.h"
 #include "robust/epipolar.h"
 #include "sfm/sfm_r2r.h"
+#include "solvers/small_math.h"
 
 /* Below this |w| (relative to the positions' scale) the robots coincide and
  * a bearing is undefined. */
@@ -39,34 +40,6 @@ typedef struct r2r_user {
     double inv_sd, inv_sb;
 } r2r_user;
 
-static void mv(const double *M, const double *x, double *y)
-{
-    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
-    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
-    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
-}
-
-static void mtv(const double *M, const double *x, double *y)
-{
-    y[0] = M[0] * x[0] + M[3] * x[1] + M[6] * x[2];
-    y[1] = M[1] * x[0] + M[4] * x[1] + M[7] * x[2];
-    y[2] = M[2] * x[0] + M[5] * x[1] + M[8] * x[2];
-}
-
-static void cross(const double *a, const double *b, double *c)
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* e1, e2 completing the unit vector n to an orthonormal basis (the axis
- * least aligned with n crossed in, so the basis is a fixed function of n). */
 /* Tangent residuals of the measured bearing m (not necessarily unit) against
  * the predicted direction v; with dv (3 x 6, row-major: d v / d (w, p)) the
  * two Jacobian rows into J (2 x 6). */
@@ -74,14 +47,14 @@ static void bearing_residual(const double *m, const double *v, const double *dv,
                              double *r, double *J)
 {
     double mu[3], e[2][3], u[3];
-    double mn = sqrt(dot(m, m)), vn = sqrt(dot(v, v));
+    double mn = sqrt(sfmi_dot3(m, m)), vn = sqrt(sfmi_dot3(v, v));
     for (int i = 0; i < 3; i++) {
         mu[i] = m[i] / mn;
         u[i] = v[i] / vn;
     }
     sfmi_tangent_basis(mu, e[0], e[1]);
     for (int k = 0; k < 2; k++) {
-        double rk = dot(e[k], u);
+        double rk = sfmi_dot3(e[k], u);
         r[k] = rk * inv_sb;
         if (J == NULL)
             continue;
@@ -103,12 +76,12 @@ static int r2r_residual(const void *user, const double *const *x, int i, double 
         return 0;
     const double *C = x[0], *p = x[1];
     double a[3], w[3];
-    mv(C, s->t2.v, a);
+    sfmi_matvec3(C, s->t2.v, a);
     for (int k = 0; k < 3; k++)
         w[k] = a[k] + p[k] - s->t1.v[k];
-    const double wn = sqrt(dot(w, w));
-    const double scale = sqrt(dot(s->t1.v, s->t1.v)) + sqrt(dot(s->t2.v, s->t2.v)) +
-                         sqrt(dot(p, p));
+    const double wn = sqrt(sfmi_dot3(w, w));
+    const double scale = sqrt(sfmi_dot3(s->t1.v, s->t1.v)) + sqrt(sfmi_dot3(s->t2.v, s->t2.v)) +
+                         sqrt(sfmi_dot3(p, p));
     if (!(wn > R2R_COINCIDE * scale) || !(wn > 0.0))
         return -1; /* no bearing, no distance gradient: the step is rejected */
     if (kind == 0) {
@@ -117,7 +90,7 @@ static int r2r_residual(const void *user, const double *const *x, int i, double 
         if (J != NULL) {
             double g[3] = {w[0] / wn * U->inv_sd, w[1] / wn * U->inv_sd, w[2] / wn * U->inv_sd};
             /* d|w|/d w_rot = g^T (-[a]x) = (a x g)^T */
-            cross(a, g, J);
+            sfmi_cross3(a, g, J);
             J[3] = g[0];
             J[4] = g[1];
             J[5] = g[2];
@@ -126,13 +99,13 @@ static int r2r_residual(const void *user, const double *const *x, int i, double 
     }
     double v[3], dv[18];
     if (kind == 1) {
-        mtv(s->R1.m, w, v);
+        sfmi_matvec3_t(s->R1.m, w, v);
         if (J != NULL) {
             /* dv = R1^T [-[a]x | I]: row r of R1^T is column r of R1 */
             for (int row = 0; row < 3; row++) {
                 double q[3] = {s->R1.m[row], s->R1.m[3 + row], s->R1.m[6 + row]};
                 /* q^T (-[a]x) = (a x q)^T */
-                cross(a, q, dv + 6 * row);
+                sfmi_cross3(a, q, dv + 6 * row);
                 dv[6 * row + 3] = q[0];
                 dv[6 * row + 4] = q[1];
                 dv[6 * row + 5] = q[2];
@@ -143,10 +116,10 @@ static int r2r_residual(const void *user, const double *const *x, int i, double 
         double q[3], y[3];
         for (int k = 0; k < 3; k++)
             q[k] = s->t1.v[k] - p[k];
-        mtv(C, q, y);
+        sfmi_matvec3_t(C, q, y);
         for (int k = 0; k < 3; k++)
             y[k] -= s->t2.v[k];
-        mtv(s->R2.m, y, v);
+        sfmi_matvec3_t(s->R2.m, y, v);
         if (J != NULL) {
             /* M = R2^T C^T; dv/dw_rot = M [q]x, dv/dp = -M */
             double M[9];
@@ -157,7 +130,7 @@ static int r2r_residual(const void *user, const double *const *x, int i, double 
             for (int row = 0; row < 3; row++) {
                 const double *m = M + 3 * row;
                 /* m^T [q]x = (m x q)^T */
-                cross(m, q, dv + 6 * row);
+                sfmi_cross3(m, q, dv + 6 * row);
                 dv[6 * row + 3] = -m[0];
                 dv[6 * row + 4] = -m[1];
                 dv[6 * row + 5] = -m[2];
@@ -203,9 +176,9 @@ static int check_step(const sfm_r2r_step *s, int *neq)
         return SFM_E_ARGUMENT;
     if ((s->has & SFM_R2R_D) && !(s->d > 0.0))
         return SFM_E_ARGUMENT;
-    if ((s->has & SFM_R2R_B1) && !(dot(s->b1.v, s->b1.v) > 0.0))
+    if ((s->has & SFM_R2R_B1) && !(sfmi_dot3(s->b1.v, s->b1.v) > 0.0))
         return SFM_E_ARGUMENT;
-    if ((s->has & SFM_R2R_B2) && !(dot(s->b2.v, s->b2.v) > 0.0))
+    if ((s->has & SFM_R2R_B2) && !(sfmi_dot3(s->b2.v, s->b2.v) > 0.0))
         return SFM_E_ARGUMENT;
     *neq += ((s->has & SFM_R2R_D) ? 1 : 0) + ((s->has & SFM_R2R_B1) ? 2 : 0) +
             ((s->has & SFM_R2R_B2) ? 2 : 0);

@@ -8,34 +8,11 @@
 #include <math.h>
 
 #include "sfm/sfm_r2r.h"
+#include "solvers/small_math.h"
 
 static inline double sfmi_r2r_max(double a, double b)
 {
     return a > b ? a : b;
-}
-
-static inline double sfmi_r2r_dot(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static inline void sfmi_r2r_cross(const double *a, const double *b, double *c)
-{
-    double x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
-    c[0] = x;
-    c[1] = y;
-    c[2] = z;
-}
-
-/* y = R x (R row-major) */
-static inline void sfmi_r2r_mulv(const double *R, const double *x, double *y)
-{
-    double a = R[0] * x[0] + R[1] * x[1] + R[2] * x[2];
-    double b = R[3] * x[0] + R[4] * x[1] + R[5] * x[2];
-    double c = R[6] * x[0] + R[7] * x[1] + R[8] * x[2];
-    y[0] = a;
-    y[1] = b;
-    y[2] = c;
 }
 
 /* Orthonormal frame (columns e1, e2, e3) with e1 along v and e2 in the plane
@@ -44,20 +21,20 @@ static inline void sfmi_r2r_mulv(const double *R, const double *x, double *y)
 static inline int sfmi_r2r_frame(const double *v, const double *w, double F[9])
 {
     double e1[3], e2[3], e3[3];
-    double nv = sqrt(sfmi_r2r_dot(v, v));
+    double nv = sqrt(sfmi_dot3(v, v));
     if (!(nv > 0.0))
         return 0;
     for (int i = 0; i < 3; i++)
         e1[i] = v[i] / nv;
-    double c = sfmi_r2r_dot(e1, w);
+    double c = sfmi_dot3(e1, w);
     for (int i = 0; i < 3; i++)
         e2[i] = w[i] - c * e1[i];
-    double n2 = sqrt(sfmi_r2r_dot(e2, e2));
-    if (!(n2 > 1e-12 * sqrt(sfmi_r2r_dot(w, w))))
+    double n2 = sqrt(sfmi_dot3(e2, e2));
+    if (!(n2 > 1e-12 * sqrt(sfmi_dot3(w, w))))
         return 0;
     for (int i = 0; i < 3; i++)
         e2[i] /= n2;
-    sfmi_r2r_cross(e1, e2, e3);
+    sfmi_cross3(e1, e2, e3);
     for (int i = 0; i < 3; i++) {
         F[3 * i] = e1[i];
         F[3 * i + 1] = e2[i];
@@ -84,13 +61,13 @@ static inline int sfmi_r2r_align2(const double *v1, const double *v2, const doub
 /* Bearing of robot 1 at step k rotated into {1}: u = R1 b1 */
 static inline void sfmi_r2r_u(const sfm_r2r_step *s, double u[3])
 {
-    sfmi_r2r_mulv(s->R1.m, s->b1.v, u);
+    sfmi_matvec3(s->R1.m, s->b1.v, u);
 }
 
 /* Bearing of robot 2 at step k rotated into {2}: w = R2 b2 */
 static inline void sfmi_r2r_w(const sfm_r2r_step *s, double w[3])
 {
-    sfmi_r2r_mulv(s->R2.m, s->b2.v, w);
+    sfmi_matvec3(s->R2.m, s->b2.v, w);
 }
 
 static inline double sfmi_r2r_det3(const double *M)
@@ -119,6 +96,58 @@ static inline int sfmi_r2r_solve3(const double *J, const double *f, double *x)
     for (int i = 0; i < 3; i++)
         x[i] = y[i];
     return 1;
+}
+
+/* One step of a Newton polish of a root x of three equations, given their
+ * values f and Jacobian J at x. On the last step (last != 0) it only checks
+ * the root: 1 when max |f| <= 1e-10 max |J| (1 + |x|_1), else 0 (a root the
+ * equations do not confirm is no root). Otherwise x -= J^-1 f and -1 (go
+ * on), or 0 when J is singular. */
+/* A dip of |f| between a and b that keeps the sign s of f at both ends may
+ * hide two close roots: golden-section search (at most 40 steps) for a
+ * point where s f <= 0. Returns 1 with that point in *xm (the two roots then
+ * lie on either side of it), 0 when the dip stays on one side. */
+static inline int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, double a,
+                                     double b, double s, double *xm)
+{
+    const double gr = 0.38196601125010515;
+    double x1 = a + gr * (b - a), x2 = b - gr * (b - a);
+    double g1 = s * fn(ctx, x1), g2 = s * fn(ctx, x2);
+    for (int it = 0; it < 40 && g1 > 0.0 && g2 > 0.0; it++) {
+        if (g1 < g2) {
+            b = x2;
+            x2 = x1;
+            g2 = g1;
+            x1 = a + gr * (b - a);
+            g1 = s * fn(ctx, x1);
+        } else {
+            a = x1;
+            x1 = x2;
+            g1 = g2;
+            x2 = b - gr * (b - a);
+            g2 = s * fn(ctx, x2);
+        }
+    }
+    if (!(g1 <= 0.0) && !(g2 <= 0.0))
+        return 0;
+    *xm = g1 <= 0.0 ? x1 : x2;
+    return 1;
+}
+
+static inline int sfmi_r2r_newton3(const double J[9], const double f[3], int last, double x[3])
+{
+    double dx[3], big = 0.0, res = 0.0;
+    for (int i = 0; i < 9; i++)
+        big = sfmi_r2r_max(big, fabs(J[i]));
+    for (int i = 0; i < 3; i++)
+        res = sfmi_r2r_max(res, fabs(f[i]));
+    if (last)
+        return res <= 1e-10 * big * (1.0 + fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
+    if (!sfmi_r2r_solve3(J, f, dx))
+        return 0;
+    for (int i = 0; i < 3; i++)
+        x[i] -= dx[i];
+    return -1;
 }
 
 #endif

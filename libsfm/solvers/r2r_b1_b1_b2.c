@@ -37,17 +37,9 @@ static int polish(const double *a, const double *b, const double *c, double *x)
         double J[9] = {2 * l + a[0] * m + a[1], 2 * m + a[0] * l + a[2], 0.0,
                        2 * l + b[0], 0.0, -2 * n + b[1],
                        2 * l + c[0] * m + c[1], c[0] * l + c[2], c[3]};
-        double dx[3], big = 0.0, res = 0.0;
-        for (int i = 0; i < 9; i++)
-            big = sfmi_r2r_max(big, fabs(J[i]));
-        for (int i = 0; i < 3; i++)
-            res = sfmi_r2r_max(res, fabs(f[i]));
-        if (it == 2) /* a root the equations do not confirm is no root */
-            return res <= 1e-10 * big * (1.0 + fabs(x[0]) + fabs(x[1]) + fabs(x[2]));
-        if (!sfmi_r2r_solve3(J, f, dx))
-            return 0;
-        for (int i = 0; i < 3; i++)
-            x[i] -= dx[i];
+        int r = sfmi_r2r_newton3(J, f, it == 2, x);
+        if (r >= 0)
+            return r;
     }
     return 0;
 }
@@ -59,23 +51,23 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     sfmi_r2r_u(&s[1], u1);
     sfmi_r2r_w(&s[2], w);
     const double *t11 = s[1].t1.v, *t12 = s[2].t1.v, *t21 = s[1].t2.v, *t22 = s[2].t2.v;
-    double scale = 1.0 + sqrt(sfmi_r2r_dot(t11, t11) + sfmi_r2r_dot(t12, t12) +
-                              sfmi_r2r_dot(t22, t22));
-    if (!(sqrt(sfmi_r2r_dot(t21, t21)) > 1e-9 * scale))
+    double scale = 1.0 + sqrt(sfmi_dot3(t11, t11) + sfmi_dot3(t12, t12) +
+                              sfmi_dot3(t22, t22));
+    if (!(sqrt(sfmi_dot3(t21, t21)) > 1e-9 * scale))
         return SFM_E_DEGENERATE;
     double in[SFMI_TMPL_B1_B1_B2_NIN], *a = in, *b = in + 4, *c = in + 7;
-    a[0] = -2.0 * sfmi_r2r_dot(u0, u1);
-    a[1] = -2.0 * sfmi_r2r_dot(u0, t11);
-    a[2] = 2.0 * sfmi_r2r_dot(u1, t11);
-    a[3] = sfmi_r2r_dot(t11, t11) - sfmi_r2r_dot(t21, t21);
-    b[0] = -2.0 * sfmi_r2r_dot(u0, t12);
-    b[1] = -2.0 * sfmi_r2r_dot(w, t22);
-    b[2] = sfmi_r2r_dot(t12, t12) - sfmi_r2r_dot(t22, t22);
-    c[0] = -sfmi_r2r_dot(u0, u1);
-    c[1] = -sfmi_r2r_dot(u0, t11) - sfmi_r2r_dot(u0, t12);
-    c[2] = sfmi_r2r_dot(u1, t12);
-    c[3] = -sfmi_r2r_dot(t21, w);
-    c[4] = sfmi_r2r_dot(t11, t12) - sfmi_r2r_dot(t21, t22);
+    a[0] = -2.0 * sfmi_dot3(u0, u1);
+    a[1] = -2.0 * sfmi_dot3(u0, t11);
+    a[2] = 2.0 * sfmi_dot3(u1, t11);
+    a[3] = sfmi_dot3(t11, t11) - sfmi_dot3(t21, t21);
+    b[0] = -2.0 * sfmi_dot3(u0, t12);
+    b[1] = -2.0 * sfmi_dot3(w, t22);
+    b[2] = sfmi_dot3(t12, t12) - sfmi_dot3(t22, t22);
+    c[0] = -sfmi_dot3(u0, u1);
+    c[1] = -sfmi_dot3(u0, t11) - sfmi_dot3(u0, t12);
+    c[2] = sfmi_dot3(u1, t12);
+    c[3] = -sfmi_dot3(t21, w);
+    c[4] = sfmi_dot3(t11, t12) - sfmi_dot3(t21, t22);
     double sol[SFMI_TMPL_B1_B1_B2_NSOL * 3];
     int ns = sfmi_tmpl_b1_b1_b2(in, sol, ws);
     if (ns < 0)

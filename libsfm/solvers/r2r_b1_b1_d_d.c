@@ -56,10 +56,10 @@ static void at_phi(const geo *g, double c, double s, double *lam, double *mu, do
         a[i] = g->h0 * g->n[i] + g->r * (c * g->e1[i] + s * g->e2[i]);
         d[i] = a[i] - g->t11[i];
     }
-    double m = sfmi_r2r_dot(d, g->e2) / g->u1e2;
-    double l = m * g->u1e1 - sfmi_r2r_dot(d, g->e1);
+    double m = sfmi_dot3(d, g->e2) / g->u1e2;
+    double l = m * g->u1e1 - sfmi_dot3(d, g->e1);
     double f2[3], f3[3];
-    sfmi_r2r_cross(g->n, a, f2);
+    sfmi_cross3(g->n, a, f2);
     for (int i = 0; i < 3; i++) {
         f2[i] /= g->r;
         f3[i] = (g->rho * g->rho * g->n[i] - g->h0 * a[i]) / (g->rho * g->r);
@@ -75,10 +75,10 @@ static void at_phi(const geo *g, double c, double s, double *lam, double *mu, do
             x[i] = v[1] * f2[i] + v[2] * f3[i];
             y[i] = v[1] * f3[i] - v[2] * f2[i];
         }
-        abc[k][0] = 2.0 * sfmi_r2r_dot(q, x);
-        abc[k][1] = 2.0 * sfmi_r2r_dot(q, y);
-        abc[k][2] = l * l - 2.0 * l * sfmi_r2r_dot(g->u0, g->t1[k]) + g->K[k] +
-                    2.0 * v[0] * sfmi_r2r_dot(q, a) / g->rho;
+        abc[k][0] = 2.0 * sfmi_dot3(q, x);
+        abc[k][1] = 2.0 * sfmi_dot3(q, y);
+        abc[k][2] = l * l - 2.0 * l * sfmi_dot3(g->u0, g->t1[k]) + g->K[k] +
+                    2.0 * v[0] * sfmi_dot3(q, a) / g->rho;
     }
     *lam = l;
     *mu = m;
@@ -137,25 +137,25 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     for (int i = 0; i < 3; i++)
         g.t11[i] = s[1].t1.v[i];
     const double *t21 = s[1].t2.v;
-    sfmi_r2r_cross(g.u0, g.u1, g.n);
-    double nn = sqrt(sfmi_r2r_dot(g.n, g.n));
-    g.rho = sqrt(sfmi_r2r_dot(t21, t21));
-    double scale = 1.0 + sqrt(sfmi_r2r_dot(g.t11, g.t11));
+    sfmi_cross3(g.u0, g.u1, g.n);
+    double nn = sqrt(sfmi_dot3(g.n, g.n));
+    g.rho = sqrt(sfmi_dot3(t21, t21));
+    double scale = 1.0 + sqrt(sfmi_dot3(g.t11, g.t11));
     if (!(nn > 1e-9) || !(g.rho > 1e-9 * scale))
         return SFM_E_DEGENERATE;
-    double nu0 = sqrt(sfmi_r2r_dot(g.u0, g.u0));
+    double nu0 = sqrt(sfmi_dot3(g.u0, g.u0));
     for (int i = 0; i < 3; i++) {
         g.n[i] /= nn;
         g.e1[i] = g.u0[i] / nu0;
     }
-    sfmi_r2r_cross(g.n, g.e1, g.e2);
-    g.h0 = sfmi_r2r_dot(g.n, g.t11);
+    sfmi_cross3(g.n, g.e1, g.e2);
+    g.h0 = sfmi_dot3(g.n, g.t11);
     double r2 = g.rho * g.rho - g.h0 * g.h0;
     if (!(r2 > 1e-12 * g.rho * g.rho))
         return 0; /* the plane misses the sphere: no real a */
     g.r = sqrt(r2);
-    g.u1e1 = sfmi_r2r_dot(g.u1, g.e1);
-    g.u1e2 = sfmi_r2r_dot(g.u1, g.e2);
+    g.u1e1 = sfmi_dot3(g.u1, g.e1);
+    g.u1e2 = sfmi_dot3(g.u1, g.e2);
     /* frame of {2}: t2_1, then any two perpendicular axes */
     double g1[3], g2[3], g3[3], aux[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < 3; i++)
@@ -163,11 +163,11 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
                                        : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
     aux[mi] = 1.0;
-    sfmi_r2r_cross(g1, aux, g2);
-    double n2 = sqrt(sfmi_r2r_dot(g2, g2));
+    sfmi_cross3(g1, aux, g2);
+    double n2 = sqrt(sfmi_dot3(g2, g2));
     for (int i = 0; i < 3; i++)
         g2[i] /= n2;
-    sfmi_r2r_cross(g1, g2, g3);
+    sfmi_cross3(g1, g2, g3);
     for (int i = 0; i < 3; i++) {
         g.G[3 * i] = g1[i];
         g.G[3 * i + 1] = g2[i];
@@ -175,12 +175,12 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     }
     for (int k = 0; k < 2; k++) {
         const sfm_r2r_step *sk = &s[2 + k];
-        g.v[k][0] = sfmi_r2r_dot(g1, sk->t2.v);
-        g.v[k][1] = sfmi_r2r_dot(g2, sk->t2.v);
-        g.v[k][2] = sfmi_r2r_dot(g3, sk->t2.v);
+        g.v[k][0] = sfmi_dot3(g1, sk->t2.v);
+        g.v[k][1] = sfmi_dot3(g2, sk->t2.v);
+        g.v[k][2] = sfmi_dot3(g3, sk->t2.v);
         for (int i = 0; i < 3; i++)
             g.t1[k][i] = sk->t1.v[i];
-        g.K[k] = sfmi_r2r_dot(sk->t2.v, sk->t2.v) + sfmi_r2r_dot(sk->t1.v, sk->t1.v) -
+        g.K[k] = sfmi_dot3(sk->t2.v, sk->t2.v) + sfmi_dot3(sk->t1.v, sk->t1.v) -
                  sk->d * sk->d;
     }
 

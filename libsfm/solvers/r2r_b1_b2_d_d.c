@@ -108,6 +108,11 @@ static double elim_at(const geo *g, double tau)
     return eliminant(abc, r2);
 }
 
+static double elim_cb(const void *g, double x)
+{
+    return elim_at((const geo *)g, x);
+}
+
 /* Real roots of the eliminant on both halves of the real tau axis within
  * [|K| / M, M]: sign changes on a logarithmic grid of NSCAN points per half,
  * each refined by bisection. The eliminant is evaluated directly (not from
@@ -152,27 +157,8 @@ static int scan_roots(const geo *g, double M, double *taus)
              * golden-section search for the extremum, bisect if it crosses */
             if (j >= 2 && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
                 fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
-                double s1 = f[1] < 0.0 ? -1.0 : 1.0, a = t[0], b = t[2];
-                const double gr = 0.38196601125010515;
-                double x1 = a + gr * (b - a), x2 = b - gr * (b - a);
-                double g1 = s1 * elim_at(g, x1), g2 = s1 * elim_at(g, x2);
-                for (int it = 0; it < 40 && g1 > 0.0 && g2 > 0.0; it++) {
-                    if (g1 < g2) {
-                        b = x2;
-                        x2 = x1;
-                        g2 = g1;
-                        x1 = a + gr * (b - a);
-                        g1 = s1 * elim_at(g, x1);
-                    } else {
-                        a = x1;
-                        x1 = x2;
-                        g1 = g2;
-                        x2 = b - gr * (b - a);
-                        g2 = s1 * elim_at(g, x2);
-                    }
-                }
-                double xm = g1 <= 0.0 ? x1 : (g2 <= 0.0 ? x2 : 0.0);
-                if (xm != 0.0) {
+                double xm;
+                if (sfmi_r2r_dip_cross(elim_cb, g, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
                     taus[m++] = bisect(g, t[0], xm, f[0]);
                     taus[m++] = bisect(g, xm, t[2], -f[2]); /* f(xm) has the other sign */
                 }
@@ -189,16 +175,16 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     sfmi_r2r_u(&s[0], g.u0);
     sfmi_r2r_w(&s[1], g.w);
     const double *t11 = s[1].t1.v, *t21 = s[1].t2.v;
-    double nu = sqrt(sfmi_r2r_dot(g.u0, g.u0)), nw = sqrt(sfmi_r2r_dot(g.w, g.w));
+    double nu = sqrt(sfmi_dot3(g.u0, g.u0)), nw = sqrt(sfmi_dot3(g.w, g.w));
     for (int i = 0; i < 3; i++) {
         g.u0[i] /= nu;
         g.w[i] /= nw;
     }
-    sfmi_r2r_cross(g.u0, t11, g.m);
-    sfmi_r2r_cross(g.w, t21, g.k);
-    double nm = sqrt(sfmi_r2r_dot(g.m, g.m)), nk = sqrt(sfmi_r2r_dot(g.k, g.k));
-    g.t11sq = sfmi_r2r_dot(t11, t11);
-    double t21sq = sfmi_r2r_dot(t21, t21);
+    sfmi_cross3(g.u0, t11, g.m);
+    sfmi_cross3(g.w, t21, g.k);
+    double nm = sqrt(sfmi_dot3(g.m, g.m)), nk = sqrt(sfmi_dot3(g.k, g.k));
+    g.t11sq = sfmi_dot3(t11, t11);
+    double t21sq = sfmi_dot3(t21, t21);
     double scale = 1.0 + g.t11sq + t21sq;
     if (!(nm > 1e-9 * sqrt(scale)) || !(nk > 1e-9 * sqrt(scale)))
         return SFM_E_DEGENERATE;
@@ -206,33 +192,33 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
         g.m[i] /= nm;
         g.k[i] /= nk;
     }
-    g.a = sfmi_r2r_dot(g.u0, t11);
-    g.b = sfmi_r2r_dot(g.w, t21);
+    g.a = sfmi_dot3(g.u0, t11);
+    g.b = sfmi_dot3(g.w, t21);
     g.K = (t21sq - g.b * g.b) - (g.t11sq - g.a * g.a);
     if (!(fabs(g.K) > 1e-12 * scale))
         return SFM_E_DEGENERATE;
     g.r0 = sqrt(fabs(g.K));
     double t1xm[3], u0xm[3], t2xk[3], wxk[3];
-    sfmi_r2r_cross(t11, g.m, t1xm);
-    sfmi_r2r_cross(g.u0, g.m, u0xm);
-    sfmi_r2r_cross(t21, g.k, t2xk);
-    sfmi_r2r_cross(g.w, g.k, wxk);
+    sfmi_cross3(t11, g.m, t1xm);
+    sfmi_cross3(g.u0, g.m, u0xm);
+    sfmi_cross3(t21, g.k, t2xk);
+    sfmi_cross3(g.w, g.k, wxk);
     for (int k = 0; k < 2; k++) {
         const sfm_r2r_step *sk = &s[2 + k];
         const double *t1 = sk->t1.v, *t2 = sk->t2.v;
-        g.qm[k] = -sfmi_r2r_dot(t1, g.m);
-        g.v2[k] = sfmi_r2r_dot(g.k, t2);
-        g.Y0[k] = sfmi_r2r_dot(t2xk, t2);
-        g.Y1[k] = sfmi_r2r_dot(wxk, t2);
-        g.Z1[k] = sfmi_r2r_dot(g.u0, t1xm) + sfmi_r2r_dot(t1, u0xm);
-        g.Z0[k] = -sfmi_r2r_dot(t1, t1xm);
-        g.yt0[k] = sfmi_r2r_dot(t21, t2);
-        g.yt1[k] = sfmi_r2r_dot(g.w, t2);
-        g.qx1[k] = g.a + sfmi_r2r_dot(t1, g.u0);
-        g.qx0[k] = -sfmi_r2r_dot(t1, t11);
-        g.qq1[k] = -2.0 * sfmi_r2r_dot(g.u0, t1);
-        g.qq0[k] = sfmi_r2r_dot(t1, t1);
-        g.Kd[k] = sfmi_r2r_dot(t2, t2) - sk->d * sk->d;
+        g.qm[k] = -sfmi_dot3(t1, g.m);
+        g.v2[k] = sfmi_dot3(g.k, t2);
+        g.Y0[k] = sfmi_dot3(t2xk, t2);
+        g.Y1[k] = sfmi_dot3(wxk, t2);
+        g.Z1[k] = sfmi_dot3(g.u0, t1xm) + sfmi_dot3(t1, u0xm);
+        g.Z0[k] = -sfmi_dot3(t1, t1xm);
+        g.yt0[k] = sfmi_dot3(t21, t2);
+        g.yt1[k] = sfmi_dot3(g.w, t2);
+        g.qx1[k] = g.a + sfmi_dot3(t1, g.u0);
+        g.qx0[k] = -sfmi_dot3(t1, t11);
+        g.qq1[k] = -2.0 * sfmi_dot3(g.u0, t1);
+        g.qq0[k] = sfmi_dot3(t1, t1);
+        g.Kd[k] = sfmi_dot3(t2, t2) - sk->d * sk->d;
     }
 
     /* Every physical solution has l, n below a bound M the data give
@@ -240,8 +226,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
      * |K| / (2 M') <= |tau| <= 2 M' with M' = M + |a| + |b|. */
     double M = HUGE_VAL;
     for (int k = 2; k < 4; k++) {
-        double bk = s[k].d + sqrt(sfmi_r2r_dot(s[k].t1.v, s[k].t1.v)) +
-                    sqrt(sfmi_r2r_dot(s[k].t2.v, s[k].t2.v));
+        double bk = s[k].d + sqrt(sfmi_dot3(s[k].t1.v, s[k].t1.v)) +
+                    sqrt(sfmi_dot3(s[k].t2.v, s[k].t2.v));
         M = M < bk ? M : bk;
     }
     M += sqrt(g.t11sq) + sqrt(t21sq);
@@ -296,9 +282,9 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
             x[i] = t11[i] - l * g.u0[i];
             y[i] = t21[i] + n * g.w[i];
         }
-        double nx = sqrt(sfmi_r2r_dot(x, x)), ny = sqrt(sfmi_r2r_dot(y, y)), x3[3], y3[3];
-        sfmi_r2r_cross(x, g.m, x3);
-        sfmi_r2r_cross(y, g.k, y3);
+        double nx = sqrt(sfmi_dot3(x, x)), ny = sqrt(sfmi_dot3(y, y)), x3[3], y3[3];
+        sfmi_cross3(x, g.m, x3);
+        sfmi_cross3(y, g.k, y3);
         for (int i = 0; i < 3; i++) {
             Fx[3 * i] = x[i] / nx;
             Fx[3 * i + 1] = g.m[i];

@@ -62,7 +62,7 @@ static void at_phi(const geo *g, const circ *c, double l, double cp, double sp, 
     double f2[3], f3[3];
     for (int i = 0; i < 3; i++)
         a[i] = c->h0 * c->n[i] + c->r * (cp * g->m[i] + sp * c->e2[i]);
-    sfmi_r2r_cross(c->n, a, f2);
+    sfmi_cross3(c->n, a, f2);
     for (int i = 0; i < 3; i++) {
         f2[i] /= c->r;
         f3[i] = (g->rho * g->rho * c->n[i] - c->h0 * a[i]) / (g->rho * c->r);
@@ -78,9 +78,9 @@ static void at_phi(const geo *g, const circ *c, double l, double cp, double sp, 
             x[i] = v[1] * f2[i] + v[2] * f3[i];
             y[i] = v[1] * f3[i] - v[2] * f2[i];
         }
-        abc[k][0] = 2.0 * sfmi_r2r_dot(q, x);
-        abc[k][1] = 2.0 * sfmi_r2r_dot(q, y);
-        abc[k][2] = sfmi_r2r_dot(q, q) + g->K[k] + 2.0 * v[0] * sfmi_r2r_dot(q, a) / g->rho;
+        abc[k][0] = 2.0 * sfmi_dot3(q, x);
+        abc[k][1] = 2.0 * sfmi_dot3(q, y);
+        abc[k][2] = sfmi_dot3(q, q) + g->K[k] + 2.0 * v[0] * sfmi_dot3(q, a) / g->rho;
     }
 }
 
@@ -90,7 +90,7 @@ static int circle(const geo *g, double l, circ *c)
     double e[3];
     for (int i = 0; i < 3; i++)
         e[i] = g->t11[i] - l * g->u0[i];
-    double E = sqrt(sfmi_r2r_dot(e, e));
+    double E = sqrt(sfmi_dot3(e, e));
     if (!(E > 0.0))
         return 0;
     for (int i = 0; i < 3; i++)
@@ -100,7 +100,7 @@ static int circle(const geo *g, double l, circ *c)
     if (!(r2 > 1e-12 * g->rho * g->rho))
         return 0;
     c->r = sqrt(r2);
-    sfmi_r2r_cross(c->n, g->m, c->e2);
+    sfmi_cross3(c->n, g->m, c->e2);
     return 1;
 }
 
@@ -244,6 +244,11 @@ static double resultant(const geo *g, double l)
     return det;
 }
 
+static double resultant_cb(const void *g, double x)
+{
+    return resultant((const geo *)g, x);
+}
+
 static double bisect(const geo *g, double a, double b, double fa)
 {
     for (int it = 0; it < 50; it++) {
@@ -282,27 +287,8 @@ static int scan_interval(const geo *g, double lo, double hi, int nodes, double *
             ls[m++] = bisect(g, t[1], t[2], f[1]);
         if (isfinite(f[0]) && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
             fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
-            double s1 = f[1] < 0.0 ? -1.0 : 1.0, a = t[0], b = t[2];
-            const double gr = 0.38196601125010515;
-            double x1 = a + gr * (b - a), x2 = b - gr * (b - a);
-            double g1 = s1 * resultant(g, x1), g2 = s1 * resultant(g, x2);
-            for (int it = 0; it < 40 && g1 > 0.0 && g2 > 0.0; it++) {
-                if (g1 < g2) {
-                    b = x2;
-                    x2 = x1;
-                    g2 = g1;
-                    x1 = a + gr * (b - a);
-                    g1 = s1 * resultant(g, x1);
-                } else {
-                    a = x1;
-                    x1 = x2;
-                    g1 = g2;
-                    x2 = b - gr * (b - a);
-                    g2 = s1 * resultant(g, x2);
-                }
-            }
-            double xm = g1 <= 0.0 ? x1 : (g2 <= 0.0 ? x2 : -1.0);
-            if (xm > 0.0) {
+            double xm;
+            if (sfmi_r2r_dip_cross(resultant_cb, g, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
                 ls[m++] = bisect(g, t[0], xm, f[0]);
                 ls[m++] = bisect(g, xm, t[2], -f[2]);
             }
@@ -315,7 +301,7 @@ static int scan_interval(const geo *g, double lo, double hi, int nodes, double *
  * rho + d1, between the roots of two quadratics in l. */
 static int scan(const geo *g, double *ls)
 {
-    double a = sfmi_r2r_dot(g->u0, g->t11), T = sfmi_r2r_dot(g->t11, g->t11);
+    double a = sfmi_dot3(g->u0, g->t11), T = sfmi_dot3(g->t11, g->t11);
     double br[6] = {0.0, g->lmax};
     int nb = 2;
     double V[2] = {g->rho + g->d1, g->rho - g->d1};
@@ -378,16 +364,16 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     (void)ws;
     geo g;
     sfmi_r2r_u(&s[0], g.u0);
-    double nu = sqrt(sfmi_r2r_dot(g.u0, g.u0));
+    double nu = sqrt(sfmi_dot3(g.u0, g.u0));
     const double *t21 = s[1].t2.v;
     for (int i = 0; i < 3; i++) {
         g.u0[i] /= nu;
         g.t11[i] = s[1].t1.v[i];
     }
-    sfmi_r2r_cross(g.u0, g.t11, g.m);
-    double nm = sqrt(sfmi_r2r_dot(g.m, g.m));
-    g.rho = sqrt(sfmi_r2r_dot(t21, t21));
-    double scale = 1.0 + sqrt(sfmi_r2r_dot(g.t11, g.t11));
+    sfmi_cross3(g.u0, g.t11, g.m);
+    double nm = sqrt(sfmi_dot3(g.m, g.m));
+    g.rho = sqrt(sfmi_dot3(t21, t21));
+    double scale = 1.0 + sqrt(sfmi_dot3(g.t11, g.t11));
     if (!(nm > 1e-9 * scale) || !(g.rho > 1e-9 * scale))
         return SFM_E_DEGENERATE;
     for (int i = 0; i < 3; i++)
@@ -404,11 +390,11 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
                                        : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
     aux[mi] = 1.0;
-    sfmi_r2r_cross(g1, aux, g2);
-    double n2 = sqrt(sfmi_r2r_dot(g2, g2));
+    sfmi_cross3(g1, aux, g2);
+    double n2 = sqrt(sfmi_dot3(g2, g2));
     for (int i = 0; i < 3; i++)
         g2[i] /= n2;
-    sfmi_r2r_cross(g1, g2, g3);
+    sfmi_cross3(g1, g2, g3);
     for (int i = 0; i < 3; i++) {
         g.G[3 * i] = g1[i];
         g.G[3 * i + 1] = g2[i];
@@ -417,18 +403,18 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     g.lmax = HUGE_VAL;
     for (int k = 0; k < 3; k++) {
         const sfm_r2r_step *sk = &s[2 + k];
-        g.v[k][0] = sfmi_r2r_dot(g1, sk->t2.v);
-        g.v[k][1] = sfmi_r2r_dot(g2, sk->t2.v);
-        g.v[k][2] = sfmi_r2r_dot(g3, sk->t2.v);
+        g.v[k][0] = sfmi_dot3(g1, sk->t2.v);
+        g.v[k][1] = sfmi_dot3(g2, sk->t2.v);
+        g.v[k][2] = sfmi_dot3(g3, sk->t2.v);
         for (int i = 0; i < 3; i++)
             g.t1[k][i] = sk->t1.v[i];
-        g.K[k] = sfmi_r2r_dot(sk->t2.v, sk->t2.v) - sk->d * sk->d;
-        double bk = sk->d + sqrt(sfmi_r2r_dot(sk->t1.v, sk->t1.v)) +
-                    sqrt(sfmi_r2r_dot(sk->t2.v, sk->t2.v));
+        g.K[k] = sfmi_dot3(sk->t2.v, sk->t2.v) - sk->d * sk->d;
+        double bk = sk->d + sqrt(sfmi_dot3(sk->t1.v, sk->t1.v)) +
+                    sqrt(sfmi_dot3(sk->t2.v, sk->t2.v));
         g.lmax = g.lmax < bk ? g.lmax : bk;
     }
     {
-        double bk = g.d1 + sqrt(sfmi_r2r_dot(g.t11, g.t11)) + g.rho;
+        double bk = g.d1 + sqrt(sfmi_dot3(g.t11, g.t11)) + g.rho;
         g.lmax = g.lmax < bk ? g.lmax : bk;
     }
 

@@ -71,6 +71,7 @@
 #include "core/arena.h"
 #include "sfm/sfm_r2r.h"
 #include "solvers/r2r_solve_internal.h"
+#include "solvers/small_math.h"
 
 #define ROT_TOL 1e-6        /* |R R^T - I| entries of a valid ego-motion rotation */
 #define SAME_POS_TOL 1e-9   /* relative: steps at the same positions */
@@ -140,49 +141,6 @@ static int mask_rank(unsigned m)
 {
     static const signed char rank[8] = {7, 6, 4, 2, 5, 3, 1, 0};
     return rank[m & 7u];
-}
-
-static void mat_mul(const double *A, const double *B, double *C) /* C = A B */
-{
-    double T[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            T[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
-    memcpy(C, T, sizeof T);
-}
-
-static void mat_tmul(const double *A, const double *B, double *C) /* C = A^T B */
-{
-    double T[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            T[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
-    memcpy(C, T, sizeof T);
-}
-
-static void mat_mult(const double *A, const double *B, double *C) /* C = A B^T */
-{
-    double T[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            T[3 * r + c] = A[3 * r] * B[3 * c] + A[3 * r + 1] * B[3 * c + 1] + A[3 * r + 2] * B[3 * c + 2];
-    memcpy(C, T, sizeof T);
-}
-
-static void mv(const double *A, const double *x, double *y) /* y = A x */
-{
-    double t[3];
-    for (int r = 0; r < 3; r++)
-        t[r] = A[3 * r] * x[0] + A[3 * r + 1] * x[1] + A[3 * r + 2] * x[2];
-    memcpy(y, t, sizeof t);
-}
-
-static void mtv(const double *A, const double *x, double *y) /* y = A^T x */
-{
-    double t[3];
-    for (int c = 0; c < 3; c++)
-        t[c] = A[c] * x[0] + A[3 + c] * x[1] + A[6 + c] * x[2];
-    memcpy(y, t, sizeof t);
 }
 
 static double norm3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
@@ -271,14 +229,14 @@ static int merge_steps(const sfm_r2r_step *s, int n, sfm_r2r_step *m)
         }
         if ((st->has & B1_) && !(t->has & B1_)) {
             unit3(st->b1.v, u);
-            mat_tmul(t->R1.m, st->R1.m, R);
-            mv(R, u, t->b1.v);
+            sfmi_matmul3_tn(t->R1.m, st->R1.m, R);
+            sfmi_matvec3(R, u, t->b1.v);
             t->has |= B1_;
         }
         if ((st->has & B2_) && !(t->has & B2_)) {
             unit3(st->b2.v, u);
-            mat_tmul(t->R2.m, st->R2.m, R);
-            mv(R, u, t->b2.v);
+            sfmi_matmul3_tn(t->R2.m, st->R2.m, R);
+            sfmi_matvec3(R, u, t->b2.v);
             t->has |= B2_;
         }
     }
@@ -342,16 +300,16 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
         !sfmi_la_all_finite(step->t2.v, 3) || !sfmi_la_all_finite(T->C.m, 9) || !sfmi_la_all_finite(T->p.v, 3))
         return SFM_E_NONFINITE;
     double v[3], w[3], u1[3], u2[3];
-    mv(T->C.m, step->t2.v, v);
+    sfmi_matvec3(T->C.m, step->t2.v, v);
     for (int i = 0; i < 3; i++)
         v[i] += T->p.v[i] - step->t1.v[i];
     double r = norm3(v);
     if ((b1 || b2) && !(r > 0.0))
         return SFM_E_SINGULAR;
     if (b1 || b2) {
-        mtv(step->R1.m, v, u1);
-        mtv(T->C.m, v, w); /* C^T (t1 - p) - t2 = -C^T v */
-        mtv(step->R2.m, w, u2);
+        sfmi_matvec3_t(step->R1.m, v, u1);
+        sfmi_matvec3_t(T->C.m, v, w); /* C^T (t1 - p) - t2 = -C^T v */
+        sfmi_matvec3_t(step->R2.m, w, u2);
         for (int i = 0; i < 3; i++) {
             u1[i] /= r;
             u2[i] = -u2[i] / r;
@@ -435,14 +393,14 @@ int sfmi_r2r_canonicalize(const sfm_r2r_step *steps, const unsigned *use, int n,
                 o->R1.m[0] = o->R1.m[4] = o->R1.m[8] = 1.0;
                 o->R2.m[0] = o->R2.m[4] = o->R2.m[8] = 1.0;
             } else {
-                mat_tmul(c->R1r, R1, o->R1.m);
-                mat_tmul(c->R2r, R2, o->R2.m);
+                sfmi_matmul3_tn(c->R1r, R1, o->R1.m);
+                sfmi_matmul3_tn(c->R2r, R2, o->R2.m);
                 for (int j = 0; j < 3; j++)
                     dt[j] = t1[j] - c->t1r[j];
-                mtv(c->R1r, dt, o->t1.v);
+                sfmi_matvec3_t(c->R1r, dt, o->t1.v);
                 for (int j = 0; j < 3; j++)
                     dt[j] = t2[j] - c->t2r[j];
-                mtv(c->R2r, dt, o->t2.v);
+                sfmi_matvec3_t(c->R2r, dt, o->t2.v);
             }
             if (msk[i] & D_)
                 o->d = s->d;
@@ -464,7 +422,7 @@ void sfmi_r2r_to_canonical(const sfmi_r2r_canon *c, const sfm_r2r_transform *in,
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
                 Cs[3 * r + k] = in->C.m[3 * k + r];
-        mv(Cs, in->p.v, ps);
+        sfmi_matvec3(Cs, in->p.v, ps);
         ps[0] = -ps[0];
         ps[1] = -ps[1];
         ps[2] = -ps[2];
@@ -472,29 +430,29 @@ void sfmi_r2r_to_canonical(const sfmi_r2r_canon *c, const sfm_r2r_transform *in,
         memcpy(Cs, in->C.m, sizeof Cs);
         memcpy(ps, in->p.v, sizeof ps);
     }
-    mv(Cs, c->t2r, q);
+    sfmi_matvec3(Cs, c->t2r, q);
     for (int i = 0; i < 3; i++)
         q[i] += ps[i] - c->t1r[i];
-    mtv(c->R1r, q, out->p.v);
-    mat_tmul(c->R1r, Cs, Cs);
-    mat_mul(Cs, c->R2r, out->C.m);
+    sfmi_matvec3_t(c->R1r, q, out->p.v);
+    sfmi_matmul3_tn(c->R1r, Cs, Cs);
+    sfmi_matmul3(Cs, c->R2r, out->C.m);
 }
 
 void sfmi_r2r_from_canonical(const sfmi_r2r_canon *c, const sfm_r2r_transform *in,
                              sfm_r2r_transform *out)
 {
     double Cs[9], ps[3], q[3];
-    mat_mul(c->R1r, in->C.m, Cs);
-    mat_mult(Cs, c->R2r, Cs);
-    mv(c->R1r, in->p.v, ps);
-    mv(Cs, c->t2r, q);
+    sfmi_matmul3(c->R1r, in->C.m, Cs);
+    sfmi_matmul3_nt(Cs, c->R2r, Cs);
+    sfmi_matvec3(c->R1r, in->p.v, ps);
+    sfmi_matvec3(Cs, c->t2r, q);
     for (int i = 0; i < 3; i++)
         ps[i] += c->t1r[i] - q[i];
     if (c->swap) {
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
                 out->C.m[3 * r + k] = Cs[3 * k + r];
-        mv(out->C.m, ps, out->p.v);
+        sfmi_matvec3(out->C.m, ps, out->p.v);
         out->p.v[0] = -out->p.v[0];
         out->p.v[1] = -out->p.v[1];
         out->p.v[2] = -out->p.v[2];

@@ -35,20 +35,57 @@ static inline double sfmi_dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* y = M x for a row-major 3x3 M. */
+/* y = M x for a row-major 3x3 M (y may alias x). */
 static inline void sfmi_matvec3(const double *M, const double *x, double *y)
 {
-    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
-    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
-    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
+    double a = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
+    double b = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
+    double c = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
+    y[0] = a;
+    y[1] = b;
+    y[2] = c;
 }
 
-/* 3x3 product C = A B (C must not alias A or B). */
+/* y = M^T x (y may alias x). */
+static inline void sfmi_matvec3_t(const double *M, const double *x, double *y)
+{
+    double a = M[0] * x[0] + M[3] * x[1] + M[6] * x[2];
+    double b = M[1] * x[0] + M[4] * x[1] + M[7] * x[2];
+    double c = M[2] * x[0] + M[5] * x[1] + M[8] * x[2];
+    y[0] = a;
+    y[1] = b;
+    y[2] = c;
+}
+
+/* 3x3 products C = A B, C = A^T B and C = A B^T (C may alias A or B). */
 static inline void sfmi_matmul3(const double *A, const double *B, double *C)
 {
+    double T[9];
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
-            C[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+            T[3 * r + c] = A[3 * r] * B[c] + A[3 * r + 1] * B[3 + c] + A[3 * r + 2] * B[6 + c];
+    for (int i = 0; i < 9; i++)
+        C[i] = T[i];
+}
+
+static inline void sfmi_matmul3_tn(const double *A, const double *B, double *C)
+{
+    double T[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            T[3 * r + c] = A[r] * B[c] + A[3 + r] * B[3 + c] + A[6 + r] * B[6 + c];
+    for (int i = 0; i < 9; i++)
+        C[i] = T[i];
+}
+
+static inline void sfmi_matmul3_nt(const double *A, const double *B, double *C)
+{
+    double T[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            T[3 * r + c] = A[3 * r] * B[3 * c] + A[3 * r + 1] * B[3 * c + 1] + A[3 * r + 2] * B[3 * c + 2];
+    for (int i = 0; i < 9; i++)
+        C[i] = T[i];
 }
 
 /* A vector n orthogonal to the rows r0, r1, r2 of a rank-2 3x3: r0 x r1, or,
