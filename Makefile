@@ -180,8 +180,10 @@ bench: all
 deps:
 	sh tools/setup_deps.sh
 
+# The longest steps start first (tools/run_tests.sh runs two or more at once).
+TEST_FIRST ?= test-python test-vo-kitti test-cortex-m7 test-asan test-vo-demo
 test: deps
-	@bash tools/run_tests.sh $(TEST_STEPS)
+	@TEST_FIRST="$(TEST_FIRST)" bash tools/run_tests.sh $(TEST_STEPS)
 
 clean:
 	rm -rf $(BUILD)
