@@ -2,4 +2,4 @@
 TEST_STEPS += test-python
 
 test-python: all
-	PYTHONPATH=python $(PYTHON) -m pytest -q tests/python
+	PYTHONPATH=python $(PYTHON) -m pytest -q --durations=15 tests/python
