@@ -54,9 +54,9 @@ report() {
     read -r rc dt <"$logdir/$step.rc"
     echo "=== $step"
     cat "$logdir/$step.log"
-    line=$(grep -E '^([A-Za-z-]+: )?[0-9]+ passed, [0-9]+ failed' "$logdir/$step.log" | tail -n 1 || true)
+    line=$(grep -E '^([A-Za-z0-9-]+: )?[0-9]+ passed, [0-9]+ failed' "$logdir/$step.log" | tail -n 1 || true)
     if [ -n "$line" ]; then
-        p=$(sed -E 's/^([A-Za-z-]+: )?([0-9]+) passed.*/\2/' <<<"$line")
+        p=$(sed -E 's/^([A-Za-z0-9-]+: )?([0-9]+) passed.*/\2/' <<<"$line")
         f=$(sed -E 's/.* ([0-9]+) failed.*/\1/' <<<"$line")
     else
         py=$(grep -E '^(=+ )?[0-9]+ (passed|failed|error).* in [0-9.]+s' "$logdir/$step.log" | tail -n 1 || true)
