@@ -25,10 +25,10 @@
 
 typedef struct bm {
     int w, h, D, dmin, r, ring;
-    int16_t *rrev;     /* one right row reversed, padded by D + |dmin| + w */
+    int16_t *rrev;     /* ring of 2r + 2 right rows reversed, rrev_len each */
     int rrev_len;
     int16_t *col;      /* column sums, w x D */
-    int16_t *ad;       /* one row of absolute differences, w x D */
+    int16_t *acc;      /* running horizontal sum, D */
     int16_t *win;      /* ring of `ring` rows of window sums, w x D each */
     int16_t *cost;     /* combined cost row, w x D */
     uint8_t *flat;     /* ring of `ring` rows of flags: texture too weak */
@@ -70,9 +70,9 @@ static void layout(sfmi_arena *a, bm *b, int w, int h, const sfm_stereo_block_op
     b->r = o->radius;
     b->ring = 4 * o->radius + 1;
     b->rrev_len = w + 2 * (D + 8 + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity));
-    b->rrev = SFM_ARENA_ARRAY(a, int16_t, b->rrev_len);
+    b->rrev = SFM_ARENA_ARRAY(a, int16_t, (size_t)(2 * o->radius + 2) * b->rrev_len);
     b->col = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
-    b->ad = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
+    b->acc = SFM_ARENA_ARRAY(a, int16_t, D);
     b->win = SFM_ARENA_ARRAY(a, int16_t, (size_t)b->ring * w * D);
     b->cost = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
     b->flat = SFM_ARENA_ARRAY(a, uint8_t, (size_t)b->ring * w);
@@ -96,77 +96,126 @@ static int clampi(int v, int lo, int hi)
     return v < lo ? lo : (v > hi ? hi : v);
 }
 
-static inline sfmi_v16 vabs(sfmi_v16 v)
+static const uint8_t *image_row(const bm *b, const uint8_t *img, int stride, int v)
 {
-    return -sfmi_v16_min(v, -v);
+    return img + (size_t)clampi(v, 0, b->h - 1) * stride;
 }
 
-/* Absolute differences of row y (clamped into the image) for every x and
- * disparity index, truncated at AD_MAX. */
-static void ad_row(bm *b, const uint8_t *left, const uint8_t *right, int stride, int y)
+/* Virtual row v (-r <= v < h + r, clamped into the image) of the right
+ * image reversed into its ring slot: rrev[off + k] = R[w - 1 - k] inside
+ * the row, FAR_VALUE outside, so that the right pixel of x at index d,
+ * R[x - dmin - d], is slot[off + w - 1 - x + dmin + d], contiguous in d. A
+ * row enters the column sums and leaves them 2r + 1 rows later: 2r + 2
+ * slots hold every row in between. */
+static const int16_t *reversed_row(bm *b, const uint8_t *right, int stride, int v)
 {
-    const int w = b->w, D = b->D, dmin = b->dmin;
-    y = clampi(y, 0, b->h - 1);
-    const uint8_t *L = left + (size_t)y * stride, *R = right + (size_t)y * stride;
-    /* rrev[off + k] = R[w - 1 - k] inside the row, FAR_VALUE outside: the
-     * right pixel of x at index d, R[x - dmin - d], is
-     * rrev[off + w - 1 - x + dmin + d], contiguous in d. */
-    const int off = (b->rrev_len - w) / 2;
-    for (int k = 0; k < b->rrev_len; k++) {
-        int src = w - 1 - (k - off);
-        b->rrev[k] = (int16_t)(src >= 0 && src < w ? R[src] : FAR_VALUE);
-    }
-    const sfmi_v16 cap = sfmi_v16_splat(AD_MAX);
-    for (int x = 0; x < w; x++) {
-        sfmi_v16 l = sfmi_v16_splat(L[x]);
-        const int16_t *r = b->rrev + off + w - 1 - x + dmin;
-        int16_t *o = b->ad + (size_t)x * D;
-        for (int d = 0; d < D; d += 8)
-            sfmi_v16_store(o + d, sfmi_v16_min(vabs(l - sfmi_v16_load(r + d)), cap));
-    }
+    int16_t *q = b->rrev + (size_t)((v + b->r) % (2 * b->r + 2)) * b->rrev_len;
+    const uint8_t *R = image_row(b, right, stride, v);
+    const int w = b->w, off = (b->rrev_len - w) / 2;
+    for (int k = 0; k < off; k++)
+        q[k] = FAR_VALUE;
+    for (int k = 0; k < w; k++)
+        q[off + k] = R[w - 1 - k];
+    for (int k = off + w; k < b->rrev_len; k++)
+        q[k] = FAR_VALUE;
+    return q + off + w - 1 + b->dmin;
 }
 
-static void add_rows(int16_t *dst, const int16_t *src, size_t n, int sign)
+/* |l - r| truncated at AD_MAX for eight disparities. */
+static inline sfmi_v16 ad8(sfmi_v16 l, const int16_t *r)
 {
-    for (size_t i = 0; i < n; i += 8) {
-        sfmi_v16 v = sfmi_v16_load(src + i);
-        sfmi_v16_store(dst + i, sign > 0 ? sfmi_v16_load(dst + i) + v : sfmi_v16_load(dst + i) - v);
-    }
+    sfmi_v16 v = sfmi_v16_load(r);
+    return sfmi_v16_min(sfmi_v16_max(l, v) - sfmi_v16_min(l, v), sfmi_v16_splat(AD_MAX));
 }
 
-static int grad_at(const uint8_t *row, int x, int w)
+static inline int absdiff(int a, int c)
 {
-    int a = row[clampi(x + 1, 0, w - 1)], c = row[clampi(x - 1, 0, w - 1)];
     return a > c ? a - c : c - a;
 }
 
-static void grad_col(bm *b, const uint8_t *left, int stride, int y, int sign)
+/* |dI/dx| of the left image (central difference, clamped) of row `add`
+ * into the gradient column sums, and of row `sub` (may be NULL) out. */
+static void grad_update(bm *b, const uint8_t *add, const uint8_t *sub)
 {
-    const uint8_t *row = left + (size_t)clampi(y, 0, b->h - 1) * stride;
-    for (int x = 0; x < b->w; x++)
-        b->gcol[x] += sign * grad_at(row, x, b->w);
+    const int w = b->w;
+    int32_t *g = b->gcol;
+    g[0] += absdiff(add[1], add[0]);
+    g[w - 1] += absdiff(add[w - 1], add[w - 2]);
+    for (int x = 1; x < w - 1; x++)
+        g[x] += absdiff(add[x + 1], add[x - 1]);
+    if (!sub)
+        return;
+    g[0] -= absdiff(sub[1], sub[0]);
+    g[w - 1] -= absdiff(sub[w - 1], sub[w - 2]);
+    for (int x = 1; x < w - 1; x++)
+        g[x] -= absdiff(sub[x + 1], sub[x - 1]);
 }
 
-/* Window sums of row yy (from the column sums) into ring slot yy % ring,
- * with the texture flags of that row. */
-static void window_row(bm *b, int yy, int texture)
+/* The differences of one left row (its reversed right row rr, from
+ * reversed_row) into the column sums. */
+static void col_add(bm *b, const uint8_t *L, const int16_t *rr)
+{
+    const int w = b->w, D = b->D;
+    for (int x = 0; x < w; x++) {
+        sfmi_v16 l = sfmi_v16_splat(L[x]);
+        int16_t *c = b->col + (size_t)x * D;
+        for (int d = 0; d < D; d += 8)
+            sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(l, rr - x + d));
+    }
+}
+
+/* Window sums of row yy into ring slot yy % ring, in one pass over x: when
+ * Ln is given, column x first takes row (Ln, rn) in and row (Lo, ro) out;
+ * the horizontal running sum trails r columns behind (border columns
+ * replicated). Then the texture flags of the row. */
+static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const uint8_t *Lo,
+                       const int16_t *ro, int texture)
 {
     const int w = b->w, D = b->D, r = b->r;
     int16_t *out = b->win + (size_t)(yy % b->ring) * w * D;
-    uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
-    int16_t *acc = b->cost; /* scratch: the running horizontal sum */
-    memset(acc, 0, sizeof(int16_t) * (size_t)D);
-    int32_t g = 0;
-    for (int x = -r; x <= r; x++) {
-        add_rows(acc, b->col + (size_t)clampi(x, 0, w - 1) * D, (size_t)D, 1);
-        g += b->gcol[clampi(x, 0, w - 1)];
+    int16_t *acc = b->acc;
+    for (int x = 0; x < w + r; x++) {
+        if (Ln && x < w) {
+            sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+            int16_t *c = b->col + (size_t)x * D;
+            const int16_t *pn = rn - x, *po = ro - x;
+            for (int d = 0; d < D; d += 8)
+                sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d));
+        }
+        if (x < r)
+            continue;
+        const int xo = x - r;
+        int16_t *o = out + (size_t)xo * D;
+        if (xo == 0) {
+            const sfmi_v16 k = sfmi_v16_splat(r + 1);
+            for (int d = 0; d < D; d += 8) {
+                sfmi_v16 s = k * sfmi_v16_load(b->col + d);
+                for (int i = 1; i <= r; i++)
+                    s += sfmi_v16_load(b->col + (size_t)i * D + d);
+                sfmi_v16_store(acc + d, s);
+                sfmi_v16_store(o + d, s);
+            }
+        } else {
+            const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
+            const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
+            for (int d = 0; d < D; d += 8) {
+                sfmi_v16 s = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
+                sfmi_v16_store(acc + d, s);
+                sfmi_v16_store(o + d, s);
+            }
+        }
     }
-    const int32_t area = (2 * r + 1) * (2 * r + 1);
+    uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
+    if (texture <= 0) {
+        memset(flat, 0, (size_t)w);
+        return;
+    }
+    const int32_t lim = (int32_t)texture * (2 * r + 1) * (2 * r + 1) * 2;
+    int32_t g = 0;
+    for (int x = -r; x <= r; x++)
+        g += b->gcol[clampi(x, 0, w - 1)];
     for (int x = 0; x < w; x++) {
-        memcpy(out + (size_t)x * D, acc, sizeof(int16_t) * (size_t)D);
-        flat[x] = (uint8_t)(texture > 0 && g * 16 < (int32_t)texture * area * 2);
-        add_rows(acc, b->col + (size_t)clampi(x + r + 1, 0, w - 1) * D, (size_t)D, 1);
-        add_rows(acc, b->col + (size_t)clampi(x - r, 0, w - 1) * D, (size_t)D, -1);
+        flat[x] = (uint8_t)(g * 16 < lim);
         g += b->gcol[clampi(x + r + 1, 0, w - 1)] - b->gcol[clampi(x - r, 0, w - 1)];
     }
 }
@@ -186,9 +235,9 @@ static void combine_row(bm *b, int y)
         for (int d = 0; d < D; d += 8) {
             sfmi_v16 a = sfmi_v16_load(wu + xl + d), bb = sfmi_v16_load(wu + xr + d);
             sfmi_v16 cc = sfmi_v16_load(wd + xl + d), dd = sfmi_v16_load(wd + xr + d);
-            sfmi_v16 m1 = sfmi_v16_min(a, bb), M1 = a + bb - m1;
-            sfmi_v16 m2 = sfmi_v16_min(cc, dd), M2 = cc + dd - m2;
-            sfmi_v16 lo = sfmi_v16_min(m1, m2), hi = m1 + m2 - lo;
+            sfmi_v16 m1 = sfmi_v16_min(a, bb), M1 = sfmi_v16_max(a, bb);
+            sfmi_v16 m2 = sfmi_v16_min(cc, dd), M2 = sfmi_v16_max(cc, dd);
+            sfmi_v16 lo = sfmi_v16_min(m1, m2), hi = sfmi_v16_max(m1, m2);
             sfmi_v16 second = sfmi_v16_min(hi, sfmi_v16_min(M1, M2));
             sfmi_v16_store(o + d, sfmi_v16_load(c + d) + lo + second);
         }
@@ -218,21 +267,23 @@ int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int h
     memset(b.col, 0, sizeof(int16_t) * row);
     memset(b.gcol, 0, sizeof(int32_t) * (size_t)width);
     for (int y = -r; y <= r; y++) {
-        ad_row(&b, left, right, stride, y);
-        add_rows(b.col, b.ad, row, 1);
-        grad_col(&b, left, stride, y, 1);
+        const uint8_t *L = image_row(&b, left, stride, y);
+        col_add(&b, L, reversed_row(&b, right, stride, y));
+        grad_update(&b, L, NULL);
     }
     int valid = 0, next_out = 0;
     for (int yy = 0; yy < height; yy++) {
         if (yy > 0) {
-            ad_row(&b, left, right, stride, yy + r);
-            add_rows(b.col, b.ad, row, 1);
-            ad_row(&b, left, right, stride, yy - r - 1);
-            add_rows(b.col, b.ad, row, -1);
-            grad_col(&b, left, stride, yy + r, 1);
-            grad_col(&b, left, stride, yy - r - 1, -1);
+            const uint8_t *Ln = image_row(&b, left, stride, yy + r);
+            const uint8_t *Lo = image_row(&b, left, stride, yy - r - 1);
+            const int16_t *ro = b.rrev + (size_t)((yy - 1) % (2 * r + 2)) * b.rrev_len +
+                                (b.rrev_len - width) / 2 + width - 1 + b.dmin;
+            const int16_t *rn = reversed_row(&b, right, stride, yy + r);
+            grad_update(&b, Ln, Lo);
+            window_row(&b, yy, Ln, rn, Lo, ro, opt->texture);
+        } else {
+            window_row(&b, yy, NULL, NULL, NULL, NULL, opt->texture);
         }
-        window_row(&b, yy, opt->texture);
         int last = yy == height - 1 ? height - 1 : yy - r2;
         for (; next_out <= last; next_out++) {
             combine_row(&b, next_out);

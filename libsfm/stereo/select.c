@@ -42,17 +42,38 @@ static inline sfmi_v16 pick(sfmi_v16 m, sfmi_v16 a, sfmi_v16 b)
     return (a & m) | (b & ~m);
 }
 
+/* The disparity indices of left pixel x that have a match in the right
+ * image: [*dlo, *dhi], empty when *dlo > *dhi. */
+static inline void valid_range(int x, int w, int D, int dmin, int *dlo, int *dhi)
+{
+    int xr0 = x - dmin;
+    *dlo = xr0 - (w - 1) > 0 ? xr0 - (w - 1) : 0;
+    *dhi = xr0 < D - 1 ? xr0 : D - 1;
+}
+
+/* NONE in the lanes of indices idx outside [lo, hi], 0 elsewhere: or-ed
+ * into a non-negative cost (or key) it turns the lanes without a match
+ * into NONE, which neither wins nor updates a right-image winner. */
+static inline sfmi_v16 outside(sfmi_v16 idx, sfmi_v16 lo, sfmi_v16 hi)
+{
+    return ((idx < lo) | (idx > hi)) & sfmi_v16_splat(NONE);
+}
+
 /* One pass over the costs of a row: the right image's winners (when
- * lr_max_diff >= 0) and, for pixels whose whole disparity range lies in the
- * image, the left winner and the smallest cost more than one disparity from
- * it. Each lane holds the disparities d = lane (mod 8): three consecutive
- * disparities fall in three different lanes, so a lane whose best is next to
- * the winner offers its second best instead, and that one is at least eight
- * away. */
+ * lr_max_diff >= 0) and, for every left pixel with a match, the left
+ * winner and the smallest cost more than one disparity from it (the
+ * indices without a match masked out). Each lane holds the disparities
+ * d = lane (mod 8): three consecutive disparities fall in three different
+ * lanes, so a lane whose best is next to the winner offers its second best
+ * instead, and that one is at least eight away. Indices grow along a lane,
+ * and along the candidates of one right pixel (x grows with d), so the
+ * index of a strictly smaller cost is also the largest so far: a max keeps
+ * the first index of the smallest cost. */
 static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p, int w,
-                     const int16_t *cost, int16_t *best_d, int16_t *best_c, int16_t *second)
+                     const int16_t *cost)
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin), lr = p->lr_max_diff >= 0;
+    const sfmi_v16 none = sfmi_v16_splat(NONE), eight = sfmi_v16_splat(8);
     if (lr)
         for (int k = 0; k < s->len; k++) {
             s->best_r_cost[k] = NONE;
@@ -60,45 +81,41 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
         }
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
-        int xr0 = x - dmin;
-        int16_t *rc = s->best_r_cost + off + w - 1 - xr0, *rd = s->best_r_d + off + w - 1 - xr0;
-        if (xr0 - (D - 1) >= 0 && xr0 <= w - 1) {
-            sfmi_v16 m1 = sfmi_v16_splat(NONE), m2 = m1, i1 = sfmi_v16_splat(0);
-            for (int d = 0; d < D; d += 8) {
-                sfmi_v16 v = sfmi_v16_load(c + d);
-                sfmi_v16 idx = lane_index + sfmi_v16_splat(d);
-                sfmi_v16 lt = v < m1;
-                m2 = pick(lt, m1, sfmi_v16_min(m2, v));
-                m1 = sfmi_v16_min(m1, v);
-                i1 = pick(lt, idx, i1);
-                if (lr) {
-                    sfmi_v16 cur = sfmi_v16_load(rc + d);
-                    sfmi_v16 m = v < cur;
-                    sfmi_v16_store(rc + d, sfmi_v16_min(v, cur));
-                    sfmi_v16_store(rd + d, pick(m, idx, sfmi_v16_load(rd + d)));
-                }
-            }
-            /* Lane reduction in vector form: the smallest cost, the
-             * smallest index holding it, then the second candidates. */
-            int bc = sfmi_v16_hmin(m1);
-            sfmi_v16 at = m1 == sfmi_v16_splat(bc);
-            int bd = sfmi_v16_hmin(pick(at, i1, sfmi_v16_splat(NONE)));
-            sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
-            int sec = sfmi_v16_hmin(pick(near, m2, m1));
-            best_d[x] = (int16_t)bd;
-            best_c[x] = (int16_t)bc;
-            second[x] = (int16_t)sec;
-        } else {
-            best_d[x] = -1; /* partial range: the scalar path decides */
-            if (lr)
-                for (int d = 0; d < D; d++) {
-                    int xr = xr0 - d;
-                    if (xr >= 0 && xr <= w - 1 && c[d] < rc[d]) {
-                        rc[d] = c[d];
-                        rd[d] = (int16_t)d;
-                    }
-                }
+        int dlo, dhi;
+        valid_range(x, w, D, dmin, &dlo, &dhi);
+        if (dlo > dhi) {
+            s->best_d[x] = -1;
+            continue;
         }
+        int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin), *rd = s->best_r_d + off + w - 1 - (x - dmin);
+        const int partial = dlo > 0 || dhi < D - 1;
+        const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
+        sfmi_v16 m1 = none, m2 = none, i1 = sfmi_v16_splat(0), idx = lane_index;
+        for (int d = 0; d < D; d += 8) {
+            sfmi_v16 v = sfmi_v16_load(c + d);
+            if (partial)
+                v |= outside(idx, vlo, vhi);
+            sfmi_v16 lt = v < m1;
+            i1 = sfmi_v16_max(i1, lt & idx);
+            m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, v));
+            m1 = sfmi_v16_min(m1, v);
+            if (lr) {
+                sfmi_v16 cur = sfmi_v16_load(rc + d);
+                sfmi_v16_store(rd + d, sfmi_v16_max(sfmi_v16_load(rd + d), (v < cur) & idx));
+                sfmi_v16_store(rc + d, sfmi_v16_min(v, cur));
+            }
+            idx += eight;
+        }
+        /* Lane reduction in vector form: the smallest cost, the smallest
+         * index holding it, then the second candidates. */
+        int bc = sfmi_v16_hmin(m1);
+        sfmi_v16 at = m1 == sfmi_v16_splat(bc);
+        int bd = sfmi_v16_hmin(pick(at, i1, none));
+        sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
+        int sec = sfmi_v16_hmin(pick(near, m2, m1));
+        s->best_d[x] = (int16_t)bd;
+        s->best_c[x] = (int16_t)bc;
+        s->second[x] = (int16_t)sec;
     }
 }
 
@@ -114,40 +131,39 @@ static void scan_row_keyed(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin), lr = p->lr_max_diff >= 0;
     const int mask = (1 << kb) - 1;
     const sfmi_v16 vmask = sfmi_v16_splat(mask), none = sfmi_v16_splat(NONE);
+    const sfmi_v16 eight = sfmi_v16_splat(8);
     if (lr)
         for (int k = 0; k < s->len; k++)
             s->best_r_cost[k] = NONE;
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
-        int xr0 = x - dmin;
-        int16_t *rk = s->best_r_cost + off + w - 1 - xr0;
-        if (xr0 - (D - 1) >= 0 && xr0 <= w - 1) {
-            sfmi_v16 m1 = none, m2 = none, idx = lane_index;
-            const sfmi_v16 eight = sfmi_v16_splat(8);
-            for (int d = 0; d < D; d += 8) {
-                sfmi_v16 key = (sfmi_v16)((sfmi_u16)sfmi_v16_load(c + d) << kb) | idx;
-                idx += eight;
-                m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, key));
-                m1 = sfmi_v16_min(m1, key);
-                if (lr)
-                    sfmi_v16_store(rk + d, sfmi_v16_min(key, sfmi_v16_load(rk + d)));
-            }
-            int bk = sfmi_v16_hmin(m1), bd = bk & mask;
-            sfmi_v16 i1 = m1 & vmask;
-            sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
-            int sk = sfmi_v16_hmin(pick(near, m2, m1));
-            s->best_d[x] = (int16_t)bd;
-            s->best_c[x] = (int16_t)(bk >> kb);
-            s->second[x] = (int16_t)(sk == NONE ? NONE : sk >> kb);
-        } else {
+        int dlo, dhi;
+        valid_range(x, w, D, dmin, &dlo, &dhi);
+        if (dlo > dhi) {
             s->best_d[x] = -1;
-            if (lr)
-                for (int d = 0; d < D; d++) {
-                    int xr = xr0 - d, key = c[d] << kb | d;
-                    if (xr >= 0 && xr <= w - 1 && key < rk[d])
-                        rk[d] = (int16_t)key;
-                }
+            continue;
         }
+        int16_t *rk = s->best_r_cost + off + w - 1 - (x - dmin);
+        const int partial = dlo > 0 || dhi < D - 1;
+        const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
+        sfmi_v16 m1 = none, m2 = none, idx = lane_index;
+        for (int d = 0; d < D; d += 8) {
+            sfmi_v16 key = (sfmi_v16)((sfmi_u16)sfmi_v16_load(c + d) << kb) | idx;
+            if (partial)
+                key |= outside(idx, vlo, vhi);
+            idx += eight;
+            m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, key));
+            m1 = sfmi_v16_min(m1, key);
+            if (lr)
+                sfmi_v16_store(rk + d, sfmi_v16_min(key, sfmi_v16_load(rk + d)));
+        }
+        int bk = sfmi_v16_hmin(m1), bd = bk & mask;
+        sfmi_v16 i1 = m1 & vmask;
+        sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
+        int sk = sfmi_v16_hmin(pick(near, m2, m1));
+        s->best_d[x] = (int16_t)bd;
+        s->best_c[x] = (int16_t)(bk >> kb);
+        s->second[x] = (int16_t)(sk == NONE ? NONE : sk >> kb);
     }
 }
 
@@ -169,33 +185,16 @@ int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
     if (kb >= 0)
         scan_row_keyed(s, p, w, cost, kb);
     else
-        scan_row(s, p, w, cost, s->best_d, s->best_c, s->second);
+        scan_row(s, p, w, cost);
     int valid = 0;
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
-        int xr0 = x - dmin;
-        int dlo = xr0 - (w - 1) > 0 ? xr0 - (w - 1) : 0;
-        int dhi = xr0 < D - 1 ? xr0 : D - 1;
+        int xr0 = x - dmin, dlo, dhi;
+        valid_range(x, w, D, dmin, &dlo, &dhi);
         out[x] = NAN;
-        if ((invalid && invalid[x]) || dlo > dhi)
+        if ((invalid && invalid[x]) || s->best_d[x] < 0)
             continue;
-        int bd, bc, second = NONE;
-        if (s->best_d[x] >= 0) {
-            bd = s->best_d[x];
-            bc = s->best_c[x];
-            second = s->second[x];
-        } else {
-            bd = dlo;
-            bc = c[dlo];
-            for (int d = dlo + 1; d <= dhi; d++)
-                if (c[d] < bc) {
-                    bc = c[d];
-                    bd = d;
-                }
-            for (int d = dlo; d <= dhi; d++)
-                if ((d < bd - 1 || d > bd + 1) && c[d] < second)
-                    second = c[d];
-        }
+        const int bd = s->best_d[x], bc = s->best_c[x], second = s->second[x];
         /* A range cut by the image border: the true disparity may lie
          * beyond the cut, where no cost exists, and the winner inside it is
          * then a wrong match. Kept only with a quarter of the range to spare. */
