@@ -69,11 +69,57 @@ static inline sfmi_v16 outside(sfmi_v16 idx, sfmi_v16 lo, sfmi_v16 hi)
  * and along the candidates of one right pixel (x grows with d), so the
  * index of a strictly smaller cost is also the largest so far: a max keeps
  * the first index of the smallest cost. */
+/* One left pixel of scan_row; partial and lr are constants where it is
+ * inlined, so that each of the four loops is free of their tests. */
+static inline __attribute__((always_inline)) void scan_pixel(const int16_t *c, int D, int dlo,
+                                                             int dhi, int16_t *rc, int16_t *rd,
+                                                             const int partial, const int lr,
+                                                             int16_t *best_d, int16_t *best_c,
+                                                             int16_t *second)
+{
+    const sfmi_v16 none = sfmi_v16_splat(NONE), eight = sfmi_v16_splat(8);
+    const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
+    sfmi_v16 m1 = none, m2 = none, i1 = sfmi_v16_splat(0), idx = lane_index;
+    for (int d = 0; d < D; d += 8) {
+        sfmi_v16 v = sfmi_v16_load(c + d);
+        if (partial)
+            v |= outside(idx, vlo, vhi);
+        sfmi_v16 lt = v < m1;
+        i1 = sfmi_v16_max(i1, lt & idx);
+        m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, v));
+        m1 = sfmi_v16_min(m1, v);
+        if (lr) {
+            sfmi_v16 cur = sfmi_v16_load(rc + d);
+            sfmi_v16_store(rd + d, sfmi_v16_max(sfmi_v16_load(rd + d), (v < cur) & idx));
+            sfmi_v16_store(rc + d, sfmi_v16_min(v, cur));
+        }
+        idx += eight;
+    }
+    /* Lane reduction in vector form: the smallest cost, the smallest index
+     * holding it, then the second candidates. */
+    int bc = sfmi_v16_hmin(m1);
+    sfmi_v16 at = m1 == sfmi_v16_splat(bc);
+    int bd = sfmi_v16_hmin(pick(at, i1, none));
+    sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
+    *best_d = (int16_t)bd;
+    *best_c = (int16_t)bc;
+    *second = (int16_t)sfmi_v16_hmin(pick(near, m2, m1));
+}
+
+/* One pass over the costs of a row: the right image's winners (when
+ * lr_max_diff >= 0) and, for every left pixel with a match, the left
+ * winner and the smallest cost more than one disparity from it (the
+ * indices without a match masked out). Each lane holds the disparities
+ * d = lane (mod 8): three consecutive disparities fall in three different
+ * lanes, so a lane whose best is next to the winner offers its second best
+ * instead, and that one is at least eight away. Indices grow along a lane,
+ * and along the candidates of one right pixel (x grows with d), so the
+ * index of a strictly smaller cost is also the largest so far: a max keeps
+ * the first index of the smallest cost. */
 static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p, int w,
                      const int16_t *cost)
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin), lr = p->lr_max_diff >= 0;
-    const sfmi_v16 none = sfmi_v16_splat(NONE), eight = sfmi_v16_splat(8);
     if (lr)
         for (int k = 0; k < s->len; k++) {
             s->best_r_cost[k] = NONE;
@@ -87,35 +133,19 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
             s->best_d[x] = -1;
             continue;
         }
-        int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin), *rd = s->best_r_d + off + w - 1 - (x - dmin);
-        const int partial = dlo > 0 || dhi < D - 1;
-        const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
-        sfmi_v16 m1 = none, m2 = none, i1 = sfmi_v16_splat(0), idx = lane_index;
-        for (int d = 0; d < D; d += 8) {
-            sfmi_v16 v = sfmi_v16_load(c + d);
-            if (partial)
-                v |= outside(idx, vlo, vhi);
-            sfmi_v16 lt = v < m1;
-            i1 = sfmi_v16_max(i1, lt & idx);
-            m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, v));
-            m1 = sfmi_v16_min(m1, v);
-            if (lr) {
-                sfmi_v16 cur = sfmi_v16_load(rc + d);
-                sfmi_v16_store(rd + d, sfmi_v16_max(sfmi_v16_load(rd + d), (v < cur) & idx));
-                sfmi_v16_store(rc + d, sfmi_v16_min(v, cur));
-            }
-            idx += eight;
+        int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin);
+        int16_t *rd = s->best_r_d + off + w - 1 - (x - dmin);
+        int16_t *bd = s->best_d + x, *bc = s->best_c + x, *sc = s->second + x;
+        if (dlo > 0 || dhi < D - 1) {
+            if (lr)
+                scan_pixel(c, D, dlo, dhi, rc, rd, 1, 1, bd, bc, sc);
+            else
+                scan_pixel(c, D, dlo, dhi, rc, rd, 1, 0, bd, bc, sc);
+        } else if (lr) {
+            scan_pixel(c, D, dlo, dhi, rc, rd, 0, 1, bd, bc, sc);
+        } else {
+            scan_pixel(c, D, dlo, dhi, rc, rd, 0, 0, bd, bc, sc);
         }
-        /* Lane reduction in vector form: the smallest cost, the smallest
-         * index holding it, then the second candidates. */
-        int bc = sfmi_v16_hmin(m1);
-        sfmi_v16 at = m1 == sfmi_v16_splat(bc);
-        int bd = sfmi_v16_hmin(pick(at, i1, none));
-        sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
-        int sec = sfmi_v16_hmin(pick(near, m2, m1));
-        s->best_d[x] = (int16_t)bd;
-        s->best_c[x] = (int16_t)bc;
-        s->second[x] = (int16_t)sec;
     }
 }
 
