@@ -175,6 +175,21 @@ static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, cons
     int16_t *out = b->win + (size_t)(yy % b->ring) * w * D;
     int16_t *acc = b->acc;
     for (int x = 0; x < w + r; x++) {
+        if (Ln && x > r && x < w) {
+            /* the common case in one loop: column x, then the window */
+            sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+            int16_t *c = b->col + (size_t)x * D, *o = out + (size_t)(x - r) * D;
+            const int16_t *cout = b->col + (size_t)(x - 2 * r - 1 > 0 ? x - 2 * r - 1 : 0) * D;
+            const int16_t *pn = rn - x, *po = ro - x;
+            for (int d = 0; d < D; d += 8) {
+                sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
+                sfmi_v16_store(c + d, cv);
+                sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
+                sfmi_v16_store(acc + d, sv);
+                sfmi_v16_store(o + d, sv);
+            }
+            continue;
+        }
         if (Ln && x < w) {
             sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
             int16_t *c = b->col + (size_t)x * D;
@@ -189,19 +204,19 @@ static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, cons
         if (xo == 0) {
             const sfmi_v16 k = sfmi_v16_splat(r + 1);
             for (int d = 0; d < D; d += 8) {
-                sfmi_v16 s = k * sfmi_v16_load(b->col + d);
+                sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
                 for (int i = 1; i <= r; i++)
-                    s += sfmi_v16_load(b->col + (size_t)i * D + d);
-                sfmi_v16_store(acc + d, s);
-                sfmi_v16_store(o + d, s);
+                    sv += sfmi_v16_load(b->col + (size_t)i * D + d);
+                sfmi_v16_store(acc + d, sv);
+                sfmi_v16_store(o + d, sv);
             }
         } else {
             const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
             const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
             for (int d = 0; d < D; d += 8) {
-                sfmi_v16 s = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
-                sfmi_v16_store(acc + d, s);
-                sfmi_v16_store(o + d, s);
+                sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
+                sfmi_v16_store(acc + d, sv);
+                sfmi_v16_store(o + d, sv);
             }
         }
     }
