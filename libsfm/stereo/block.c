@@ -236,7 +236,9 @@ static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, cons
 }
 
 /* Combined cost of output row y: centre window plus the two smallest of
- * the four corner windows. */
+ * the four corner windows. Two of the four are both upper, both lower, or
+ * one of each, then the smaller of each pair: the smallest of those three
+ * sums is the sum of the two smallest. */
 static void combine_row(bm *b, int y)
 {
     const int w = b->w, D = b->D, r2 = 2 * b->r, h = b->h;
@@ -248,13 +250,11 @@ static void combine_row(bm *b, int y)
         int16_t *o = b->cost + (size_t)x * D;
         const int16_t *c = wc + (size_t)x * D;
         for (int d = 0; d < D; d += 8) {
-            sfmi_v16 a = sfmi_v16_load(wu + xl + d), bb = sfmi_v16_load(wu + xr + d);
-            sfmi_v16 cc = sfmi_v16_load(wd + xl + d), dd = sfmi_v16_load(wd + xr + d);
-            sfmi_v16 m1 = sfmi_v16_min(a, bb), M1 = sfmi_v16_max(a, bb);
-            sfmi_v16 m2 = sfmi_v16_min(cc, dd), M2 = sfmi_v16_max(cc, dd);
-            sfmi_v16 lo = sfmi_v16_min(m1, m2), hi = sfmi_v16_max(m1, m2);
-            sfmi_v16 second = sfmi_v16_min(hi, sfmi_v16_min(M1, M2));
-            sfmi_v16_store(o + d, sfmi_v16_load(c + d) + lo + second);
+            sfmi_v16 ul = sfmi_v16_load(wu + xl + d), ur = sfmi_v16_load(wu + xr + d);
+            sfmi_v16 dl = sfmi_v16_load(wd + xl + d), dr = sfmi_v16_load(wd + xr + d);
+            sfmi_v16 two = sfmi_v16_min(sfmi_v16_min(ul + ur, dl + dr),
+                                        sfmi_v16_min(ul, ur) + sfmi_v16_min(dl, dr));
+            sfmi_v16_store(o + d, sfmi_v16_load(c + d) + two);
         }
     }
 }
