@@ -207,45 +207,51 @@ static int key_bits(const sfmi_stereo_select_params *p)
     return p->cost_max > 0 && ((long)(p->cost_max + 1) << kb) <= NONE ? kb : -1;
 }
 
-int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
-                           int w, const int16_t *cost, const uint8_t *invalid, float *out)
+/* Winner, filters and sub-pixel offset of the left pixels [x0, x1), after
+ * the scan; border: whether their range may be cut by the image border
+ * (a constant where inlined). Returns the number of valid pixels. */
+static inline __attribute__((always_inline)) int decide(const sfmi_stereo_scratch *s,
+                                                        const sfmi_stereo_select_params *p, int w,
+                                                        int kb, const int16_t *cost,
+                                                        const uint8_t *invalid, float *out, int x0,
+                                                        int x1, const int border)
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin);
-    const int kb = key_bits(p);
-    if (kb >= 0)
-        scan_row_keyed(s, p, w, cost, kb);
-    else
-        scan_row(s, p, w, cost);
+    /* The right image's winner for the match of x at index bd sits at
+     * rw[bd - x]: slot off + w - 1 - (x - dmin - bd). */
+    const int16_t *rw = (kb >= 0 ? s->best_r_cost : s->best_r_d) + off + w - 1 + dmin;
+    const int16_t *best_d = s->best_d, *best_c = s->best_c, *second_c = s->second;
+    const int uniq = p->uniqueness, lr = p->lr_max_diff, subpixel = p->subpixel;
+    const int quarter = D / 4, kmask = kb >= 0 ? (1 << kb) - 1 : 0;
     int valid = 0;
-    for (int x = 0; x < w; x++) {
-        const int16_t *c = cost + (size_t)x * D;
-        int xr0 = x - dmin, dlo, dhi;
-        valid_range(x, w, D, dmin, &dlo, &dhi);
+    for (int x = x0; x < x1; x++) {
         out[x] = NAN;
-        if ((invalid && invalid[x]) || s->best_d[x] < 0)
+        const int bd = best_d[x];
+        if (bd < 0 || (invalid && invalid[x]))
             continue;
-        const int bd = s->best_d[x], bc = s->best_c[x], second = s->second[x];
-        /* A range cut by the image border: the true disparity may lie
-         * beyond the cut, where no cost exists, and the winner inside it is
-         * then a wrong match. Kept only with a quarter of the range to spare. */
-        if ((dlo > 0 && bd - dlo < D / 4) || (dhi < D - 1 && dhi - bd < D / 4))
+        int dlo = 0, dhi = D - 1;
+        if (border) {
+            valid_range(x, w, D, dmin, &dlo, &dhi);
+            /* A range cut by the image border: the true disparity may lie
+             * beyond the cut, where no cost exists, and the winner inside
+             * it is then a wrong match. Kept only with a quarter of the
+             * range to spare. */
+            if ((dlo > 0 && bd - dlo < quarter) || (dhi < D - 1 && dhi - bd < quarter))
+                continue;
+        }
+        const int bc = best_c[x], second = second_c[x];
+        if (uniq > 0 && second != NONE && (int32_t)second * 100 <= (int32_t)bc * (100 + uniq))
             continue;
-        if (p->uniqueness > 0 && second != NONE &&
-            (long)second * 100 <= (long)bc * (100 + p->uniqueness))
-            continue;
-        if (p->lr_max_diff >= 0) {
-            int rd;
-            if (kb >= 0) {
-                int k = s->best_r_cost[off + w - 1 - (xr0 - bd)];
-                rd = k == NONE ? -1 : k & ((1 << kb) - 1);
-            } else {
-                rd = s->best_r_d[off + w - 1 - (xr0 - bd)];
-            }
-            if (rd < 0 || (rd > bd ? rd - bd : bd - rd) > p->lr_max_diff)
+        if (lr >= 0) {
+            int rd = rw[bd - x];
+            if (kb >= 0)
+                rd = rd == NONE ? -1 : rd & kmask;
+            if (rd < 0 || (rd > bd ? rd - bd : bd - rd) > lr)
                 continue;
         }
         float dv = (float)(dmin + bd);
-        if (p->subpixel && bd > dlo && bd < dhi) {
+        if (subpixel && bd > dlo && bd < dhi) {
+            const int16_t *c = cost + (size_t)x * D;
             int c0 = c[bd - 1], c2 = c[bd + 1];
             int den = c0 + c2 - 2 * bc;
             if (den > 0)
@@ -255,4 +261,22 @@ int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
         valid++;
     }
     return valid;
+}
+
+int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                           int w, const int16_t *cost, const uint8_t *invalid, float *out)
+{
+    const int D = p->D, dmin = p->dmin;
+    const int kb = key_bits(p);
+    if (kb >= 0)
+        scan_row_keyed(s, p, w, cost, kb);
+    else
+        scan_row(s, p, w, cost);
+    /* x in [x0, x1): the whole range has a match */
+    int x0 = dmin + D - 1, x1 = dmin + w;
+    x0 = x0 < 0 ? 0 : (x0 > w ? w : x0);
+    x1 = x1 < x0 ? x0 : (x1 > w ? w : x1);
+    return decide(s, p, w, kb, cost, invalid, out, 0, x0, 1) +
+           decide(s, p, w, kb, cost, invalid, out, x0, x1, 0) +
+           decide(s, p, w, kb, cost, invalid, out, x1, w, 1);
 }
