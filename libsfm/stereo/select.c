@@ -18,12 +18,9 @@
 #include "stereo/stereo_internal.h"
 #include "stereo/stereo_select.h"
 
-#define NONE 0x7fff
-
-static int span_of(int D, int dmin)
-{
-    return D + 8 + (dmin > 0 ? dmin : -dmin);
-}
+#define NONE SFMI_STEREO_NONE
+#define span_of sfmi_stereo_span
+#define valid_range sfmi_stereo_valid_range
 
 void sfmi_stereo_scratch_layout(sfmi_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin)
 {
@@ -42,33 +39,15 @@ static inline sfmi_v16 pick(sfmi_v16 m, sfmi_v16 a, sfmi_v16 b)
     return (a & m) | (b & ~m);
 }
 
-/* The disparity indices of left pixel x that have a match in the right
- * image: [*dlo, *dhi], empty when *dlo > *dhi. */
-static inline void valid_range(int x, int w, int D, int dmin, int *dlo, int *dhi)
+void sfmi_stereo_scan_begin(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p)
 {
-    int xr0 = x - dmin;
-    *dlo = xr0 - (w - 1) > 0 ? xr0 - (w - 1) : 0;
-    *dhi = xr0 < D - 1 ? xr0 : D - 1;
+    if (p->lr_max_diff >= 0)
+        for (int k = 0; k < s->len; k++) {
+            s->best_r_cost[k] = NONE;
+            s->best_r_d[k] = -1;
+        }
 }
 
-/* NONE in the lanes of indices idx outside [lo, hi], 0 elsewhere: or-ed
- * into a non-negative cost (or key) it turns the lanes without a match
- * into NONE, which neither wins nor updates a right-image winner. */
-static inline sfmi_v16 outside(sfmi_v16 idx, sfmi_v16 lo, sfmi_v16 hi)
-{
-    return ((idx < lo) | (idx > hi)) & sfmi_v16_splat(NONE);
-}
-
-/* One pass over the costs of a row: the right image's winners (when
- * lr_max_diff >= 0) and, for every left pixel with a match, the left
- * winner and the smallest cost more than one disparity from it (the
- * indices without a match masked out). Each lane holds the disparities
- * d = lane (mod 8): three consecutive disparities fall in three different
- * lanes, so a lane whose best is next to the winner offers its second best
- * instead, and that one is at least eight away. Indices grow along a lane,
- * and along the candidates of one right pixel (x grows with d), so the
- * index of a strictly smaller cost is also the largest so far: a max keeps
- * the first index of the smallest cost. */
 /* One left pixel of scan_row; partial and lr are constants where it is
  * inlined, so that each of the four loops is free of their tests. */
 static inline __attribute__((always_inline)) void scan_pixel(const int16_t *c, int D, int dlo,
@@ -77,54 +56,27 @@ static inline __attribute__((always_inline)) void scan_pixel(const int16_t *c, i
                                                              int16_t *best_d, int16_t *best_c,
                                                              int16_t *second)
 {
-    const sfmi_v16 none = sfmi_v16_splat(NONE), eight = sfmi_v16_splat(8);
     const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
-    sfmi_v16 m1 = none, m2 = none, i1 = sfmi_v16_splat(0), idx = lane_index;
+    sfmi_stereo_lanes a;
+    sfmi_stereo_lanes_init(&a);
     for (int d = 0; d < D; d += 8) {
         sfmi_v16 v = sfmi_v16_load(c + d);
         if (partial)
-            v |= outside(idx, vlo, vhi);
-        sfmi_v16 lt = v < m1;
-        i1 = sfmi_v16_max(i1, lt & idx);
-        m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, v));
-        m1 = sfmi_v16_min(m1, v);
-        if (lr) {
-            sfmi_v16 cur = sfmi_v16_load(rc + d);
-            sfmi_v16_store(rd + d, sfmi_v16_max(sfmi_v16_load(rd + d), (v < cur) & idx));
-            sfmi_v16_store(rc + d, sfmi_v16_min(v, cur));
-        }
-        idx += eight;
+            v |= sfmi_stereo_outside(a.idx, vlo, vhi);
+        sfmi_stereo_lanes_step(&a, v, rc + d, rd + d, lr);
     }
-    /* Lane reduction in vector form: the smallest cost, the smallest index
-     * holding it, then the second candidates. */
-    int bc = sfmi_v16_hmin(m1);
-    sfmi_v16 at = m1 == sfmi_v16_splat(bc);
-    int bd = sfmi_v16_hmin(pick(at, i1, none));
-    sfmi_v16 near = (i1 >= sfmi_v16_splat(bd - 1)) & (i1 <= sfmi_v16_splat(bd + 1));
-    *best_d = (int16_t)bd;
-    *best_c = (int16_t)bc;
-    *second = (int16_t)sfmi_v16_hmin(pick(near, m2, m1));
+    sfmi_stereo_lanes_finish(&a, best_d, best_c, second);
 }
 
 /* One pass over the costs of a row: the right image's winners (when
  * lr_max_diff >= 0) and, for every left pixel with a match, the left
  * winner and the smallest cost more than one disparity from it (the
- * indices without a match masked out). Each lane holds the disparities
- * d = lane (mod 8): three consecutive disparities fall in three different
- * lanes, so a lane whose best is next to the winner offers its second best
- * instead, and that one is at least eight away. Indices grow along a lane,
- * and along the candidates of one right pixel (x grows with d), so the
- * index of a strictly smaller cost is also the largest so far: a max keeps
- * the first index of the smallest cost. */
+ * indices without a match masked out); see sfmi_stereo_lanes. */
 static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p, int w,
                      const int16_t *cost)
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin), lr = p->lr_max_diff >= 0;
-    if (lr)
-        for (int k = 0; k < s->len; k++) {
-            s->best_r_cost[k] = NONE;
-            s->best_r_d[k] = -1;
-        }
+    sfmi_stereo_scan_begin(s, p);
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
         int dlo, dhi;
@@ -180,7 +132,7 @@ static void scan_row_keyed(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
         for (int d = 0; d < D; d += 8) {
             sfmi_v16 key = (sfmi_v16)((sfmi_u16)sfmi_v16_load(c + d) << kb) | idx;
             if (partial)
-                key |= outside(idx, vlo, vhi);
+                key |= sfmi_stereo_outside(idx, vlo, vhi);
             idx += eight;
             m2 = sfmi_v16_min(m2, sfmi_v16_max(m1, key));
             m1 = sfmi_v16_min(m1, key);
@@ -263,15 +215,11 @@ static inline __attribute__((always_inline)) int decide(const sfmi_stereo_scratc
     return valid;
 }
 
-int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
-                           int w, const int16_t *cost, const uint8_t *invalid, float *out)
+/* Pixels [x0, x1) split by whether their range has a match everywhere. */
+static int decide_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p, int w,
+                      int kb, const int16_t *cost, const uint8_t *invalid, float *out)
 {
     const int D = p->D, dmin = p->dmin;
-    const int kb = key_bits(p);
-    if (kb >= 0)
-        scan_row_keyed(s, p, w, cost, kb);
-    else
-        scan_row(s, p, w, cost);
     /* x in [x0, x1): the whole range has a match */
     int x0 = dmin + D - 1, x1 = dmin + w;
     x0 = x0 < 0 ? 0 : (x0 > w ? w : x0);
@@ -279,4 +227,21 @@ int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
     return decide(s, p, w, kb, cost, invalid, out, 0, x0, 1) +
            decide(s, p, w, kb, cost, invalid, out, x0, x1, 0) +
            decide(s, p, w, kb, cost, invalid, out, x1, w, 1);
+}
+
+int sfmi_stereo_decide_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                           int w, const int16_t *cost, const uint8_t *invalid, float *out)
+{
+    return decide_row(s, p, w, -1, cost, invalid, out);
+}
+
+int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                           int w, const int16_t *cost, const uint8_t *invalid, float *out)
+{
+    const int kb = key_bits(p);
+    if (kb >= 0)
+        scan_row_keyed(s, p, w, cost, kb);
+    else
+        scan_row(s, p, w, cost);
+    return decide_row(s, p, w, kb, cost, invalid, out);
 }
