@@ -164,19 +164,113 @@ static void col_add(bm *b, const uint8_t *L, const int16_t *rr)
     }
 }
 
+/* The two smallest of the four corner windows. Two of the four are both
+ * upper, both lower, or one of each, then the smaller of each pair: the
+ * smallest of those three sums is the sum of the two smallest. */
+static inline sfmi_v16 two_smallest(sfmi_v16 ul, sfmi_v16 ur, sfmi_v16 dl, sfmi_v16 dr)
+{
+    return sfmi_v16_min(sfmi_v16_min(ul + ur, dl + dr), sfmi_v16_min(ul, ur) + sfmi_v16_min(dl, dr));
+}
+
+/* Window rows of an output row y: centre, upper and lower corners. */
+static void corner_rows(const bm *b, int y, const int16_t **wc, const int16_t **wu,
+                        const int16_t **wd)
+{
+    const size_t row = (size_t)b->w * b->D;
+    const int r2 = 2 * b->r;
+    *wc = b->win + (size_t)(y % b->ring) * row;
+    *wu = b->win + (size_t)(clampi(y - r2, 0, b->h - 1) % b->ring) * row;
+    *wd = b->win + (size_t)(clampi(y + r2, 0, b->h - 1) % b->ring) * row;
+}
+
+/* Combined cost of pixel x of an output row (corner columns clamped):
+ * centre window plus the two smallest corner windows. */
+static void combine_pixel(bm *b, int x, const int16_t *wc, const int16_t *wu, const int16_t *wd)
+{
+    const int w = b->w, D = b->D, r2 = 2 * b->r;
+    size_t xl = (size_t)clampi(x - r2, 0, w - 1) * D, xr = (size_t)clampi(x + r2, 0, w - 1) * D;
+    int16_t *o = b->cost + (size_t)x * D;
+    const int16_t *c = wc + (size_t)x * D;
+    for (int d = 0; d < D; d += 8)
+        sfmi_v16_store(o + d, sfmi_v16_load(c + d) +
+                                  two_smallest(sfmi_v16_load(wu + xl + d), sfmi_v16_load(wu + xr + d),
+                                               sfmi_v16_load(wd + xl + d), sfmi_v16_load(wd + xr + d)));
+}
+
+/* Column x of the common case, all in one loop over the disparities:
+ * rows in and out of column x, window x - r of row yy (into o), and the
+ * combined cost and scan of pixel xc = x - 3 r of the output row, whose
+ * lower right corner is that window; the corner columns of xc are inside
+ * the image and its whole range has a match. lr is a constant where
+ * inlined. */
+static inline __attribute__((always_inline)) void
+column_fused(bm *b, const sfmi_stereo_select_params *sp, int x, const uint8_t *Ln,
+             const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out,
+             const int16_t *wc, const int16_t *wu, const int lr)
+{
+    const int w = b->w, D = b->D, r = b->r, xc = x - 3 * r;
+    const sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+    int16_t *c = b->col + (size_t)x * D, *o = out + (size_t)(x - r) * D, *acc = b->acc;
+    const int16_t *cout = b->col + (size_t)(x - 2 * r - 1) * D;
+    const int16_t *pn = rn - x, *po = ro - x;
+    const int16_t *ul = wu + (size_t)(xc - 2 * r) * D, *ur = wu + (size_t)(xc + 2 * r) * D;
+    const int16_t *dl = out + (size_t)(xc - 2 * r) * D, *cc = wc + (size_t)xc * D;
+    int16_t *co = b->cost + (size_t)xc * D;
+    const int slot = sfmi_stereo_span(D, sp->dmin) + w - 1 - (xc - sp->dmin);
+    int16_t *rc = b->sel.best_r_cost + slot, *rd = b->sel.best_r_d + slot;
+    sfmi_stereo_lanes a;
+    sfmi_stereo_lanes_init(&a);
+    for (int d = 0; d < D; d += 8) {
+        sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
+        sfmi_v16_store(c + d, cv);
+        sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
+        sfmi_v16_store(acc + d, sv);
+        sfmi_v16_store(o + d, sv);
+        sfmi_v16 v = sfmi_v16_load(cc + d) +
+                     two_smallest(sfmi_v16_load(ul + d), sfmi_v16_load(ur + d), sfmi_v16_load(dl + d), sv);
+        sfmi_v16_store(co + d, v);
+        sfmi_stereo_lanes_step(&a, v, rc + d, rd + d, lr);
+    }
+    sfmi_stereo_lanes_finish(&a, b->sel.best_d + xc, b->sel.best_c + xc, b->sel.second + xc);
+}
+
 /* Window sums of row yy into ring slot yy % ring, in one pass over x: when
  * Ln is given, column x first takes row (Ln, rn) in and row (Lo, ro) out;
  * the horizontal running sum trails r columns behind (border columns
- * replicated). Then the texture flags of the row. */
-static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const uint8_t *Lo,
-                       const int16_t *ro, int texture)
+ * replicated). Then the texture flags of the row. With yo >= 0 (then
+ * yy = yo + 2 r and Ln is given) the same pass, 2 r columns further
+ * behind, combines and selects output row yo into disp_row; returns its
+ * number of valid pixels. */
+static int window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const uint8_t *Lo,
+                      const int16_t *ro, int texture, int yo, const sfmi_stereo_select_params *sp,
+                      float *disp_row)
 {
     const int w = b->w, D = b->D, r = b->r;
     int16_t *out = b->win + (size_t)(yy % b->ring) * w * D;
     int16_t *acc = b->acc;
-    for (int x = 0; x < w + r; x++) {
+    const int16_t *wc = NULL, *wu = NULL, *wd = NULL;
+    int xa = 0, xb = 0, xend = w + r;
+    if (yo >= 0) {
+        corner_rows(b, yo, &wc, &wu, &wd);
+        sfmi_stereo_scan_begin(&b->sel, sp);
+        /* columns x of column_fused: x > r and x < w for the column and
+         * window sums, pixel x - 3 r with its corners inside (x >= 5 r) and
+         * its range all matched: x - 3 r - dmin in [D - 1, w - 1] */
+        xa = 5 * r > sp->dmin + D - 1 + 3 * r ? 5 * r : sp->dmin + D - 1 + 3 * r;
+        xb = sp->dmin + w + 3 * r < w ? sp->dmin + w + 3 * r : w;
+        xend += 2 * r;
+    }
+    const int lr = sp->lr_max_diff >= 0;
+    for (int x = 0; x < xend; x++) {
+        if (x >= xa && x < xb) {
+            if (lr)
+                column_fused(b, sp, x, Ln, rn, Lo, ro, out, wc, wu, 1);
+            else
+                column_fused(b, sp, x, Ln, rn, Lo, ro, out, wc, wu, 0);
+            continue;
+        }
         if (Ln && x > r && x < w) {
-            /* the common case in one loop: column x, then the window */
+            /* column x, then the window */
             sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
             int16_t *c = b->col + (size_t)x * D, *o = out + (size_t)(x - r) * D;
             const int16_t *cout = b->col + (size_t)(x - 2 * r - 1 > 0 ? x - 2 * r - 1 : 0) * D;
@@ -188,75 +282,67 @@ static void window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, cons
                 sfmi_v16_store(acc + d, sv);
                 sfmi_v16_store(o + d, sv);
             }
-            continue;
-        }
-        if (Ln && x < w) {
-            sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
-            int16_t *c = b->col + (size_t)x * D;
-            const int16_t *pn = rn - x, *po = ro - x;
-            for (int d = 0; d < D; d += 8)
-                sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d));
-        }
-        if (x < r)
-            continue;
-        const int xo = x - r;
-        int16_t *o = out + (size_t)xo * D;
-        if (xo == 0) {
-            const sfmi_v16 k = sfmi_v16_splat(r + 1);
-            for (int d = 0; d < D; d += 8) {
-                sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
-                for (int i = 1; i <= r; i++)
-                    sv += sfmi_v16_load(b->col + (size_t)i * D + d);
-                sfmi_v16_store(acc + d, sv);
-                sfmi_v16_store(o + d, sv);
-            }
         } else {
-            const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
-            const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
-            for (int d = 0; d < D; d += 8) {
-                sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
-                sfmi_v16_store(acc + d, sv);
-                sfmi_v16_store(o + d, sv);
+            if (Ln && x < w) {
+                sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+                int16_t *c = b->col + (size_t)x * D;
+                const int16_t *pn = rn - x, *po = ro - x;
+                for (int d = 0; d < D; d += 8)
+                    sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d));
             }
+            const int xo = x - r;
+            if (xo == 0) {
+                const sfmi_v16 k = sfmi_v16_splat(r + 1);
+                int16_t *o = out;
+                for (int d = 0; d < D; d += 8) {
+                    sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
+                    for (int i = 1; i <= r; i++)
+                        sv += sfmi_v16_load(b->col + (size_t)i * D + d);
+                    sfmi_v16_store(acc + d, sv);
+                    sfmi_v16_store(o + d, sv);
+                }
+            } else if (xo > 0 && xo < w) {
+                int16_t *o = out + (size_t)xo * D;
+                const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
+                const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
+                for (int d = 0; d < D; d += 8) {
+                    sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
+                    sfmi_v16_store(acc + d, sv);
+                    sfmi_v16_store(o + d, sv);
+                }
+            }
+        }
+        if (yo >= 0 && x >= 3 * r) {
+            combine_pixel(b, x - 3 * r, wc, wu, wd);
+            sfmi_stereo_scan_pixel(&b->sel, sp, w, x - 3 * r, b->cost + (size_t)(x - 3 * r) * D);
         }
     }
     uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
     if (texture <= 0) {
         memset(flat, 0, (size_t)w);
-        return;
-    }
-    const int32_t lim = (int32_t)texture * (2 * r + 1) * (2 * r + 1) * 2;
-    int32_t g = 0;
-    for (int x = -r; x <= r; x++)
-        g += b->gcol[clampi(x, 0, w - 1)];
-    for (int x = 0; x < w; x++) {
-        flat[x] = (uint8_t)(g * 16 < lim);
-        g += b->gcol[clampi(x + r + 1, 0, w - 1)] - b->gcol[clampi(x - r, 0, w - 1)];
-    }
-}
-
-/* Combined cost of output row y: centre window plus the two smallest of
- * the four corner windows. Two of the four are both upper, both lower, or
- * one of each, then the smaller of each pair: the smallest of those three
- * sums is the sum of the two smallest. */
-static void combine_row(bm *b, int y)
-{
-    const int w = b->w, D = b->D, r2 = 2 * b->r, h = b->h;
-    const int16_t *wc = b->win + (size_t)(y % b->ring) * w * D;
-    const int16_t *wu = b->win + (size_t)(clampi(y - r2, 0, h - 1) % b->ring) * w * D;
-    const int16_t *wd = b->win + (size_t)(clampi(y + r2, 0, h - 1) % b->ring) * w * D;
-    for (int x = 0; x < w; x++) {
-        size_t xl = (size_t)clampi(x - r2, 0, w - 1) * D, xr = (size_t)clampi(x + r2, 0, w - 1) * D;
-        int16_t *o = b->cost + (size_t)x * D;
-        const int16_t *c = wc + (size_t)x * D;
-        for (int d = 0; d < D; d += 8) {
-            sfmi_v16 ul = sfmi_v16_load(wu + xl + d), ur = sfmi_v16_load(wu + xr + d);
-            sfmi_v16 dl = sfmi_v16_load(wd + xl + d), dr = sfmi_v16_load(wd + xr + d);
-            sfmi_v16 two = sfmi_v16_min(sfmi_v16_min(ul + ur, dl + dr),
-                                        sfmi_v16_min(ul, ur) + sfmi_v16_min(dl, dr));
-            sfmi_v16_store(o + d, sfmi_v16_load(c + d) + two);
+    } else {
+        const int32_t lim = (int32_t)texture * (2 * r + 1) * (2 * r + 1) * 2;
+        int32_t g = 0;
+        for (int x = -r; x <= r; x++)
+            g += b->gcol[clampi(x, 0, w - 1)];
+        for (int x = 0; x < w; x++) {
+            flat[x] = (uint8_t)(g * 16 < lim);
+            g += b->gcol[clampi(x + r + 1, 0, w - 1)] - b->gcol[clampi(x - r, 0, w - 1)];
         }
     }
+    if (yo < 0)
+        return 0;
+    return sfmi_stereo_decide_row(&b->sel, sp, w, b->cost, b->flat + (size_t)(yo % b->ring) * w,
+                                  disp_row);
+}
+
+/* Combined cost of output row y (not fused: the last rows). */
+static void combine_row(bm *b, int y)
+{
+    const int16_t *wc, *wu, *wd;
+    corner_rows(b, y, &wc, &wu, &wd);
+    for (int x = 0; x < b->w; x++)
+        combine_pixel(b, x, wc, wu, wd);
 }
 
 int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int height, int stride,
@@ -286,8 +372,10 @@ int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int h
         col_add(&b, L, reversed_row(&b, right, stride, y));
         grad_update(&b, L, NULL);
     }
-    int valid = 0, next_out = 0;
+    int valid = 0;
     for (int yy = 0; yy < height; yy++) {
+        const int yo = yy >= r2 ? yy - r2 : -1;
+        float *drow = yo >= 0 ? disp + (size_t)yo * width : NULL;
         if (yy > 0) {
             const uint8_t *Ln = image_row(&b, left, stride, yy + r);
             const uint8_t *Lo = image_row(&b, left, stride, yy - r - 1);
@@ -295,17 +383,17 @@ int sfm_stereo_block(const uint8_t *left, const uint8_t *right, int width, int h
                                 (b.rrev_len - width) / 2 + width - 1 + b.dmin;
             const int16_t *rn = reversed_row(&b, right, stride, yy + r);
             grad_update(&b, Ln, Lo);
-            window_row(&b, yy, Ln, rn, Lo, ro, opt->texture);
+            valid += window_row(&b, yy, Ln, rn, Lo, ro, opt->texture, yo, &sp, drow);
         } else {
-            window_row(&b, yy, NULL, NULL, NULL, NULL, opt->texture);
+            valid += window_row(&b, yy, NULL, NULL, NULL, NULL, opt->texture, yo, &sp, drow);
         }
-        int last = yy == height - 1 ? height - 1 : yy - r2;
-        for (; next_out <= last; next_out++) {
-            combine_row(&b, next_out);
-            valid += sfmi_stereo_select_row(&b.sel, &sp, width, b.cost,
-                                            b.flat + (size_t)(next_out % b.ring) * width,
-                                            disp + (size_t)next_out * width);
-        }
+    }
+    /* the last 2 r rows: their lower corners are the last row's windows */
+    for (int y = height - r2; y < height; y++) {
+        combine_row(&b, y);
+        valid += sfmi_stereo_select_row(&b.sel, &sp, width, b.cost,
+                                        b.flat + (size_t)(y % b.ring) * width,
+                                        disp + (size_t)y * width);
     }
     return valid;
 }

@@ -101,6 +101,22 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
     }
 }
 
+void sfmi_stereo_scan_pixel(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                            int w, int x, const int16_t *c)
+{
+    const int D = p->D, dmin = p->dmin, off = span_of(D, dmin);
+    int dlo, dhi;
+    valid_range(x, w, D, dmin, &dlo, &dhi);
+    if (dlo > dhi) {
+        s->best_d[x] = -1;
+        return;
+    }
+    int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin);
+    int16_t *rd = s->best_r_d + off + w - 1 - (x - dmin);
+    scan_pixel(c, D, dlo, dhi, rc, rd, dlo > 0 || dhi < D - 1, p->lr_max_diff >= 0,
+               s->best_d + x, s->best_c + x, s->second + x);
+}
+
 /* scan_row with each cost and its index packed into one lane, key =
  * cost << kb | d, when the largest key stays below NONE: one min then
  * finds the smallest cost and, among equal costs, the smallest index (the

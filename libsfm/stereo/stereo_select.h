@@ -39,6 +39,9 @@ int sfmi_stereo_select_row(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
  * sfmi_stereo_select_row on the same cost row. */
 
 void sfmi_stereo_scan_begin(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p);
+/* The steps of pixel x from its costs c (D of them), any range. */
+void sfmi_stereo_scan_pixel(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
+                            int w, int x, const int16_t *c);
 int sfmi_stereo_decide_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_params *p,
                            int w, const int16_t *cost, const uint8_t *invalid, float *out);
 
