@@ -197,126 +197,138 @@ static void combine_pixel(bm *b, int x, const int16_t *wc, const int16_t *wu, co
                                                sfmi_v16_load(wd + xl + d), sfmi_v16_load(wd + xr + d)));
 }
 
-/* Column x of the common case, all in one loop over the disparities:
- * rows in and out of column x, window x - r of row yy (into o), and the
- * combined cost and scan of pixel xc = x - 3 r of the output row, whose
- * lower right corner is that window; the corner columns of xc are inside
- * the image and its whole range has a match. lr is a constant where
- * inlined. */
+/* Columns [xa, xb) of the common case, each in one loop over the
+ * disparities: rows in and out of column x, window x - r of row yy (into
+ * out), and the combined cost and scan of pixel xc = x - 3 r of the output
+ * row, whose lower right corner is that window; the corner columns of xc
+ * are inside the image and its whole range has a match. lr is a constant
+ * where inlined. */
 static inline __attribute__((always_inline)) void
-column_fused(bm *b, const sfmi_stereo_select_params *sp, int x, const uint8_t *Ln,
-             const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out,
-             const int16_t *wc, const int16_t *wu, const int lr)
+columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const uint8_t *Ln,
+              const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out,
+              const int16_t *wc, const int16_t *wu, const int lr)
 {
-    const int w = b->w, D = b->D, r = b->r, xc = x - 3 * r;
-    const sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
-    int16_t *c = b->col + (size_t)x * D, *o = out + (size_t)(x - r) * D, *acc = b->acc;
-    const int16_t *cout = b->col + (size_t)(x - 2 * r - 1) * D;
-    const int16_t *pn = rn - x, *po = ro - x;
-    const int16_t *ul = wu + (size_t)(xc - 2 * r) * D, *ur = wu + (size_t)(xc + 2 * r) * D;
-    const int16_t *dl = out + (size_t)(xc - 2 * r) * D, *cc = wc + (size_t)xc * D;
-    int16_t *co = b->cost + (size_t)xc * D;
+    const int w = b->w, D = b->D, r = b->r;
+    const size_t D_ = (size_t)D;
+    int16_t *acc = b->acc;
+    int16_t *c = b->col + (size_t)xa * D_, *o = out + (size_t)(xa - r) * D_;
+    const int16_t *cout = b->col + (size_t)(xa - 2 * r - 1) * D_;
+    const int16_t *pn = rn - xa, *po = ro - xa;
+    int xc = xa - 3 * r;
+    const int16_t *ul = wu + (size_t)(xc - 2 * r) * D_, *ur = wu + (size_t)(xc + 2 * r) * D_;
+    const int16_t *dl = out + (size_t)(xc - 2 * r) * D_, *cc = wc + (size_t)xc * D_;
+    int16_t *co = b->cost + (size_t)xc * D_;
     const int slot = sfmi_stereo_span(D, sp->dmin) + w - 1 - (xc - sp->dmin);
     int16_t *rc = b->sel.best_r_cost + slot, *rd = b->sel.best_r_d + slot;
-    sfmi_stereo_lanes a;
-    sfmi_stereo_lanes_init(&a);
-    for (int d = 0; d < D; d += 8) {
-        sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
-        sfmi_v16_store(c + d, cv);
-        sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
-        sfmi_v16_store(acc + d, sv);
-        sfmi_v16_store(o + d, sv);
-        sfmi_v16 v = sfmi_v16_load(cc + d) +
-                     two_smallest(sfmi_v16_load(ul + d), sfmi_v16_load(ur + d), sfmi_v16_load(dl + d), sv);
-        sfmi_v16_store(co + d, v);
-        sfmi_stereo_lanes_step(&a, v, rc + d, rd + d, lr);
+    for (int x = xa; x < xb; x++, xc++) {
+        const sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+        sfmi_stereo_lanes a;
+        sfmi_stereo_lanes_init(&a);
+        for (int d = 0; d < D; d += 8) {
+            sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
+            sfmi_v16_store(c + d, cv);
+            sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
+            sfmi_v16_store(acc + d, sv);
+            sfmi_v16_store(o + d, sv);
+            sfmi_v16 v = sfmi_v16_load(cc + d) + two_smallest(sfmi_v16_load(ul + d),
+                                                              sfmi_v16_load(ur + d),
+                                                              sfmi_v16_load(dl + d), sv);
+            sfmi_v16_store(co + d, v);
+            sfmi_stereo_lanes_step(&a, v, rc + d, rd + d, lr);
+        }
+        sfmi_stereo_lanes_finish(&a, b->sel.best_d + xc, b->sel.best_c + xc, b->sel.second + xc);
+        c += D_;
+        o += D_;
+        cout += D_;
+        pn--;
+        po--;
+        ul += D_;
+        ur += D_;
+        dl += D_;
+        cc += D_;
+        co += D_;
+        rc--;
+        rd--;
     }
-    sfmi_stereo_lanes_finish(&a, b->sel.best_d + xc, b->sel.best_c + xc, b->sel.second + xc);
+}
+
+/* Column x outside columns_fused: the column and window sums (border
+ * columns replicated) and, with yo >= 0, the combined cost and scan of
+ * pixel x - 3 r of the output row. */
+static void column(bm *b, const sfmi_stereo_select_params *sp, int x, const uint8_t *Ln,
+                   const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out, int yo,
+                   const int16_t *wc, const int16_t *wu, const int16_t *wd)
+{
+    const int w = b->w, D = b->D, r = b->r;
+    int16_t *acc = b->acc;
+    if (Ln && x < w) {
+        sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+        int16_t *c = b->col + (size_t)x * D;
+        const int16_t *pn = rn - x, *po = ro - x;
+        for (int d = 0; d < D; d += 8)
+            sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d));
+    }
+    const int xo = x - r;
+    if (xo == 0) {
+        const sfmi_v16 k = sfmi_v16_splat(r + 1);
+        for (int d = 0; d < D; d += 8) {
+            sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
+            for (int i = 1; i <= r; i++)
+                sv += sfmi_v16_load(b->col + (size_t)i * D + d);
+            sfmi_v16_store(acc + d, sv);
+            sfmi_v16_store(out + d, sv);
+        }
+    } else if (xo > 0 && xo < w) {
+        int16_t *o = out + (size_t)xo * D;
+        const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
+        const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
+        for (int d = 0; d < D; d += 8) {
+            sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
+            sfmi_v16_store(acc + d, sv);
+            sfmi_v16_store(o + d, sv);
+        }
+    }
+    if (yo >= 0 && x >= 3 * r) {
+        combine_pixel(b, x - 3 * r, wc, wu, wd);
+        sfmi_stereo_scan_pixel(&b->sel, sp, w, x - 3 * r, b->cost + (size_t)(x - 3 * r) * D);
+    }
 }
 
 /* Window sums of row yy into ring slot yy % ring, in one pass over x: when
  * Ln is given, column x first takes row (Ln, rn) in and row (Lo, ro) out;
- * the horizontal running sum trails r columns behind (border columns
- * replicated). Then the texture flags of the row. With yo >= 0 (then
- * yy = yo + 2 r and Ln is given) the same pass, 2 r columns further
- * behind, combines and selects output row yo into disp_row; returns its
- * number of valid pixels. */
+ * the horizontal running sum trails r columns behind. Then the texture
+ * flags of the row. With yo >= 0 (then yy = yo + 2 r and Ln is given) the
+ * same pass, 2 r columns further behind, combines and selects output row
+ * yo into disp_row; returns its number of valid pixels. */
 static int window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const uint8_t *Lo,
                       const int16_t *ro, int texture, int yo, const sfmi_stereo_select_params *sp,
                       float *disp_row)
 {
     const int w = b->w, D = b->D, r = b->r;
     int16_t *out = b->win + (size_t)(yy % b->ring) * w * D;
-    int16_t *acc = b->acc;
     const int16_t *wc = NULL, *wu = NULL, *wd = NULL;
     int xa = 0, xb = 0, xend = w + r;
     if (yo >= 0) {
         corner_rows(b, yo, &wc, &wu, &wd);
         sfmi_stereo_scan_begin(&b->sel, sp);
-        /* columns x of column_fused: x > r and x < w for the column and
+        /* columns x of columns_fused: x > r and x < w for the column and
          * window sums, pixel x - 3 r with its corners inside (x >= 5 r) and
          * its range all matched: x - 3 r - dmin in [D - 1, w - 1] */
         xa = 5 * r > sp->dmin + D - 1 + 3 * r ? 5 * r : sp->dmin + D - 1 + 3 * r;
         xb = sp->dmin + w + 3 * r < w ? sp->dmin + w + 3 * r : w;
+        xb = xb > xa ? xb : xa;
         xend += 2 * r;
     }
-    const int lr = sp->lr_max_diff >= 0;
-    for (int x = 0; x < xend; x++) {
-        if (x >= xa && x < xb) {
-            if (lr)
-                column_fused(b, sp, x, Ln, rn, Lo, ro, out, wc, wu, 1);
-            else
-                column_fused(b, sp, x, Ln, rn, Lo, ro, out, wc, wu, 0);
-            continue;
-        }
-        if (Ln && x > r && x < w) {
-            /* column x, then the window */
-            sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
-            int16_t *c = b->col + (size_t)x * D, *o = out + (size_t)(x - r) * D;
-            const int16_t *cout = b->col + (size_t)(x - 2 * r - 1 > 0 ? x - 2 * r - 1 : 0) * D;
-            const int16_t *pn = rn - x, *po = ro - x;
-            for (int d = 0; d < D; d += 8) {
-                sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
-                sfmi_v16_store(c + d, cv);
-                sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
-                sfmi_v16_store(acc + d, sv);
-                sfmi_v16_store(o + d, sv);
-            }
-        } else {
-            if (Ln && x < w) {
-                sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
-                int16_t *c = b->col + (size_t)x * D;
-                const int16_t *pn = rn - x, *po = ro - x;
-                for (int d = 0; d < D; d += 8)
-                    sfmi_v16_store(c + d, sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d));
-            }
-            const int xo = x - r;
-            if (xo == 0) {
-                const sfmi_v16 k = sfmi_v16_splat(r + 1);
-                int16_t *o = out;
-                for (int d = 0; d < D; d += 8) {
-                    sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
-                    for (int i = 1; i <= r; i++)
-                        sv += sfmi_v16_load(b->col + (size_t)i * D + d);
-                    sfmi_v16_store(acc + d, sv);
-                    sfmi_v16_store(o + d, sv);
-                }
-            } else if (xo > 0 && xo < w) {
-                int16_t *o = out + (size_t)xo * D;
-                const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
-                const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
-                for (int d = 0; d < D; d += 8) {
-                    sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
-                    sfmi_v16_store(acc + d, sv);
-                    sfmi_v16_store(o + d, sv);
-                }
-            }
-        }
-        if (yo >= 0 && x >= 3 * r) {
-            combine_pixel(b, x - 3 * r, wc, wu, wd);
-            sfmi_stereo_scan_pixel(&b->sel, sp, w, x - 3 * r, b->cost + (size_t)(x - 3 * r) * D);
-        }
+    for (int x = 0; x < xa; x++)
+        column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
+    if (xb > xa) {
+        if (sp->lr_max_diff >= 0)
+            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 1);
+        else
+            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0);
     }
+    for (int x = xb; x < xend; x++)
+        column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
     uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
     if (texture <= 0) {
         memset(flat, 0, (size_t)w);
