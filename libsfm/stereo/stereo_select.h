@@ -113,12 +113,13 @@ static inline void sfmi_stereo_lanes_finish(const sfmi_stereo_lanes *a, int16_t 
                                             int16_t *best_c, int16_t *second)
 {
     const sfmi_v16 none = sfmi_v16_splat(SFMI_STEREO_NONE);
-    int bc = sfmi_v16_hmin(a->m1);
-    sfmi_v16 at = a->m1 == sfmi_v16_splat(bc);
-    int bd = sfmi_v16_hmin((a->i1 & at) | (none & ~at));
-    sfmi_v16 near = (a->i1 >= sfmi_v16_splat(bd - 1)) & (a->i1 <= sfmi_v16_splat(bd + 1));
-    *best_d = (int16_t)bd;
-    *best_c = (int16_t)bc;
+    sfmi_v16 bc = sfmi_v16_hmin_all(a->m1);
+    sfmi_v16 at = a->m1 == bc;
+    sfmi_v16 bd = sfmi_v16_hmin_all((a->i1 & at) | (none & ~at));
+    sfmi_v16 t = a->i1 - bd;
+    sfmi_v16 near = (t >= sfmi_v16_splat(-1)) & (t <= sfmi_v16_splat(1));
+    *best_d = bd[0];
+    *best_c = bc[0];
     *second = (int16_t)sfmi_v16_hmin((a->m2 & near) | (a->m1 & ~near));
 }
 
