@@ -201,12 +201,12 @@ static void combine_pixel(bm *b, int x, const int16_t *wc, const int16_t *wu, co
  * disparities: rows in and out of column x, window x - r of row yy (into
  * out), and the combined cost and scan of pixel xc = x - 3 r of the output
  * row, whose lower right corner is that window; the corner columns of xc
- * are inside the image and its whole range has a match. lr is a constant
- * where inlined. */
+ * are inside the image. Without partial, the whole range of each xc has a
+ * match. partial and lr are constants where inlined. */
 static inline __attribute__((always_inline)) void
 columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const uint8_t *Ln,
               const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out,
-              const int16_t *wc, const int16_t *wu, const int lr)
+              const int16_t *wc, const int16_t *wu, const int partial, const int lr)
 {
     const int w = b->w, D = b->D, r = b->r;
     const size_t D_ = (size_t)D;
@@ -222,6 +222,10 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
     int16_t *rc = b->sel.best_r_cost + slot, *rd = b->sel.best_r_d + slot;
     for (int x = xa; x < xb; x++, xc++) {
         const sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
+        int dlo = 0, dhi = D - 1;
+        if (partial)
+            sfmi_stereo_valid_range(xc, w, D, sp->dmin, &dlo, &dhi);
+        const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
         sfmi_stereo_lanes a;
         sfmi_stereo_lanes_init(&a);
         for (int d = 0; d < D; d += 8) {
@@ -234,9 +238,13 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
                                                               sfmi_v16_load(ur + d),
                                                               sfmi_v16_load(dl + d), sv);
             sfmi_v16_store(co + d, v);
+            if (partial)
+                v |= sfmi_stereo_outside(a.idx, vlo, vhi);
             sfmi_stereo_lanes_step(&a, v, rc + d, rd + d, lr);
         }
         sfmi_stereo_lanes_finish(&a, b->sel.best_d + xc, b->sel.best_c + xc, b->sel.second + xc);
+        if (partial && dlo > dhi)
+            b->sel.best_d[xc] = -1;
         c += D_;
         o += D_;
         cout += D_;
@@ -307,27 +315,42 @@ static int window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const
     const int w = b->w, D = b->D, r = b->r;
     int16_t *out = b->win + (size_t)(yy % b->ring) * w * D;
     const int16_t *wc = NULL, *wu = NULL, *wd = NULL;
-    int xa = 0, xb = 0, xend = w + r;
+    int xs = 0, xa = 0, xb = 0, xe = 0, xend = w + r;
     if (yo >= 0) {
         corner_rows(b, yo, &wc, &wu, &wd);
         sfmi_stereo_scan_begin(&b->sel, sp);
-        /* columns x of columns_fused: x > r and x < w for the column and
-         * window sums, pixel x - 3 r with its corners inside (x >= 5 r) and
-         * its range all matched: x - 3 r - dmin in [D - 1, w - 1] */
-        xa = 5 * r > sp->dmin + D - 1 + 3 * r ? 5 * r : sp->dmin + D - 1 + 3 * r;
-        xb = sp->dmin + w + 3 * r < w ? sp->dmin + w + 3 * r : w;
-        xb = xb > xa ? xb : xa;
+        /* columns x of columns_fused, [xs, xe): x > r and x < w for the
+         * column and window sums, pixel x - 3 r with its corners inside
+         * (x >= 5 r); of those, [xa, xb) where the whole range of x - 3 r
+         * has a match: x - 3 r - dmin in [D - 1, w - 1] */
+        xs = 5 * r;
+        xe = w > xs ? w : xs;
+        xa = clampi(sp->dmin + D - 1 + 3 * r, xs, xe);
+        xb = clampi(sp->dmin + w + 3 * r, xa, xe);
         xend += 2 * r;
     }
-    for (int x = 0; x < xa; x++)
+    const int lr = sp->lr_max_diff >= 0;
+    for (int x = 0; x < xs; x++)
         column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
-    if (xb > xa) {
-        if (sp->lr_max_diff >= 0)
-            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 1);
+    if (xa > xs) {
+        if (lr)
+            columns_fused(b, sp, xs, xa, Ln, rn, Lo, ro, out, wc, wu, 1, 1);
         else
-            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0);
+            columns_fused(b, sp, xs, xa, Ln, rn, Lo, ro, out, wc, wu, 1, 0);
     }
-    for (int x = xb; x < xend; x++)
+    if (xb > xa) {
+        if (lr)
+            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0, 1);
+        else
+            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0, 0);
+    }
+    if (xe > xb) {
+        if (lr)
+            columns_fused(b, sp, xb, xe, Ln, rn, Lo, ro, out, wc, wu, 1, 1);
+        else
+            columns_fused(b, sp, xb, xe, Ln, rn, Lo, ro, out, wc, wu, 1, 0);
+    }
+    for (int x = xe; x < xend; x++)
         column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
     uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
     if (texture <= 0) {
