@@ -28,7 +28,6 @@ typedef struct bm {
     int16_t *rrev;     /* ring of 2r + 2 right rows reversed, rrev_len each */
     int rrev_len;
     int16_t *col;      /* column sums, w x D */
-    int16_t *acc;      /* running horizontal sum, D */
     int16_t *win;      /* ring of `ring` rows of window sums, w x D each */
     int16_t *cost;     /* combined cost row, w x D */
     uint8_t *flat;     /* ring of `ring` rows of flags: texture too weak */
@@ -72,7 +71,6 @@ static void layout(sfmi_arena *a, bm *b, int w, int h, const sfm_stereo_block_op
     b->rrev_len = w + 2 * (D + 8 + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity));
     b->rrev = SFM_ARENA_ARRAY(a, int16_t, (size_t)(2 * o->radius + 2) * b->rrev_len);
     b->col = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
-    b->acc = SFM_ARENA_ARRAY(a, int16_t, D);
     b->win = SFM_ARENA_ARRAY(a, int16_t, (size_t)b->ring * w * D);
     b->cost = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
     b->flat = SFM_ARENA_ARRAY(a, uint8_t, (size_t)b->ring * w);
@@ -210,7 +208,6 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
 {
     const int w = b->w, D = b->D, r = b->r;
     const size_t D_ = (size_t)D;
-    int16_t *acc = b->acc;
     int16_t *c = b->col + (size_t)xa * D_, *o = out + (size_t)(xa - r) * D_;
     const int16_t *cout = b->col + (size_t)(xa - 2 * r - 1) * D_;
     const int16_t *pn = rn - xa, *po = ro - xa;
@@ -231,8 +228,7 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
         for (int d = 0; d < D; d += 8) {
             sfmi_v16 cv = sfmi_v16_load(c + d) + ad8(ln, pn + d) - ad8(lo, po + d);
             sfmi_v16_store(c + d, cv);
-            sfmi_v16 sv = sfmi_v16_load(acc + d) + cv - sfmi_v16_load(cout + d);
-            sfmi_v16_store(acc + d, sv);
+            sfmi_v16 sv = sfmi_v16_load(o - D + d) + cv - sfmi_v16_load(cout + d);
             sfmi_v16_store(o + d, sv);
             sfmi_v16 v = sfmi_v16_load(cc + d) + two_smallest(sfmi_v16_load(ul + d),
                                                               sfmi_v16_load(ur + d),
@@ -268,7 +264,6 @@ static void column(bm *b, const sfmi_stereo_select_params *sp, int x, const uint
                    const int16_t *wc, const int16_t *wu, const int16_t *wd)
 {
     const int w = b->w, D = b->D, r = b->r;
-    int16_t *acc = b->acc;
     if (Ln && x < w) {
         sfmi_v16 ln = sfmi_v16_splat(Ln[x]), lo = sfmi_v16_splat(Lo[x]);
         int16_t *c = b->col + (size_t)x * D;
@@ -283,7 +278,6 @@ static void column(bm *b, const sfmi_stereo_select_params *sp, int x, const uint
             sfmi_v16 sv = k * sfmi_v16_load(b->col + d);
             for (int i = 1; i <= r; i++)
                 sv += sfmi_v16_load(b->col + (size_t)i * D + d);
-            sfmi_v16_store(acc + d, sv);
             sfmi_v16_store(out + d, sv);
         }
     } else if (xo > 0 && xo < w) {
@@ -291,8 +285,7 @@ static void column(bm *b, const sfmi_stereo_select_params *sp, int x, const uint
         const int16_t *cin = b->col + (size_t)(x < w ? x : w - 1) * D;
         const int16_t *cout = b->col + (size_t)(xo - r - 1 > 0 ? xo - r - 1 : 0) * D;
         for (int d = 0; d < D; d += 8) {
-            sfmi_v16 sv = sfmi_v16_load(acc + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
-            sfmi_v16_store(acc + d, sv);
+            sfmi_v16 sv = sfmi_v16_load(o - D + d) + sfmi_v16_load(cin + d) - sfmi_v16_load(cout + d);
             sfmi_v16_store(o + d, sv);
         }
     }
@@ -360,9 +353,19 @@ static int window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const
         int32_t g = 0;
         for (int x = -r; x <= r; x++)
             g += b->gcol[clampi(x, 0, w - 1)];
-        for (int x = 0; x < w; x++) {
+        const int32_t *gc = b->gcol;
+        int x = 0;
+        for (; x < r && x < w; x++) {
             flat[x] = (uint8_t)(g * 16 < lim);
-            g += b->gcol[clampi(x + r + 1, 0, w - 1)] - b->gcol[clampi(x - r, 0, w - 1)];
+            g += gc[clampi(x + r + 1, 0, w - 1)] - gc[0];
+        }
+        for (; x < w - r - 1; x++) {
+            flat[x] = (uint8_t)(g * 16 < lim);
+            g += gc[x + r + 1] - gc[x - r];
+        }
+        for (; x < w; x++) {
+            flat[x] = (uint8_t)(g * 16 < lim);
+            g += gc[w - 1] - gc[clampi(x - r, 0, w - 1)];
         }
     }
     if (yo < 0)
