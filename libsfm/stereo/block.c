@@ -11,7 +11,13 @@
  * Absolute differences are truncated at 63 so that the sums of three
  * windows of up to 11x11 fit 16-bit lanes. Rows stream through: column sums
  * are updated incrementally and a ring of 4r+1 rows of window sums feeds the
- * corner windows, so memory grows with the width only.
+ * corner windows, so memory grows with the width only. One pass over a row
+ * does it all for each column and eight disparities at a time: the row
+ * entering the column sums and the row leaving them, the running window
+ * sum along the row, the combined cost of the pixel 2r rows up and 3r
+ * columns back (whose lower right corner window is the one just summed),
+ * and that pixel's selection scan (stereo_select.h); the combined costs
+ * are kept for one row, for the sub-pixel fit.
  */
 #include <string.h>
 

@@ -4,10 +4,10 @@
  * best, the left-right consistency check (the right image's own winner
  * along the same costs, as in Hirschmüller, Innocent, Garibaldi 2002), and
  * sub-pixel interpolation by a parabola through the best cost and its
- * neighbours. Ties go to the smallest disparity index, in the vector and
- * the scalar paths alike. Near the image border, where part of the range
- * has no match in the other image, the winner must lie a quarter of the
- * range inside what is left.
+ * neighbours. Ties go to the smallest disparity index. Near the image
+ * border, where part of the range has no match in the other image, the
+ * disparities without a match are masked out of the scan and the winner
+ * must lie a quarter of the range inside what is left.
  *
  * The right image's winners are kept reversed (slot off + w - 1 - xr), so
  * that the right pixels of consecutive disparities of one left pixel are
