@@ -31,7 +31,9 @@
 
 typedef struct sgm {
     int w, h, D, dmin, Dp, p1, p2, paths;
-    uint16_t *cl_lo, *cl_hi, *cr_lo, *cr_hi; /* census planes of left, right */
+    const uint8_t *left, *right;
+    int stride;
+    uint16_t *cl_lo, *cl_hi, *cr_lo, *cr_hi; /* census of one row of left, right */
     int16_t *rrev_lo, *rrev_hi; /* one right row reversed and padded */
     int rrev_len, rrev_off;
     int16_t *C;         /* cost row, w x D */
@@ -78,10 +80,10 @@ static void layout(sfmi_arena *a, sgm *s, int w, int h, const sfm_stereo_sgm_opt
     s->h = h;
     s->D = D;
     s->Dp = Dp;
-    s->cl_lo = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cl_hi = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cr_lo = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cr_hi = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
+    s->cl_lo = SFM_ARENA_ARRAY(a, uint16_t, w);
+    s->cl_hi = SFM_ARENA_ARRAY(a, uint16_t, w);
+    s->cr_lo = SFM_ARENA_ARRAY(a, uint16_t, w);
+    s->cr_hi = SFM_ARENA_ARRAY(a, uint16_t, w);
     int span = D + 8 + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity);
     s->rrev_off = span;
     s->rrev_len = w + 2 * span;
@@ -112,14 +114,18 @@ size_t sfm_stereo_sgm_workspace_size(int width, int height, const sfm_stereo_sgm
     return a.failed ? 0 : sfmi_arena_required(&a);
 }
 
-/* Census Hamming costs of row y for every x and disparity dmin + d. The
- * right row is reversed so that the pixels x - dmin - d of consecutive d
- * are consecutive in memory. */
+/* Census Hamming costs of row y for every x and disparity dmin + d, from
+ * the census of that row (computed here: a row at a time keeps the
+ * workspace to rows, and the two-pass modes compute it twice). The right
+ * row is reversed so that the pixels x - dmin - d of consecutive d are
+ * consecutive in memory. */
 static void cost_row(const sgm *s, int y)
 {
     const int D = s->D, w = s->w, dmin = s->dmin, off = s->rrev_off;
-    const uint16_t *Llo = s->cl_lo + (size_t)y * w, *Lhi = s->cl_hi + (size_t)y * w;
-    const uint16_t *Rlo = s->cr_lo + (size_t)y * w, *Rhi = s->cr_hi + (size_t)y * w;
+    sfmi_stereo_census_row(s->left, w, s->h, s->stride, y, s->cl_lo, s->cl_hi);
+    sfmi_stereo_census_row(s->right, w, s->h, s->stride, y, s->cr_lo, s->cr_hi);
+    const uint16_t *Llo = s->cl_lo, *Lhi = s->cl_hi;
+    const uint16_t *Rlo = s->cr_lo, *Rhi = s->cr_hi;
     memset(s->rrev_lo, 0, sizeof(int16_t) * (size_t)s->rrev_len);
     memset(s->rrev_hi, 0, sizeof(int16_t) * (size_t)s->rrev_len);
     for (int k = 0; k < w; k++) {
@@ -365,8 +371,9 @@ int sfm_stereo_sgm(const uint8_t *left, const uint8_t *right, int width, int hei
     s.p1 = opt->p1;
     s.p2 = opt->p2;
     s.paths = opt->paths;
-    sfmi_stereo_census(left, width, height, stride, s.cl_lo, s.cl_hi);
-    sfmi_stereo_census(right, width, height, stride, s.cr_lo, s.cr_hi);
+    s.left = left;
+    s.right = right;
+    s.stride = stride;
     /* Each path's L is at most C + p2 <= OUT_COST + p2 (see the top). */
     int npaths = opt->paths == SFM_STEREO_PATHS_8 ? 8 : (opt->paths == SFM_STEREO_PATHS_4 ? 4 : 5);
     sfmi_stereo_select_params sp = {opt->min_disparity, opt->num_disparities, opt->uniqueness,
