@@ -213,14 +213,14 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
               const int16_t *wc, const int16_t *wu, const int partial, const int lr)
 {
     const int w = b->w, D = b->D, r = b->r;
-    const size_t D_ = (size_t)D;
-    int16_t *c = b->col + (size_t)xa * D_, *o = out + (size_t)(xa - r) * D_;
-    const int16_t *cout = b->col + (size_t)(xa - 2 * r - 1) * D_;
+    const size_t step = (size_t)D;
+    int16_t *c = b->col + (size_t)xa * step, *o = out + (size_t)(xa - r) * step;
+    const int16_t *cout = b->col + (size_t)(xa - 2 * r - 1) * step;
     const int16_t *pn = rn - xa, *po = ro - xa;
     int xc = xa - 3 * r;
-    const int16_t *ul = wu + (size_t)(xc - 2 * r) * D_, *ur = wu + (size_t)(xc + 2 * r) * D_;
-    const int16_t *dl = out + (size_t)(xc - 2 * r) * D_, *cc = wc + (size_t)xc * D_;
-    int16_t *co = b->cost + (size_t)xc * D_;
+    const int16_t *ul = wu + (size_t)(xc - 2 * r) * step, *ur = wu + (size_t)(xc + 2 * r) * step;
+    const int16_t *dl = out + (size_t)(xc - 2 * r) * step, *cc = wc + (size_t)xc * step;
+    int16_t *co = b->cost + (size_t)xc * step;
     const int slot = sfmi_stereo_span(D, sp->dmin) + w - 1 - (xc - sp->dmin);
     int16_t *rc = b->sel.best_r_cost + slot, *rd = b->sel.best_r_d + slot;
     for (int x = xa; x < xb; x++, xc++) {
@@ -247,16 +247,16 @@ columns_fused(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const 
         sfmi_stereo_lanes_finish(&a, b->sel.best_d + xc, b->sel.best_c + xc, b->sel.second + xc);
         if (partial && dlo > dhi)
             b->sel.best_d[xc] = -1;
-        c += D_;
-        o += D_;
-        cout += D_;
+        c += step;
+        o += step;
+        cout += step;
         pn--;
         po--;
-        ul += D_;
-        ur += D_;
-        dl += D_;
-        cc += D_;
-        co += D_;
+        ul += step;
+        ur += step;
+        dl += step;
+        cc += step;
+        co += step;
         rc--;
         rd--;
     }
