@@ -87,38 +87,36 @@ static void census16(const uint8_t *c, int stride, uint16_t *lo, uint16_t *hi)
     }
 }
 
-void sfmi_stereo_census(const uint8_t *img, int w, int h, int stride, uint16_t *lo, uint16_t *hi)
+void sfmi_stereo_census_row(const uint8_t *img, int w, int h, int stride, int y, uint16_t *lo,
+                            uint16_t *hi)
 {
     const sfmi_v16 one = sfmi_v16_splat(1);
-    for (int y = 0; y < h; y++) {
-        int x = 0;
-        if (y >= RY && y < h - RY) {
-            for (; x < RX; x++)
-                census_pixel(img, w, h, stride, x, y, lo + (size_t)y * w + x, hi + (size_t)y * w + x);
-            /* Interior: sixteen pixels at a time, then eight. */
-            for (; x + 16 <= w - RX; x += 16)
-                census16(img + (size_t)y * stride + x, stride, lo + (size_t)y * w + x,
-                         hi + (size_t)y * w + x);
-            for (; x + 8 <= w - RX; x += 8) {
-                const uint8_t *c = img + (size_t)y * stride + x;
-                sfmi_v16 bits = sfmi_v16_splat(0), first = bits;
-                int k = 0;
-                for (int dy = 0; dy <= RY; dy++) {
-                    for (int dx = dy == 0 ? 1 : -RX; dx <= RX; dx++) {
-                        sfmi_v16 a = load8(c + (ptrdiff_t)dy * stride + dx);
-                        sfmi_v16 b = load8(c - (ptrdiff_t)dy * stride - dx);
-                        bits = (sfmi_v16)(((sfmi_u16)bits << 1) | (sfmi_u16)((a > b) & one));
-                        if (++k == 16) {
-                            first = bits;
-                            bits = sfmi_v16_splat(0);
-                        }
+    int x = 0;
+    if (y >= RY && y < h - RY) {
+        for (; x < RX; x++)
+            census_pixel(img, w, h, stride, x, y, lo + x, hi + x);
+        /* Interior: sixteen pixels at a time, then eight. */
+        for (; x + 16 <= w - RX; x += 16)
+            census16(img + (size_t)y * stride + x, stride, lo + x, hi + x);
+        for (; x + 8 <= w - RX; x += 8) {
+            const uint8_t *c = img + (size_t)y * stride + x;
+            sfmi_v16 bits = sfmi_v16_splat(0), first = bits;
+            int k = 0;
+            for (int dy = 0; dy <= RY; dy++) {
+                for (int dx = dy == 0 ? 1 : -RX; dx <= RX; dx++) {
+                    sfmi_v16 a = load8(c + (ptrdiff_t)dy * stride + dx);
+                    sfmi_v16 b = load8(c - (ptrdiff_t)dy * stride - dx);
+                    bits = (sfmi_v16)(((sfmi_u16)bits << 1) | (sfmi_u16)((a > b) & one));
+                    if (++k == 16) {
+                        first = bits;
+                        bits = sfmi_v16_splat(0);
                     }
                 }
-                memcpy(lo + (size_t)y * w + x, &first, sizeof first);
-                memcpy(hi + (size_t)y * w + x, &bits, sizeof bits);
             }
+            memcpy(lo + x, &first, sizeof first);
+            memcpy(hi + x, &bits, sizeof bits);
         }
-        for (; x < w; x++)
-            census_pixel(img, w, h, stride, x, y, lo + (size_t)y * w + x, hi + (size_t)y * w + x);
     }
+    for (; x < w; x++)
+        census_pixel(img, w, h, stride, x, y, lo + x, hi + x);
 }

@@ -31,7 +31,10 @@
 
 typedef struct sgm {
     int w, h, D, dmin, Dp, p1, p2, paths;
-    uint16_t *cl_lo, *cl_hi, *cr_lo, *cr_hi; /* census planes of left, right */
+    const uint8_t *left, *right;
+    int stride;
+    uint16_t *cl_lo, *cl_hi, *cr_lo, *cr_hi; /* census of left, right: one row
+                                                (5 paths) or every row */
     int16_t *rrev_lo, *rrev_hi; /* one right row reversed and padded */
     int rrev_len, rrev_off;
     int16_t *C;         /* cost row, w x D */
@@ -78,15 +81,18 @@ static void layout(sfmi_arena *a, sgm *s, int w, int h, const sfm_stereo_sgm_opt
     s->h = h;
     s->D = D;
     s->Dp = Dp;
-    s->cl_lo = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cl_hi = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cr_lo = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
-    s->cr_hi = SFM_ARENA_ARRAY(a, uint16_t, (size_t)w * h);
     int span = D + 8 + (o->min_disparity > 0 ? o->min_disparity : -o->min_disparity);
     s->rrev_off = span;
     s->rrev_len = w + 2 * span;
     s->rrev_lo = SFM_ARENA_ARRAY(a, int16_t, s->rrev_len);
     s->rrev_hi = SFM_ARENA_ARRAY(a, int16_t, s->rrev_len);
+    /* The two-pass modes visit each row twice: their census is computed
+     * once into planes. */
+    size_t crows = o->paths == SFM_STEREO_PATHS_5 ? 1 : (size_t)h;
+    s->cl_lo = SFM_ARENA_ARRAY(a, uint16_t, crows * w);
+    s->cl_hi = SFM_ARENA_ARRAY(a, uint16_t, crows * w);
+    s->cr_lo = SFM_ARENA_ARRAY(a, uint16_t, crows * w);
+    s->cr_hi = SFM_ARENA_ARRAY(a, uint16_t, crows * w);
     s->C = SFM_ARENA_ARRAY(a, int16_t, (size_t)w * D);
     s->h0 = SFM_ARENA_ARRAY(a, int16_t, Dp);
     s->h1 = SFM_ARENA_ARRAY(a, int16_t, Dp);
@@ -113,13 +119,20 @@ size_t sfm_stereo_sgm_workspace_size(int width, int height, const sfm_stereo_sgm
 }
 
 /* Census Hamming costs of row y for every x and disparity dmin + d. The
- * right row is reversed so that the pixels x - dmin - d of consecutive d
- * are consecutive in memory. */
+ * five-path pass computes the census of the row here (the workspace holds
+ * rows only); the others read it from the planes. The right row is
+ * reversed so that the pixels x - dmin - d of consecutive d are
+ * consecutive in memory. */
 static void cost_row(const sgm *s, int y)
 {
     const int D = s->D, w = s->w, dmin = s->dmin, off = s->rrev_off;
-    const uint16_t *Llo = s->cl_lo + (size_t)y * w, *Lhi = s->cl_hi + (size_t)y * w;
-    const uint16_t *Rlo = s->cr_lo + (size_t)y * w, *Rhi = s->cr_hi + (size_t)y * w;
+    const size_t at = s->paths == SFM_STEREO_PATHS_5 ? 0 : (size_t)y * w;
+    if (s->paths == SFM_STEREO_PATHS_5) {
+        sfmi_stereo_census_row(s->left, w, s->h, s->stride, y, s->cl_lo, s->cl_hi);
+        sfmi_stereo_census_row(s->right, w, s->h, s->stride, y, s->cr_lo, s->cr_hi);
+    }
+    const uint16_t *Llo = s->cl_lo + at, *Lhi = s->cl_hi + at;
+    const uint16_t *Rlo = s->cr_lo + at, *Rhi = s->cr_hi + at;
     memset(s->rrev_lo, 0, sizeof(int16_t) * (size_t)s->rrev_len);
     memset(s->rrev_hi, 0, sizeof(int16_t) * (size_t)s->rrev_len);
     for (int k = 0; k < w; k++) {
@@ -365,8 +378,16 @@ int sfm_stereo_sgm(const uint8_t *left, const uint8_t *right, int width, int hei
     s.p1 = opt->p1;
     s.p2 = opt->p2;
     s.paths = opt->paths;
-    sfmi_stereo_census(left, width, height, stride, s.cl_lo, s.cl_hi);
-    sfmi_stereo_census(right, width, height, stride, s.cr_lo, s.cr_hi);
+    s.left = left;
+    s.right = right;
+    s.stride = stride;
+    if (opt->paths != SFM_STEREO_PATHS_5)
+        for (int y = 0; y < height; y++) {
+            sfmi_stereo_census_row(left, width, height, stride, y, s.cl_lo + (size_t)y * width,
+                                   s.cl_hi + (size_t)y * width);
+            sfmi_stereo_census_row(right, width, height, stride, y, s.cr_lo + (size_t)y * width,
+                                   s.cr_hi + (size_t)y * width);
+        }
     /* Each path's L is at most C + p2 <= OUT_COST + p2 (see the top). */
     int npaths = opt->paths == SFM_STEREO_PATHS_8 ? 8 : (opt->paths == SFM_STEREO_PATHS_4 ? 4 : 5);
     sfmi_stereo_select_params sp = {opt->min_disparity, opt->num_disparities, opt->uniqueness,

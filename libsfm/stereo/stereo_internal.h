@@ -88,6 +88,22 @@ static inline int sfmi_v16_hmin(sfmi_v16 v)
 #endif
 }
 
+/* Smallest lane, in every lane. */
+static inline sfmi_v16 sfmi_v16_hmin_all(sfmi_v16 v)
+{
+#if defined(__SSE2__)
+    __m128i m = (__m128i)v;
+    m = _mm_min_epi16(m, _mm_shuffle_epi32(m, 0x4e));
+    m = _mm_min_epi16(m, _mm_shuffle_epi32(m, 0xb1));
+    m = _mm_min_epi16(m, _mm_shufflehi_epi16(_mm_shufflelo_epi16(m, 0xb1), 0xb1));
+    return (sfmi_v16)m;
+#elif defined(__ARM_NEON) && defined(__aarch64__)
+    return (sfmi_v16)vdupq_n_s16(vminvq_s16((int16x8_t)v));
+#else
+    return sfmi_v16_splat(sfmi_v16_hmin(v));
+#endif
+}
+
 /* Bit counts of eight 16-bit lanes (SWAR). */
 static inline sfmi_v16 sfmi_v16_popcount(sfmi_v16 v)
 {

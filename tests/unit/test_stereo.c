@@ -364,6 +364,181 @@ SFM_TEST(stereo_block_recovers_known_disparities)
     SFM_CHECK_EQ_INT(sfm_stereo_block(g_left, g_right, IW, IH, IW, &o, g_disp, g_ws, n), 0);
 }
 
+/* The multiple-window matcher against its definition computed directly,
+ * pixel by pixel (sfm_stereo.h, libsfm/stereo/block.c): absolute
+ * differences truncated at 63 (63 where the right pixel is outside the
+ * image), rows and columns replicated at the borders, the centre window
+ * plus the two smallest corner windows, the texture flag, winner-take-all
+ * with the first index among ties, the border quarter, the uniqueness
+ * margin, the right image's own winner on the same costs and the parabola.
+ * Random sizes, ranges of either sign and options; every output bit equal. */
+#define RW 44
+#define RH 26
+#define RD 16
+static int16_t g_refw[RH][RW][RD]; /* window sums */
+
+static int clampi_t(int v, int lo, int hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+static int ref_ad(const uint8_t *L, const uint8_t *R, int w, int x, int y, int dmin, int d)
+{
+    int xr = x - dmin - d;
+    if (xr < 0 || xr >= w)
+        return 63;
+    int a = L[y * w + x] - R[y * w + xr];
+    a = a < 0 ? -a : a;
+    return a < 63 ? a : 63;
+}
+
+static int ref_cost(int w, int h, int r, int x, int y, int d)
+{
+    int c[4], k = 0;
+    for (int dy = -2 * r; dy <= 2 * r; dy += 4 * r)
+        for (int dx = -2 * r; dx <= 2 * r; dx += 4 * r)
+            c[k++] = g_refw[clampi_t(y + dy, 0, h - 1)][clampi_t(x + dx, 0, w - 1)][d];
+    for (int i = 0; i < 2; i++) /* the two smallest first */
+        for (int j = 3; j > i; j--)
+            if (c[j] < c[j - 1]) {
+                int tmp = c[j];
+                c[j] = c[j - 1];
+                c[j - 1] = tmp;
+            }
+    return g_refw[y][x][d] + c[0] + c[1];
+}
+
+static int ref_block(const uint8_t *L, const uint8_t *R, int w, int h,
+                     const sfm_stereo_block_options *o, float *out)
+{
+    const int r = o->radius, D = o->num_disparities, dmin = o->min_disparity;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int d = 0; d < D; d++) {
+                int sum = 0;
+                for (int yy = y - r; yy <= y + r; yy++)
+                    for (int xx = x - r; xx <= x + r; xx++)
+                        sum += ref_ad(L, R, w, clampi_t(xx, 0, w - 1), clampi_t(yy, 0, h - 1), dmin, d);
+                g_refw[y][x][d] = (int16_t)sum;
+            }
+    int valid = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            float *px = out + y * w + x;
+            *px = NAN;
+            int g = 0;
+            for (int yy = y - r; yy <= y + r; yy++)
+                for (int xx = x - r; xx <= x + r; xx++) {
+                    const uint8_t *row = L + clampi_t(yy, 0, h - 1) * w;
+                    int xc = clampi_t(xx, 0, w - 1);
+                    int a = row[clampi_t(xc + 1, 0, w - 1)] - row[clampi_t(xc - 1, 0, w - 1)];
+                    g += a < 0 ? -a : a;
+                }
+            if (o->texture > 0 && g * 16 < o->texture * (2 * r + 1) * (2 * r + 1) * 2)
+                continue;
+            int dlo = x - dmin - (w - 1) > 0 ? x - dmin - (w - 1) : 0;
+            int dhi = x - dmin < D - 1 ? x - dmin : D - 1;
+            if (dlo > dhi)
+                continue;
+            int bd = dlo, bc = ref_cost(w, h, r, x, y, dlo), second = 0x7fff;
+            for (int d = dlo + 1; d <= dhi; d++) {
+                int c = ref_cost(w, h, r, x, y, d);
+                if (c < bc) {
+                    bc = c;
+                    bd = d;
+                }
+            }
+            for (int d = dlo; d <= dhi; d++) {
+                int c = ref_cost(w, h, r, x, y, d);
+                if ((d < bd - 1 || d > bd + 1) && c < second)
+                    second = c;
+            }
+            if ((dlo > 0 && bd - dlo < D / 4) || (dhi < D - 1 && dhi - bd < D / 4))
+                continue;
+            if (o->uniqueness > 0 && second != 0x7fff && second * 100 <= bc * (100 + o->uniqueness))
+                continue;
+            if (o->lr_max_diff >= 0) {
+                int xr = x - dmin - bd, rd = -1, rc = 0;
+                for (int d = 0; d < D; d++) {
+                    int xl = xr + dmin + d;
+                    if (xl < 0 || xl >= w)
+                        continue;
+                    int c = ref_cost(w, h, r, xl, y, d);
+                    if (rd < 0 || c < rc) {
+                        rc = c;
+                        rd = d;
+                    }
+                }
+                if (rd < 0 || abs(rd - bd) > o->lr_max_diff)
+                    continue;
+            }
+            float dv = (float)(dmin + bd);
+            if (o->subpixel && bd > dlo && bd < dhi) {
+                int c0 = ref_cost(w, h, r, x, y, bd - 1), c2 = ref_cost(w, h, r, x, y, bd + 1);
+                int den = c0 + c2 - 2 * bc;
+                if (den > 0)
+                    dv += (float)(c0 - c2) / (float)(2 * den);
+            }
+            *px = dv;
+            valid++;
+        }
+    return valid;
+}
+
+SFM_TEST(stereo_block_equals_its_definition)
+{
+    static float ref[RW * RH];
+    int cases = 0, differ = 0;
+    long valid = 0, pixels = 0;
+    for (int it = 0; it < SFM_TEST_ITERS(60); it++) {
+        const int w = 16 + (int)sfm_test_uniform(t, 0, RW - 16 + 1 - 1e-9);
+        sfm_stereo_block_options o;
+        sfm_stereo_block_default_options(&o);
+        o.radius = 1 + (int)sfm_test_uniform(t, 0, 5 - 1e-9);
+        const int hmin = 4 * o.radius + 1 > 16 ? 4 * o.radius + 1 : 16;
+        if (hmin > RH)
+            o.radius = 1;
+        const int h = (hmin > RH ? 16 : hmin) + (int)sfm_test_uniform(t, 0, 4 - 1e-9);
+        o.num_disparities = sfm_test_uniform(t, 0, 1) < 0.5 ? 8 : 16;
+        o.min_disparity = (int)sfm_test_uniform(t, -6, 7 - 1e-9);
+        o.uniqueness = it % 3 == 0 ? 0 : (it % 3 == 1 ? 15 : 40);
+        o.lr_max_diff = it % 4 - 1;
+        o.texture = it % 5 == 0 ? 0 : (it % 5 < 3 ? 8 : 40);
+        o.subpixel = it % 2;
+        /* texture shifted by a disparity that steps across the image, with
+         * noise, and a flat patch */
+        int d0 = o.min_disparity + 1 + (int)sfm_test_uniform(t, 0, o.num_disparities - 2);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w + 64; x++)
+                g_tex[y][x] = (uint8_t)sfm_test_uniform(t, 0, 256);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                int flat = x > w / 2 && x < w / 2 + 6 && y > h / 3 && y < h / 3 + 5;
+                int dt = d0 + (x > w / 3 ? 2 : 0);
+                g_left[y * w + x] = flat ? 90 : g_tex[y][x + 32];
+                int v = (flat ? 90 : g_tex[y][x + 32 - dt]) + (int)sfm_test_normal(t, 2.0);
+                g_right[y * w + x] = (uint8_t)(v < 0 ? 0 : (v > 255 ? 255 : v));
+            }
+        size_t n = sfm_stereo_block_workspace_size(w, h, &o);
+        if (n == 0 || n > sizeof g_ws)
+            continue; /* a range wider than this image */
+        int nv = sfm_stereo_block(g_left, g_right, w, h, w, &o, g_disp, g_ws, n);
+        int nr = ref_block(g_left, g_right, w, h, &o, ref);
+        cases++;
+        valid += nr;
+        pixels += w * h;
+        int same = nv == nr;
+        for (int i = 0; i < w * h; i++)
+            if (!(isnan(g_disp[i]) && isnan(ref[i])) && memcmp(&g_disp[i], &ref[i], sizeof(float)) != 0)
+                same = 0;
+        differ += !same;
+    }
+    SFM_TEST_LOG("%d cases (%.2f of the pixels valid), %d differ from the definition", cases,
+                 (double)valid / (double)(pixels > 0 ? pixels : 1), differ);
+    SFM_CHECK(cases >= SFM_TEST_ITERS(60) / 2);
+    SFM_CHECK_EQ_INT(differ, 0);
+}
+
 SFM_TEST(stereo_matchers_contract)
 {
     make_pair(t, 2, 2);
