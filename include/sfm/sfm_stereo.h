@@ -182,7 +182,7 @@ SFM_API int sfm_stereo_sgm(const uint8_t *left, const uint8_t *right, int width,
 typedef struct sfm_stereo_block_options {
     int min_disparity;
     int num_disparities; /* 8..SFM_STEREO_MAX_DISPARITIES, multiple of 8 */
-    int radius;          /* 1..7: window (2 r + 1)^2 */
+    int radius;          /* 1..5: window (2 r + 1)^2; SFM_E_ARGUMENT outside */
     int uniqueness;      /* percent, as SGM; 0 off */
     int lr_max_diff;     /* < 0 off */
     int texture;         /* minimum mean |dI/dx| of the left image over the
