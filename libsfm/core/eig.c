@@ -137,6 +137,21 @@ static double house3(double x, double y, double z, double *u1, double *u2, doubl
     return beta * sc;
 }
 
+/* The reflector applied to count 3-vectors (2-vectors when three == 0): the
+ * j-th has its components at p[j step], p[j step + comp], p[j step + 2 comp]. */
+static void reflect(double *p, size_t comp, size_t step, int count, int three, double u1,
+                    double u2, double tau)
+{
+    for (int j = 0; j < count; j++, p += step) {
+        double s = p[0] + u1 * p[comp] + (three ? u2 * p[2 * comp] : 0.0);
+        s *= tau;
+        p[0] -= s;
+        p[comp] -= s * u1;
+        if (three)
+            p[2 * comp] -= s * u2;
+    }
+}
+
 /* Apply the reflector (u = (1, u1, u2), or (1, u1) when three == 0) to rows
  * r..r+2 of H over columns c0..n-1, to columns r..r+2 of H over rows 0..r1,
  * and to columns r..r+2 of Z (when not NULL). */
@@ -145,31 +160,10 @@ static void apply_reflector(double *H, double *Z, int n, int r, int three, doubl
 {
     if (tau == 0.0)
         return;
-    for (int j = c0; j < n; j++) {
-        double s = AT(H, r, j) + u1 * AT(H, r + 1, j) + (three ? u2 * AT(H, r + 2, j) : 0.0);
-        s *= tau;
-        AT(H, r, j) -= s;
-        AT(H, r + 1, j) -= s * u1;
-        if (three)
-            AT(H, r + 2, j) -= s * u2;
-    }
-    for (int i = 0; i <= r1; i++) {
-        double s = AT(H, i, r) + u1 * AT(H, i, r + 1) + (three ? u2 * AT(H, i, r + 2) : 0.0);
-        s *= tau;
-        AT(H, i, r) -= s;
-        AT(H, i, r + 1) -= s * u1;
-        if (three)
-            AT(H, i, r + 2) -= s * u2;
-    }
+    reflect(&AT(H, r, c0), (size_t)n, 1, n - c0, three, u1, u2, tau);
+    reflect(&AT(H, 0, r), 1, (size_t)n, r1 + 1, three, u1, u2, tau);
     if (Z != NULL)
-        for (int i = 0; i < n; i++) {
-            double s = AT(Z, i, r) + u1 * AT(Z, i, r + 1) + (three ? u2 * AT(Z, i, r + 2) : 0.0);
-            s *= tau;
-            AT(Z, i, r) -= s;
-            AT(Z, i, r + 1) -= s * u1;
-            if (three)
-                AT(Z, i, r + 2) -= s * u2;
-        }
+        reflect(&AT(Z, 0, r), 1, (size_t)n, n, three, u1, u2, tau);
 }
 
 /* Francis double-shift QR on the Hessenberg H: on success H holds the real
@@ -214,22 +208,12 @@ static int francis_qr(double *H, double *Z, double *wr, double *wi, int n)
                 double zz = p + copysign(sqrt(q), p);
                 double r = sfmi_hypot(zz, c);
                 double cs = zz / r, sn = c / r;
-                for (int j = p0; j < n; j++) {
-                    double x = AT(H, p0, j), y = AT(H, hi, j);
-                    AT(H, p0, j) = cs * x + sn * y;
-                    AT(H, hi, j) = -sn * x + cs * y;
-                }
-                for (int i = 0; i <= hi; i++) {
-                    double x = AT(H, i, p0), y = AT(H, i, hi);
-                    AT(H, i, p0) = cs * x + sn * y;
-                    AT(H, i, hi) = -sn * x + cs * y;
-                }
+                /* (x, y) <- (cs x + sn y, -sn x + cs y) on rows p0, hi of H,
+                 * then on columns p0, hi of H and Z */
+                sfmi_la_rotate(&AT(H, p0, p0), &AT(H, hi, p0), n - p0, 1, cs, -sn);
+                sfmi_la_rotate(&AT(H, 0, p0), &AT(H, 0, hi), hi + 1, (size_t)n, cs, -sn);
                 if (Z != NULL)
-                    for (int i = 0; i < n; i++) {
-                        double x = AT(Z, i, p0), y = AT(Z, i, hi);
-                        AT(Z, i, p0) = cs * x + sn * y;
-                        AT(Z, i, hi) = -sn * x + cs * y;
-                    }
+                    sfmi_la_rotate(&AT(Z, 0, p0), &AT(Z, 0, hi), n, (size_t)n, cs, -sn);
                 AT(H, hi, p0) = 0.0;
                 wr[p0] = AT(H, p0, p0);
                 wr[hi] = AT(H, hi, hi);

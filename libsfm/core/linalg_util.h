@@ -10,13 +10,14 @@
 #include <stddef.h>
 
 #include "sfm/sfm_linalg.h"
+#include "core/inline.h"
 
-static inline int sfmi_la_dim_ok(int n)
+SFMI_INLINE int sfmi_la_dim_ok(int n)
 {
     return n >= 1 && n <= SFM_LINALG_MAX_DIM;
 }
 
-static inline int sfmi_la_all_finite(const double *a, size_t n)
+SFMI_INLINE int sfmi_la_all_finite(const double *a, size_t n)
 {
     for (size_t i = 0; i < n; i++)
         if (!isfinite(a[i]))
@@ -26,7 +27,7 @@ static inline int sfmi_la_all_finite(const double *a, size_t n)
 
 /* R (row-major 3x3) is a proper rotation: R^T R within tol of I in every
  * entry and det R > 0 (NaN fails). */
-static inline int sfmi_la_is_rotation(const double *R, double tol)
+SFMI_INLINE int sfmi_la_is_rotation(const double *R, double tol)
 {
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
@@ -39,7 +40,7 @@ static inline int sfmi_la_is_rotation(const double *R, double tol)
     return det > 0.0;
 }
 
-static inline double sfmi_la_max_abs(const double *a, size_t n)
+SFMI_INLINE double sfmi_la_max_abs(const double *a, size_t n)
 {
     double m = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -52,7 +53,7 @@ static inline double sfmi_la_max_abs(const double *a, size_t n)
 
 /* A power of two f such that maxabs * f lies in [0.5, 1); 1 for zero. The
  * scaling is exact, so results unscale without rounding. */
-static inline double sfmi_la_pow2_scale(double maxabs)
+SFMI_INLINE double sfmi_la_pow2_scale(double maxabs)
 {
     if (!(maxabs > 0.0))
         return 1.0;
@@ -64,7 +65,7 @@ static inline double sfmi_la_pow2_scale(double maxabs)
 /* One step of cyclic Jacobi (the 2x2 symmetric Schur rotation): for
  * zeta = (a_qq - a_pp) / (2 a_pq), the tangent t of the smaller angle that
  * zeroes a_pq, with c = 1 / sqrt(1 + t^2), s = t c. Returns t. */
-static inline double sfmi_la_jacobi_angle(double zeta, double *c, double *s)
+SFMI_INLINE double sfmi_la_jacobi_angle(double zeta, double *c, double *s)
 {
     double t;
     if (fabs(zeta) > 1e150)
@@ -78,7 +79,7 @@ static inline double sfmi_la_jacobi_angle(double zeta, double *c, double *s)
 
 /* The plane rotation (x, y) <- (c x - s y, s x + c y) of n pairs, x[k inc]
  * and y[k inc]. */
-static inline void sfmi_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
+SFMI_INLINE void sfmi_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
 {
     for (int k = 0; k < n; k++) {
         double a = x[(size_t)k * inc], b = y[(size_t)k * inc];
@@ -90,7 +91,7 @@ static inline void sfmi_la_rotate(double *x, double *y, int n, size_t inc, doubl
 
 /* Inverse of a 3x3 by cofactors; 0 (nothing written) when |det| is not
  * above min_abs_det. */
-static inline int sfmi_mat3_inverse(const double *A, double *Ai, double min_abs_det)
+SFMI_INLINE int sfmi_mat3_inverse(const double *A, double *Ai, double min_abs_det)
 {
     double c0 = A[4] * A[8] - A[5] * A[7], c1 = A[5] * A[6] - A[3] * A[8], c2 = A[3] * A[7] - A[4] * A[6];
     double det = A[0] * c0 + A[1] * c1 + A[2] * c2;

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "core/linalg_util.h"
 #include "core/lm.h"
 #include "refine/ba_internal.h"
 
@@ -53,14 +54,6 @@ int sfm_ba_default_options(sfm_ba_options *o)
 }
 
 /* ---- argument checks ------------------------------------------------------ */
-
-static int finite_array(const double *a, size_t n)
-{
-    for (size_t i = 0; i < n; i++)
-        if (!isfinite(a[i]))
-            return 0;
-    return 1;
-}
 
 /* Options alone (no problem array is read). */
 static int check_options(const sfm_ba_options *o, int m)
@@ -134,8 +127,8 @@ static int check_arrays(const sfm_ba_problem *p, const sfm_ba_options *o)
                 return SFM_E_ARGUMENT;
         }
     }
-    if (!finite_array(p->rotations, 9 * (size_t)m) || !finite_array(p->translations, 3 * (size_t)m) ||
-        (n > 0 && !finite_array(p->points, 3 * (size_t)n)) || !finite_array(p->obs_xy, 2 * (size_t)no))
+    if (!sfmi_la_all_finite(p->rotations, 9 * (size_t)m) || !sfmi_la_all_finite(p->translations, 3 * (size_t)m) ||
+        (n > 0 && !sfmi_la_all_finite(p->points, 3 * (size_t)n)) || !sfmi_la_all_finite(p->obs_xy, 2 * (size_t)no))
         return SFM_E_NONFINITE;
     for (int i = 0; i < m; i++) {
         int st = sfm_camera_validate(&p->cameras[i]);
@@ -143,17 +136,8 @@ static int check_arrays(const sfm_ba_problem *p, const sfm_ba_options *o)
             return st;
         if (o->intrinsics == SFM_BA_INTRINSICS_SHARED && p->cameras[i].model != p->cameras[0].model)
             return SFM_E_ARGUMENT;
-        /* a rotation: R R^T = I to 1e-6 and det R > 0 */
-        const double *R = p->rotations + 9 * i;
-        for (int r = 0; r < 3; r++)
-            for (int c2 = 0; c2 < 3; c2++) {
-                double d = R[3 * r] * R[3 * c2] + R[3 * r + 1] * R[3 * c2 + 1] + R[3 * r + 2] * R[3 * c2 + 2];
-                if (fabs(d - (r == c2 ? 1.0 : 0.0)) > 1e-6)
-                    return SFM_E_ARGUMENT;
-            }
-        double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
-                     R[2] * (R[3] * R[7] - R[4] * R[6]);
-        if (!(det > 0.0))
+        /* a rotation: R^T R = I to 1e-6 and det R > 0 */
+        if (!sfmi_la_is_rotation(p->rotations + 9 * i, 1e-6))
             return SFM_E_ARGUMENT;
     }
     return SFM_OK;

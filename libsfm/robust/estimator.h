@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "sfm/sfm_ransac.h"
+#include "core/inline.h"
 
 /* eopt = *opt, or the defaults when opt is NULL; then checks that threshold
  * and confidence are finite (SFM_E_NONFINITE) and threshold > 0
@@ -17,7 +18,7 @@ int sfmi_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
 size_t sfmi_robust_engine_size(int n, int sample, int max_models, int model_size);
 
 /* dst[j] = src[idx[j]] for j < k, rows of dim doubles. */
-static inline void sfmi_robust_gather(const double *src, int dim, const int *idx, int k,
+SFMI_INLINE void sfmi_robust_gather(const double *src, int dim, const int *idx, int k,
                                      double *dst)
 {
     for (int j = 0; j < k; j++)

@@ -36,12 +36,6 @@
 
 typedef sfmi_fundamental_problem fnorm;
 
-static void mat3t_vec(const double *M, const double *x, double *y)
-{
-    for (int r = 0; r < 3; r++)
-        y[r] = M[r] * x[0] + M[3 + r] * x[1] + M[6 + r] * x[2];
-}
-
 /* F_n = U diag(c, s, 0) V^T. */
 static void compose(const double *U, const double *V, const double *cs, double *Fn)
 {
@@ -69,8 +63,8 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     const double xn[3] = {N->t1[0] * pp[0] + N->t1[1], N->t1[0] * pp[1] + N->t1[2], 1.0};
     const double yn[3] = {N->t2[0] * qq[0] + N->t2[1], N->t2[0] * qq[1] + N->t2[2], 1.0};
     double z[3], p[3], Sz[3], Sp[3], l[3], m[3];
-    mat3t_vec(V, xn, z);
-    mat3t_vec(U, yn, p);
+    sfmi_matvec3_t(V, xn, z);
+    sfmi_matvec3_t(U, yn, p);
     Sz[0] = cs[0] * z[0];
     Sz[1] = cs[1] * z[1];
     Sz[2] = 0.0;

@@ -44,22 +44,11 @@ static void jacobi3(double A[9], double w[3], double V[9])
                 double theta = (aqq - app) / (2.0 * apq);
                 double tt = copysign(1.0, theta) / (fabs(theta) + sqrt(theta * theta + 1.0));
                 double c = 1.0 / sqrt(tt * tt + 1.0), s = tt * c;
-                /* A <- J^T A J with J the rotation in the (p, q) plane */
-                for (int k = 0; k < 3; k++) {
-                    double akp = A[3 * k + p], akq = A[3 * k + q];
-                    A[3 * k + p] = c * akp - s * akq;
-                    A[3 * k + q] = s * akp + c * akq;
-                }
-                for (int k = 0; k < 3; k++) {
-                    double apk = A[3 * p + k], aqk = A[3 * q + k];
-                    A[3 * p + k] = c * apk - s * aqk;
-                    A[3 * q + k] = s * apk + c * aqk;
-                }
-                for (int k = 0; k < 3; k++) {
-                    double vkp = V[3 * k + p], vkq = V[3 * k + q];
-                    V[3 * k + p] = c * vkp - s * vkq;
-                    V[3 * k + q] = s * vkp + c * vkq;
-                }
+                /* A <- J^T A J with J the rotation in the (p, q) plane
+                 * (columns p, q, then rows p, q), V <- V J */
+                sfmi_la_rotate(&A[p], &A[q], 3, 3, c, s);
+                sfmi_la_rotate(&A[3 * p], &A[3 * q], 3, 1, c, s);
+                sfmi_la_rotate(&V[p], &V[q], 3, 3, c, s);
             }
         }
     }

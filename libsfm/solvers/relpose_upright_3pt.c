@@ -160,6 +160,21 @@ static inline double det_rows(const double a[3], const double b[3], const double
     return sfmi_dot3(a, t);
 }
 
+/* The rows r_i(theta) = c P_i + s S_i + W_i at (c, s) = (cos, sin) theta (see
+ * below for P, S1, W0, W2). */
+static inline void up_rows(const double P[3][3], const double S1[3], const double W0[3],
+                           const double W2[3], double c, double s, double r[3][3])
+{
+#define UP_ROW(i_)                                                             \
+    r[i_][0] = c * P[i_][0] + s * P[i_][2] + W0[i_];                           \
+    r[i_][1] = c * P[i_][1] + s * S1[i_];                                      \
+    r[i_][2] = c * P[i_][2] - s * P[i_][0] + W2[i_];
+    UP_ROW(0)
+    UP_ROW(1)
+    UP_ROW(2)
+#undef UP_ROW
+}
+
 int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double d1[3],
                             const double d2[3], sfm_pose poses[SFM_RELPOSE_UPRIGHT_3PT_MAX_SOLUTIONS])
 {
@@ -205,14 +220,7 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         W2[i] = -a[1] * b[0];
         mag *= sfmi_dot3(a, a) * sfmi_dot3(b, b);
     }
-#define UP_ROW(r, c, s, i_)                                                    \
-    (r)[i_][0] = (c) * P[i_][0] + (s) * P[i_][2] + W0[i_];                     \
-    (r)[i_][1] = (c) * P[i_][1] + (s) * S1[i_];                                \
-    (r)[i_][2] = (c) * P[i_][2] - (s) * P[i_][0] + W2[i_];
-#define UP_ROWS(r, c, s)                                                       \
-    do {                                                                       \
-        UP_ROW(r, c, s, 0) UP_ROW(r, c, s, 1) UP_ROW(r, c, s, 2)               \
-    } while (0)
+#define UP_ROWS(r, c, s) up_rows((const double(*)[3])P, S1, W0, W2, c, s, r)
     /* F at 0, 90, 180, 270 and 45 degrees */
     double F[4], F45;
     {
@@ -333,6 +341,5 @@ int sfm_relpose_upright_3pt(const double x1[9], const double x2[9], const double
         nsol++;
     }
 #undef UP_ROWS
-#undef UP_ROW
     return nsol;
 }

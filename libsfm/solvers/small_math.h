@@ -9,34 +9,35 @@
 
 #include <math.h>
 #include "core/dmath.h"
+#include "core/inline.h"
 
 /* 1 when all values are finite: x * 0 is NaN exactly for NaN and +-Inf. */
-static inline int sfmi_all_finite3(const double *v)
+SFMI_INLINE int sfmi_all_finite3(const double *v)
 {
     return (v[0] * 0.0 + v[1] * 0.0) + v[2] * 0.0 == 0.0;
 }
 
-static inline int sfmi_all_finite9(const double *v)
+SFMI_INLINE int sfmi_all_finite9(const double *v)
 {
     return ((v[0] * 0.0 + v[1] * 0.0) + (v[2] * 0.0 + v[3] * 0.0)) +
                ((v[4] * 0.0 + v[5] * 0.0) + (v[6] * 0.0 + v[7] * 0.0)) + v[8] * 0.0 ==
            0.0;
 }
 
-static inline void sfmi_cross3(const double *a, const double *b, double *c)
+SFMI_INLINE void sfmi_cross3(const double *a, const double *b, double *c)
 {
     c[0] = a[1] * b[2] - a[2] * b[1];
     c[1] = a[2] * b[0] - a[0] * b[2];
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static inline double sfmi_dot3(const double *a, const double *b)
+SFMI_INLINE double sfmi_dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /* y = M x for a row-major 3x3 M (y may alias x). */
-static inline void sfmi_matvec3(const double *M, const double *x, double *y)
+SFMI_INLINE void sfmi_matvec3(const double *M, const double *x, double *y)
 {
     double a = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
     double b = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
@@ -47,7 +48,7 @@ static inline void sfmi_matvec3(const double *M, const double *x, double *y)
 }
 
 /* y = M^T x (y may alias x). */
-static inline void sfmi_matvec3_t(const double *M, const double *x, double *y)
+SFMI_INLINE void sfmi_matvec3_t(const double *M, const double *x, double *y)
 {
     double a = M[0] * x[0] + M[3] * x[1] + M[6] * x[2];
     double b = M[1] * x[0] + M[4] * x[1] + M[7] * x[2];
@@ -58,7 +59,7 @@ static inline void sfmi_matvec3_t(const double *M, const double *x, double *y)
 }
 
 /* 3x3 products C = A B, C = A^T B and C = A B^T (C may alias A or B). */
-static inline void sfmi_matmul3(const double *A, const double *B, double *C)
+SFMI_INLINE void sfmi_matmul3(const double *A, const double *B, double *C)
 {
     double T[9];
     for (int r = 0; r < 3; r++)
@@ -68,7 +69,7 @@ static inline void sfmi_matmul3(const double *A, const double *B, double *C)
         C[i] = T[i];
 }
 
-static inline void sfmi_matmul3_tn(const double *A, const double *B, double *C)
+SFMI_INLINE void sfmi_matmul3_tn(const double *A, const double *B, double *C)
 {
     double T[9];
     for (int r = 0; r < 3; r++)
@@ -78,7 +79,7 @@ static inline void sfmi_matmul3_tn(const double *A, const double *B, double *C)
         C[i] = T[i];
 }
 
-static inline void sfmi_matmul3_nt(const double *A, const double *B, double *C)
+SFMI_INLINE void sfmi_matmul3_nt(const double *A, const double *B, double *C)
 {
     double T[9];
     for (int r = 0; r < 3; r++)
@@ -91,7 +92,7 @@ static inline void sfmi_matmul3_nt(const double *A, const double *B, double *C)
 /* A vector n orthogonal to the rows r0, r1, r2 of a rank-2 3x3: r0 x r1, or,
  * when |r0 x r1|^2 <= rel |r0|^2 |r1|^2 (r0, r1 nearly parallel), the longest
  * of the three cross products. Returns |n|^2 (not > 0: rank below 2). */
-static inline double sfmi_rank2_null3(const double *r0, const double *r1, const double *r2,
+SFMI_INLINE double sfmi_rank2_null3(const double *r0, const double *r1, const double *r2,
                                      double rel, double n[3])
 {
     sfmi_cross3(r0, r1, n);
@@ -121,7 +122,7 @@ static inline double sfmi_rank2_null3(const double *r0, const double *r1, const 
  * there are three: Cardano with a single cube root when one root is real
  * (u v = -p/3, u taken on the side without cancellation), else the largest
  * of the trigonometric form; then two Newton steps. */
-static inline double sfmi_cubic_largest_root(double b, double c, double d)
+SFMI_INLINE double sfmi_cubic_largest_root(double b, double c, double d)
 {
     double b3 = b * (1.0 / 3.0);
     double p = c - b * b3;

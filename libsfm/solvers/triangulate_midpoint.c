@@ -9,6 +9,7 @@
 
 #include "core/linalg_util.h"
 #include "sfm/sfm_triangulate.h"
+#include "solvers/small_math.h"
 
 int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, const double *f,
                              double *X, int *flags)
@@ -33,10 +34,10 @@ int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, con
             const double *R = poses[v].R, *t = poses[v].t;
             const double *b = f + 3 * ((long)v * npoints + j);
             double d[3], c[3];
-            for (int k = 0; k < 3; k++) {
-                d[k] = R[k] * b[0] + R[3 + k] * b[1] + R[6 + k] * b[2];
-                c[k] = -(R[k] * t[0] + R[3 + k] * t[1] + R[6 + k] * t[2]);
-            }
+            sfmi_matvec3_t(R, b, d);
+            sfmi_matvec3_t(R, t, c);
+            for (int k = 0; k < 3; k++)
+                c[k] = -c[k];
             double dn = 1.0 / sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             for (int k = 0; k < 3; k++) {
                 d[k] *= dn;
@@ -71,18 +72,17 @@ int sfm_triangulate_midpoint(int nviews, const sfm_pose *poses, int npoints, con
                     Xj[k] = dsum[k] / n;
             } else {
                 /* opposite rays: no direction in front of all; use view 0 */
-                const double *R = poses[0].R, *b = f + 3 * (long)j;
-                for (int k = 0; k < 3; k++)
-                    Xj[k] = R[k] * b[0] + R[3 + k] * b[1] + R[6 + k] * b[2];
+                sfmi_matvec3_t(poses[0].R, f + 3 * (long)j, Xj);
                 double m = sqrt(Xj[0] * Xj[0] + Xj[1] * Xj[1] + Xj[2] * Xj[2]);
                 for (int k = 0; k < 3; k++)
                     Xj[k] /= m;
             }
             for (int v = 0; v < nviews; v++) {
-                const double *R = poses[v].R, *b = f + 3 * ((long)v * npoints + j);
+                double d[3];
+                sfmi_matvec3_t(poses[v].R, f + 3 * ((long)v * npoints + j), d);
                 double dd = 0.0;
                 for (int k = 0; k < 3; k++)
-                    dd += (R[k] * b[0] + R[3 + k] * b[1] + R[6 + k] * b[2]) * Xj[k];
+                    dd += d[k] * Xj[k];
                 if (!(dd > 0.0))
                     fl |= SFM_TRI_BEHIND;
             }

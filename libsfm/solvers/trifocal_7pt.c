@@ -22,6 +22,7 @@
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/normalize.h"
+#include "solvers/small_math.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
 
@@ -114,13 +115,6 @@ static int smallest_right_tri(tf_ws *w, const double *A, int n, double *v)
     return smallest_right(w, A, n, n, v);
 }
 
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* An orthonormal pair completing the unit vector e to a basis of R^3. */
 static void complete_basis(const double e[3], double p[3], double q[3])
 {
@@ -130,11 +124,11 @@ static void complete_basis(const double e[3], double p[3], double q[3])
             a = k;
     double ax[3] = {0, 0, 0};
     ax[a] = 1.0;
-    cross3(e, ax, p);
+    sfmi_cross3(e, ax, p);
     double s = 1.0 / sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     for (int k = 0; k < 3; k++)
         p[k] *= s;
-    cross3(e, p, q);
+    sfmi_cross3(e, p, q);
 }
 
 /* Algebraic minimization with the epipoles of t held fixed: t = E a with
