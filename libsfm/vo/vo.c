@@ -740,6 +740,7 @@ static int self_calibrate(sfm_vo *vo, const double *gravity, int want_cov, doubl
         sfm_uncal_options uo;
         sfm_uncal_default_options(&uo);
         uo.ransac.threshold = vo->p.threshold;
+        uo.radial = 0; /* the map's camera is a pinhole */
         uo.ransac.seed = vo->p.seed ^ (0x9e3779b97f4a7c15ull * (uint64_t)(vo->frame_index + 1));
         st = sfm_recon_three_view_uncalibrated(p1, p2, p3, n3, vo->dims.width, vo->dims.height, &uo,
                                                Kc, poses, NULL, NULL, &rep, vo->ba_ws,
