@@ -2,13 +2,13 @@
  * Uncalibrated reconstruction: metric cameras (K, R, t) and points from
  * pixel matches of an unknown camera (zero skew, unit aspect ratio,
  * principal point at the image centre ((width - 1) / 2, (height - 1) / 2),
- * one focal length shared by the views) and, with three views and
- * options.radial, one radial distortion term about the centre: Brown's k1,
- * x_d = x_n (1 + k1 |x_n|^2) in normalized coordinates (sfm_camera.h,
- * SFM_CAMERA_BROWN with k2 = p1 = p2 = k3 = 0). A lens with k1 = -0.26 moves
- * the corners of a 640x480 image by about 30 px; modelled as a pinhole, the
- * focal length absorbs it (mono_wall of the BoofCV triplets: 1700 px
- * against a chessboard 701 px).
+ * one focal length shared by the views) and, with three views, up to
+ * options.radial radial distortion terms about the centre: Brown's
+ * x_d = x_n (1 + k1 r^2 + k2 r^4), r = |x_n|, in normalized coordinates
+ * (sfm_camera.h, SFM_CAMERA_BROWN with p1 = p2 = k3 = 0). A lens with
+ * k1 = -0.26 moves the corners of a 640x480 image by about 30 px; modelled
+ * as a pinhole, the focal length absorbs it (mono_wall of the BoofCV
+ * triplets: 1790 px against a chessboard 701 px).
  *
  * Three views (sfm_recon_three_view_uncalibrated):
  *  1. trifocal RANSAC on the centred pixels (sfm_ransac_trifocal: projective
@@ -25,14 +25,15 @@
  *     search on log f around the best candidate;
  *  4. metric bundle adjustment with the focal length free from the linear
  *     start and from the sweep's best (Huber loss at 2 thresholds, view 1
- *     fixed, |t2| = 1); the lower cost wins and names the path. With the
- *     radial term, k1 (from 0) is free in every adjustment of steps 3-6,
- *     so the fixed-focal costs are profiles over k1 and sigma f below
- *     accounts for its correlation with f; the answer's k1 is then tested
- *     against the pinhole model (the fit with k1 held at 0): when that
- *     raises the cost by less than 9 noise variances the pinhole fit is the
- *     answer (report.k1 = 0); a k1 under which an inlier lies outside the
- *     region where the distortion map is invertible fails step 6;
+ *     fixed, |t2| = 1); the lower cost wins and names the path. The radial
+ *     terms (from 0) are free in every adjustment of steps 3-6, so the
+ *     fixed-focal costs are profiles over them and sigma f below accounts
+ *     for their correlation with f; the answer is then tested against the
+ *     nested smaller models (k2 held at 0, then k1): a term whose removal
+ *     raises the cost by less than 9 noise variances is dropped and the
+ *     smaller fit is the answer (report.k1, k2 = 0). A distortion under
+ *     which an inlier lies outside the region where the map is invertible
+ *     fails step 6;
  *  5. the observability of f: the sweep's cost at focal lengths more than a
  *     factor 1.5 away must exceed the best by options.min_profile times the
  *     noise variance; otherwise (pure translation, parallel optical axes,
@@ -109,9 +110,9 @@ typedef struct sfm_uncal_options {
                                   when it passes the same checks */
     double min_parallax_deg;   /* default 0.5: median triangulation angle below it
                                   (rotation only) is SFM_E_SINGULAR */
-    int radial;                /* default 1: one radial distortion term estimated
-                                  with the focal length (three views; see above);
-                                  0: pinhole */
+    int radial;                /* radial distortion terms estimated with the focal
+                                  length (three views; see above): 0 pinhole, 1 k1,
+                                  2 (default) k1 and k2 */
 } sfm_uncal_options;
 
 typedef struct sfm_uncal_report {
@@ -136,9 +137,11 @@ typedef struct sfm_uncal_report {
     double front_fraction;     /* final inlier points in front of every camera */
     double parallax_deg;       /* median over the points of the largest ray angle */
     double focal_view[3];      /* px, the final focal length of each view */
-    double k1;                 /* Brown k1 of the answer (0: the pinhole model) */
-    double k1_rise;            /* cost rise, in noise variances, with k1 held at 0:
-                                  below 9 the pinhole model is the answer */
+    double k1, k2;             /* Brown k1, k2 of the answer (0: the term dropped) */
+    double radial_rise[2];     /* cost rise, in noise variances, with k1 ([0],
+                                  against the pinhole) or k2 ([1], against k1
+                                  alone) held at 0; a term is dropped below 9;
+                                  0 when not tested */
 } sfm_uncal_report;
 
 /* Defaults listed above (ransac: sfm_ransac_default_options, threshold 1).

@@ -28,9 +28,10 @@
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
 #define NOISE_FLOOR 0.05 /* px: noise standard deviation assumed at least */
 #define SEARCH_POINTS 200 /* inliers the focal search runs on */
-#define K1_MIN_RISE 9.0   /* k1 kept when holding it at 0 raises the cost by
-                             more than this many noise variances (a likelihood
-                             ratio test, 1 degree of freedom, 3 sigma) */
+#define RADIAL_MIN_RISE 9.0 /* a radial term is kept when holding it at 0
+                               raises the cost by more than this many noise
+                               variances (a likelihood ratio test, 1 degree
+                               of freedom, 3 sigma) */
 
 void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
 {
@@ -49,37 +50,43 @@ void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
     c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
     for (int v = 0; v < 3; v++)
         c->xu[v] = v < nv ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
-    /* the largest of the adjustments run: shared focal and k1, one focal
-     * length per view */
-    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_K1};
+    /* the largest of the adjustments run: shared focal, k1 and k2, one
+     * focal length per view */
+    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_RADIAL};
     sfm_ba_dims dp = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_PER_CAMERA, SFM_BA_REFINE_FOCAL};
     size_t s1 = sfm_ba_workspace_size(&d), s2 = sfm_ba_workspace_size(&dp);
     c->ba_size = s1 > s2 ? s1 : s2;
     c->ba_ws = sfmi_arena_alloc(a, c->ba_size);
     c->radial = 0;
-    c->k1 = 0;
+    c->kr[0] = c->kr[1] = 0;
 }
 
-/* The camera of focal length f and radial k1 about the centre (pixels
- * centred): pinhole when k1 is 0. */
-static void centred_camera(double f, double k1, sfm_camera *cam)
+static int has_radial(const double kr[2])
+{
+    return kr[0] != 0 || kr[1] != 0;
+}
+
+/* The camera of focal length f and radial terms kr = (k1, k2) about the
+ * centre (pixels centred): pinhole when both are 0. */
+static void centred_camera(double f, const double kr[2], sfm_camera *cam)
 {
     memset(cam, 0, sizeof *cam);
-    cam->model = k1 != 0 ? SFM_CAMERA_BROWN : SFM_CAMERA_PINHOLE;
+    cam->model = has_radial(kr) ? SFM_CAMERA_BROWN : SFM_CAMERA_PINHOLE;
     cam->fx = cam->fy = f;
-    cam->dist[0] = k1;
+    cam->dist[0] = kr[0];
+    cam->dist[1] = kr[1];
 }
 
 /* Undistorted centred pixel (and unit-depth ray b, may be NULL) of px under
- * focal f and radial k1. 0 when the distortion map cannot be inverted there
- * (the pixel is then returned as it is). */
-static int undistort(double f, double k1, const double px[2], double u[2], double b[3])
+ * focal f and radial terms kr. 0 when the distortion map cannot be inverted
+ * there (the pixel is then returned as it is). */
+static int undistort(double f, const double kr[2], const double px[2], double u[2], double b[3])
 {
     double r[3] = {px[0] / f, px[1] / f, 1};
     int ok = 1;
-    if (k1 != 0) {
+    if (has_radial(kr)) {
         sfm_camera cam;
-        centred_camera(f, k1, &cam);
+        centred_camera(f, kr, &cam);
         double d[3];
         ok = sfm_camera_unproject(&cam, px, d) == SFM_OK && d[2] > 0;
         if (ok) {
@@ -105,13 +112,13 @@ static void bearings(sfmi_mu *c, double f)
     for (int v = 0; v < c->nv; v++)
         for (int j = 0; j < c->m; j++) {
             double *b = &c->bear[((size_t)v * c->m + j) * 3];
-            if (c->k1 == 0) {
+            if (!has_radial(c->kr)) {
                 b[0] = c->x[v][2 * j] / f;
                 b[1] = c->x[v][2 * j + 1] / f;
                 b[2] = 1;
             } else {
                 double u[2];
-                undistort(f, c->k1, &c->x[v][2 * j], u, b);
+                undistort(f, c->kr, &c->x[v][2 * j], u, b);
             }
         }
 }
@@ -181,8 +188,9 @@ static int build(sfmi_mu *c, const sfm_pose poses[3], double f)
  * observations of build(); *cost with the penalty of the inliers that did
  * not triangulate. free_focal: 0 held, 1 one free focal length for all
  * views, 2 one per view; f holds nv focal lengths for mode 2, f[0]
- * otherwise. The radial term c->k1 is free with c->radial in modes 0 and 1
- * (the fixed-focal costs are then profiles over k1) and held in mode 2. */
+ * otherwise. The first c->radial radial terms c->kr are free in modes 0
+ * and 1 (the fixed-focal costs are then profiles over them), the others
+ * held; all are held in mode 2. */
 static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
 {
     const int nv = c->nv, np = c->np, no = np * nv;
@@ -193,7 +201,7 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     for (int v = 0; v < nv; v++) {
         memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
         memcpy(&ts[3 * v], poses[v].t, 3 * sizeof(double));
-        centred_camera(free_focal == 2 ? f[v] : f[0], c->k1, &cams[v]);
+        centred_camera(free_focal == 2 ? f[v] : f[0], c->kr, &cams[v]);
         if (c->radial)
             cams[v].model = SFM_CAMERA_BROWN;
     }
@@ -206,13 +214,14 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     o.scale_camera = 1;
     o.scale_distance = 1.0;
     o.max_iterations = max_it;
-    const int k1_free = c->radial && free_focal != 2;
+    const int k_free = free_focal != 2 ? c->radial : 0;
+    const int k_mask = k_free == 2 ? SFM_BA_REFINE_RADIAL : k_free == 1 ? SFM_BA_REFINE_K1 : 0;
     if (free_focal) {
         o.intrinsics = free_focal == 2 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
-        o.refine_intrinsics = SFM_BA_REFINE_FOCAL | (k1_free ? SFM_BA_REFINE_K1 : 0);
-    } else if (k1_free) {
+        o.refine_intrinsics = SFM_BA_REFINE_FOCAL | k_mask;
+    } else if (k_free) {
         o.intrinsics = SFM_BA_INTRINSICS_SHARED;
-        o.refine_intrinsics = SFM_BA_REFINE_K1;
+        o.refine_intrinsics = k_mask;
     }
     sfm_ba_result res;
     int st = sfm_ba_solve(&p, &o, &res, NULL, 0, c->ba_ws, c->ba_size);
@@ -224,8 +233,8 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     }
     for (int v = 0; v < (free_focal == 2 ? nv : 1); v++)
         f[v] = cams[v].fx;
-    if (k1_free)
-        c->k1 = cams[0].dist[0];
+    for (int e = 0; e < k_free; e++)
+        c->kr[e] = cams[0].dist[e];
     *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
     return SFM_OK;
 }
@@ -236,12 +245,12 @@ static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     return st < 0 ? st : adjust(c, poses, f, free_focal, max_it, cost);
 }
 
-/* Fixed-focal score of f (INFINITY when no metric cameras follow); with
- * the radial term, k1 starts at 0 and is free. */
+/* Fixed-focal score of f (INFINITY when no metric cameras follow); the
+ * free radial terms start at 0. */
 static double score(sfmi_mu *c, double f, sfm_pose poses[3])
 {
     double cost, ff = f;
-    c->k1 = 0;
+    c->kr[0] = c->kr[1] = 0;
     if (!start_from_focal(c, f, poses) || refine(c, poses, &ff, 0, SWEEP_ITERS, &cost) != SFM_OK)
         return HUGE_VAL;
     return cost;
@@ -249,7 +258,7 @@ static double score(sfmi_mu *c, double f, sfm_pose poses[3])
 
 /* RMS reprojection error per view and share of points in front of every
  * camera, over the BA points of the current inliers (projected through the
- * radial term c->k1 when it is not 0). */
+ * radial terms c->kr). */
 static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv, double *rms, double *front)
 {
     double se = 0;
@@ -267,13 +276,13 @@ static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv,
                 continue;
             }
             double du, dv;
-            if (c->k1 == 0) {
+            if (!has_radial(c->kr)) {
                 du = fv[v] * y[0] / y[2] - c->x[v][2 * j];
                 dv = fv[v] * y[1] / y[2] - c->x[v][2 * j + 1];
             } else {
                 sfm_camera cam;
                 double px[2];
-                centred_camera(fv[v], c->k1, &cam);
+                centred_camera(fv[v], c->kr, &cam);
                 if (sfm_camera_project(&cam, y, px, NULL) != SFM_OK) {
                     ok = 0;
                     continue;
@@ -360,15 +369,15 @@ static double median_parallax(const sfmi_mu *c, const sfm_pose poses[3], double 
 }
 
 /* Inliers of all n input points under metric cameras K [R | t] and the
- * radial term c->k1: the mean squared error per view after triangulation
+ * radial terms c->kr: the mean squared error per view after triangulation
  * (in undistorted pixels) below thr^2. */
 static int recollect(sfmi_mu *c, const double *const xin[3], int n, const sfm_pose poses[3], double f)
 {
     const double *xall[3] = {xin[0], xin[1], xin[2]};
-    if (c->k1 != 0) {
+    if (has_radial(c->kr)) {
         for (int v = 0; v < c->nv; v++) {
             for (int i = 0; i < n; i++)
-                undistort(f, c->k1, &xin[v][2 * i], &c->xu[v][2 * i], NULL);
+                undistort(f, c->kr, &xin[v][2 * i], &c->xu[v][2 * i], NULL);
             xall[v] = c->xu[v];
         }
     }
@@ -426,13 +435,14 @@ static double noise_variance(const sfmi_mu *c, double cost)
 }
 
 static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
-                         const sfm_pose best[3], double best_f, double best_k1, sfm_pose poses[3],
+                         const sfm_pose best[3], double best_f, const double best_k[2], sfm_pose poses[3],
                          double *f_out, sfm_uncal_report *rep)
 {
     const int nv = c->nv;
     /* inliers under the metric cameras, one more adjustment, checks */
     rep->stage = SFM_UNCAL_STAGE_VALIDATE;
-    c->k1 = best_k1;
+    c->kr[0] = best_k[0];
+    c->kr[1] = best_k[1];
     if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
         return SFM_E_NO_CONVERGENCE;
     double ff = best_f, cost;
@@ -442,31 +452,35 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
     if (st < 0)
         return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
     double sigma2f = noise_variance(c, cost);
-    /* the radial term against the pinhole model: the fit with k1 held at 0
-     * from the same answer; k1 stays when the data reject k1 = 0, else the
-     * pinhole fit is the answer (and its profile gives sigma f) */
-    rep->k1_rise = 0;
-    if (c->radial) {
+    /* nested models: the last free radial term held at 0 (k2, then k1),
+     * refitted from the same answer; the term stays when the data reject
+     * it being 0, else the smaller model is the answer (and its profile
+     * gives sigma f) */
+    rep->radial_rise[0] = rep->radial_rise[1] = 0;
+    while (c->radial > 0) {
+        const int e = c->radial - 1;
         sfm_pose pp[3];
-        double f0 = ff, cost0 = HUGE_VAL, k1_fit = c->k1;
+        double f0 = ff, cost0 = HUGE_VAL;
+        const double k_fit[2] = {c->kr[0], c->kr[1]}; /* the smaller fit moves the others */
         memcpy(pp, cand, sizeof pp);
         memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
-        c->radial = 0;
-        c->k1 = 0;
+        c->radial = e;
+        c->kr[e] = 0;
         int ast = adjust(c, pp, &f0, 1, FINAL_ITERS, &cost0);
-        rep->k1_rise = ast == SFM_OK ? 2 * (cost0 - cost) / sigma2f : (double)INFINITY;
-        if (ast == SFM_OK && f0 > 0 && rep->k1_rise < K1_MIN_RISE) {
-            memcpy(cand, pp, sizeof pp);
-            ff = f0;
-            cost = cost0;
-            sigma2f = noise_variance(c, cost);
-        } else {
-            c->radial = 1;
-            c->k1 = k1_fit;
+        rep->radial_rise[e] = ast == SFM_OK ? 2 * (cost0 - cost) / sigma2f : (double)INFINITY;
+        if (!(ast == SFM_OK && f0 > 0 && rep->radial_rise[e] < RADIAL_MIN_RISE)) {
+            c->radial = e + 1;
+            c->kr[0] = k_fit[0];
+            c->kr[1] = k_fit[1];
             memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            break;
         }
+        memcpy(cand, pp, sizeof pp);
+        ff = f0;
+        cost = cost0;
+        sigma2f = noise_variance(c, cost);
     }
-    const double k1_ans = c->k1;
+    const double k_ans[2] = {c->kr[0], c->kr[1]};
     /* local curvature of the profile likelihood: the fixed-focal optimum at
      * f e^{+-d}, started from the answer (its cameras and points), against
      * the free optimum, on the final inliers; the chi-square rise
@@ -481,18 +495,21 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
             memcpy(pp, cand, sizeof pp);
             memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
             double fd = ff * sfmi_exp(sgn ? -d : d);
-            c->k1 = k1_ans; /* free again in the profile when radial */
+            c->kr[0] = k_ans[0]; /* free again in the profile */
+            c->kr[1] = k_ans[1];
             int ast = adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]);
             if (ast != SFM_OK)
                 cpm[sgn] = c0;
         }
-        c->k1 = k1_ans;
+        c->kr[0] = k_ans[0];
+        c->kr[1] = k_ans[1];
         memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
         /* the flatter side: a profile steep on one side only does not pin f */
         double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
         rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
         rep->focal = ff; /* the candidate's, also when refused */
-        rep->k1 = c->k1;
+        rep->k1 = c->kr[0];
+        rep->k2 = c->kr[1];
         if (!(rep->focal_sigma <= o->max_focal_sigma)) {
             rep->stage = SFM_UNCAL_STAGE_VALIDATE;
             return SFM_E_SINGULAR;
@@ -502,7 +519,8 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
     double rms, front, fv[3] = {ff, ff, ff};
     quality(c, cand, fv, &rms, &front);
     rep->focal = ff;
-    rep->k1 = c->k1;
+    rep->k1 = c->kr[0];
+    rep->k2 = c->kr[1];
     rep->inliers = c->m;
     rep->rms = rms;
     rep->front_fraction = front;
@@ -519,12 +537,12 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
      * not determined by the data. */
     const double *xh[3] = {c->x[0], c->x[1], c->x[2]};
     int invertible = 1;
-    if (c->k1 != 0 && ff > 0) {
+    if (has_radial(c->kr) && ff > 0) {
         /* every inlier inside the region where the distortion map is
-         * invertible (a k1 folding the image is not a lens) */
+         * invertible (a distortion folding the image is not a lens) */
         for (int v = 0; v < nv; v++) {
             for (int j = 0; j < c->m; j++)
-                invertible &= undistort(ff, c->k1, &c->x[v][2 * j], &c->xu[v][2 * j], NULL);
+                invertible &= undistort(ff, c->kr, &c->x[v][2 * j], &c->xu[v][2 * j], NULL);
             xh[v] = c->xu[v];
         }
     }
@@ -570,11 +588,11 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
 /* validate_once() with c->radial restored (the pinhole choice is per
  * candidate). */
 static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
-                    const sfm_pose best[3], double best_f, double best_k1, sfm_pose poses[3], double *f_out,
+                    const sfm_pose best[3], double best_f, const double best_k[2], sfm_pose poses[3], double *f_out,
                     sfm_uncal_report *rep)
 {
     const int radial = c->radial;
-    int st = validate_once(c, xall, n, o, best, best_f, best_k1, poses, f_out, rep);
+    int st = validate_once(c, xall, n, o, best, best_f, best_k, poses, f_out, rep);
     c->radial = radial;
     return st;
 }
@@ -585,8 +603,8 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     const int nv = c->nv;
     sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
-    c->radial = o->radial != 0 && nv == 3;
-    c->k1 = 0;
+    c->radial = nv == 3 ? o->radial : 0;
+    c->kr[0] = c->kr[1] = 0;
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
     rep->stage = SFM_UNCAL_STAGE_SWEEP;
@@ -650,11 +668,11 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     /* free-focal bundle adjustment from the linear start and from the
      * sweep's best; the sweep's fixed-focal answer as a third candidate */
     rep->stage = SFM_UNCAL_STAGE_BA;
-    double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, ks[3] = {0, 0, 0};
+    double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, ks[3][2] = {{0, 0}, {0, 0}, {0, 0}};
     sfm_pose sol[3][3];
     for (int s = 0; s < 3; s++) {
         double f0 = s == 0 ? f_linear : f_sweep;
-        c->k1 = 0;
+        c->kr[0] = c->kr[1] = 0;
         if (!(f0 > 0) || !start_from_focal(c, f0, sol[s]))
             continue;
         double ff = f0;
@@ -662,7 +680,8 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
             continue;
         fs[s] = ff;
         cs[s] = cost;
-        ks[s] = c->k1;
+        ks[s][0] = c->kr[0];
+        ks[s][1] = c->kr[1];
     }
     /* candidates in order of cost (the fixed-focal one last), each checked
      * in full; the first that passes is the answer */

@@ -31,18 +31,18 @@ typedef struct sfmi_mu {
     void *ba_ws;
     size_t ba_size;
     int evaluations;
-    int radial;       /* 1: k1 is free in the adjustments (held otherwise) */
-    double k1;        /* Brown k1 of the working candidate (normalized
-                         coordinates about the centre); 0: pinhole */
+    int radial;       /* radial terms free in the adjustments (0..2: k1, k2) */
+    double kr[2];     /* Brown k1, k2 of the working candidate (normalized
+                         coordinates about the centre); 0, 0: pinhole */
     double *xu[3];    /* nmax x 2 scratch: undistorted centred pixels */
 } sfmi_mu;
 
 void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c);
 
 /* Runs sweep, starts and the final checks; fills report fields focal_sweep,
- * evaluations, path, profile_rise, focal, k1, k1_rise, inliers, rms,
- * front_fraction and stage. The radial term is estimated when o->radial is
- * set and there are three views. xall: the nv full centred arrays (nmax x 2) for re-collection.
+ * evaluations, path, profile_rise, focal, k1, k2, radial_rise, inliers,
+ * rms, front_fraction and stage. o->radial radial terms are estimated with
+ * three views (none with two). xall: the nv full centred arrays (nmax x 2) for re-collection.
  * On success writes poses[nv], f[nv] (equal unless per_view_focal), and leaves the final inliers in c (x,
  * idx, m) and their points in c->X / c->pidx / c->np. */
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,

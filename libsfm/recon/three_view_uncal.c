@@ -48,7 +48,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
     opt->min_parallax_deg = 0.5;
     opt->max_focal_sigma = 0.05 / 3;
     opt->per_view_focal = 0;
-    opt->radial = 1;
+    opt->radial = 2;
     return SFM_OK;
 }
 
@@ -60,7 +60,7 @@ int sfmi_uncal_check_options(const sfm_uncal_options *o)
         !isfinite(o->max_rms) || !(o->min_front >= 0 && o->min_front <= 1) || !(o->min_profile >= 0) ||
         !isfinite(o->min_profile) ||
         !(o->max_focal_sigma > 0) || (o->per_view_focal != 0 && o->per_view_focal != 1) ||
-        (o->radial != 0 && o->radial != 1) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
+        (o->radial < 0 || o->radial > 2) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
         return SFM_E_ARGUMENT;
     return SFM_OK;
 }

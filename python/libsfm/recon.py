@@ -91,7 +91,7 @@ def self_calibrate(P, image_sizes, X=None):
 
 
 def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
-                   radial=True):
+                   radial=2):
     o = ffi.new("sfm_uncal_options *")
     lib.sfm_uncal_default_options(o)
     o.ransac.threshold = float(threshold_px)
@@ -103,7 +103,10 @@ def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_para
     if min_parallax_deg is not None:
         o.min_parallax_deg = float(min_parallax_deg)
     o.per_view_focal = 1 if per_view_focal else 0
-    o.radial = 1 if radial else 0
+    radial = int(radial)
+    if radial not in (0, 1, 2):
+        raise ValueError("radial must be 0, 1 or 2, got %r" % radial)
+    o.radial = radial
     return o
 
 
@@ -113,12 +116,12 @@ def _report(r):
                 linear_status=r.linear_status, linear_flags=r.linear_flags, focal_linear=r.focal_linear,
                 focal_sweep=r.focal_sweep, evaluations=r.evaluations, path=PATHS.get(r.path, r.path),
                 focal_view=[r.focal_view[v] for v in range(3)], profile_rise=r.profile_rise, focal_sigma=r.focal_sigma, focal=r.focal, inliers=r.inliers,
-                rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg, k1=r.k1,
-                k1_rise=r.k1_rise)
+                rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg, k1=r.k1, k2=r.k2,
+                radial_rise=[r.radial_rise[0], r.radial_rise[1]])
 
 
 def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
-         per_view_focal, radial=False):
+         per_view_focal, radial=0):
     x1 = as_array(xs[0], (None, 2), "x1")
     n = x1.shape[0]
     xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
@@ -149,23 +152,24 @@ def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_si
         raise
     R = np.array([list(poses[v].R) for v in range(nv)]).reshape(nv, 3, 3)
     t = np.array([list(poses[v].t) for v in range(nv)])
-    dist = np.array([rep.k1, 0.0, 0.0, 0.0, 0.0])
+    dist = np.array([rep.k1, rep.k2, 0.0, 0.0, 0.0])
     return dict(K=K, dist=dist, R=R, t=t, X=X, inliers=mask.astype(bool), report=_report(rep))
 
 
 def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, max_iterations=None,
-                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, radial=True):
+                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, radial=2):
     """Metric cameras and points from (n,2) pixel triplets of one unknown
     camera of image size width x height.
 
     per_view_focal: after the shared answer, one focal length per view
-    (kept when it passes the same checks). radial: estimate one radial
-    distortion term (Brown k1 about the image centre) with the focal length,
-    kept when the data reject the pinhole model.
-    Returns dict(K (3,3,3), dist (5,) OpenCV distortion vector (k1, 0, 0, 0,
-    0), R (3,3,3), t (3,3), X (n,3) (zero off the inliers), inliers (n,)
+    (kept when it passes the same checks). radial: radial distortion terms
+    estimated with the focal length (Brown k1, k2 about the image centre):
+    0 pinhole, 1 k1, 2 k1 and k2; a term is dropped when the data do not
+    reject it being 0.
+    Returns dict(K (3,3,3), dist (5,) OpenCV distortion vector (k1, k2, 0,
+    0, 0), R (3,3,3), t (3,3), X (n,3) (zero off the inliers), inliers (n,)
     bool, report dict (stage, path "linear" or "sweep", focal_linear,
-    focal_sweep, focal, focal_sigma, k1, k1_rise, rms, ...)).
+    focal_sweep, focal, focal_sigma, k1, k2, radial_rise, rms, ...)).
     Raises SfmError when the data do not determine the answer or it fails a
     physical check; the exception carries .report.
     """
