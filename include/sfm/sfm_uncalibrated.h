@@ -131,7 +131,9 @@ typedef struct sfm_uncal_report {
     int path;                  /* SFM_UNCAL_PATH_* */
     double profile_rise;       /* cost rise at f off by > 1.5x, in noise variances */
     double focal_sigma;        /* relative standard deviation of f from the profile */
-    double focal;              /* px, final */
+    double focal;              /* px, final (with k1, k2, inliers, rms and
+                                  front_fraction: the last candidate's when it is
+                                  refused at the validation stage) */
     int inliers;               /* final inliers */
     double rms;                /* px, final inliers, sqrt(mean squared error per view) */
     double front_fraction;     /* final inlier points in front of every camera */

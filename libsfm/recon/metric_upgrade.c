@@ -507,15 +507,8 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
         /* the flatter side: a profile steep on one side only does not pin f */
         double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
         rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
-        rep->focal = ff; /* the candidate's, also when refused */
-        rep->k1 = c->kr[0];
-        rep->k2 = c->kr[1];
-        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
-            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
-            return SFM_E_SINGULAR;
-        }
     }
-
+    /* the candidate's figures, reported also when it is refused */
     double rms, front, fv[3] = {ff, ff, ff};
     quality(c, cand, fv, &rms, &front);
     rep->focal = ff;
@@ -524,6 +517,8 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
     rep->inliers = c->m;
     rep->rms = rms;
     rep->front_fraction = front;
+    if (!(rep->focal_sigma <= o->max_focal_sigma))
+        return SFM_E_SINGULAR;
     /* rotation alone: |t2| = 1 is then fitted to noise and the points go to
      * infinity, their rays parallel */
     rep->parallax_deg = median_parallax(c, cand, c->bear);
