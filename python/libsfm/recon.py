@@ -194,7 +194,7 @@ def _gray(img, name):
     return np.ascontiguousarray(a)
 
 
-def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=10000, threshold_px=1.0, **kw):
+def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, threshold_px=1.0, **kw):
     """reconstruct_three_view on three images of one size: features
     (detect_and_describe), matching of the pairs 1-2, 2-3, 3-1 and the cyclic
     three-view association in front of it. The result also has x (3, t, 2),
