@@ -299,8 +299,8 @@ static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv,
 }
 
 /* 1 when, for every view v > 1, the homography fitted to the inliers x
- * (undistorted; view 1 -> v, normalized DLT) transfers them with an RMS error of at most
- * three times the metric model's per-observation RMS. With a translation
+ * (undistorted; view 1 -> v, normalized DLT) transfers them with an RMS
+ * error of at most three times the metric model's per-observation RMS. With a translation
  * the scene's depth makes the transfer error grow with the parallax; without
  * one it stays at the noise: 1.9 and 2.1 in the two views of a pure rotation
  * at 0.3 px (both images noisy, no point to adjust). */
@@ -423,9 +423,6 @@ static int recollect(sfmi_mu *c, const double *const xin[3], int n, const sfm_po
     return m;
 }
 
-/* The final stage from one candidate: inliers re-collected under its
- * metric cameras, a free-focal adjustment on them, the standard deviation
- * of f from the profile's curvature and the physical checks. */
 /* Noise variance of a fit of cost over the current BA points. */
 static double noise_variance(const sfmi_mu *c, double cost)
 {
@@ -434,6 +431,10 @@ static double noise_variance(const sfmi_mu *c, double cost)
     return s2 < NOISE_FLOOR * NOISE_FLOOR ? NOISE_FLOOR * NOISE_FLOOR : s2;
 }
 
+/* The final stage from one candidate: inliers re-collected under its
+ * metric cameras, a free-focal adjustment on them, the radial terms tested,
+ * the standard deviation of f from the profile's curvature and the
+ * physical checks. */
 static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
                          const sfm_pose best[3], double best_f, const double best_k[2], sfm_pose poses[3],
                          double *f_out, sfm_uncal_report *rep)

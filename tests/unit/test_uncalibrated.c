@@ -225,6 +225,14 @@ SFM_TEST(uncal_three_view_contract)
     o.focal_max = o.focal_min;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    sfm_uncal_default_options(&o);
+    SFM_CHECK_EQ_INT(o.radial, 2);
+    o.radial = 3;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    o.radial = -1;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
     px[1][7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_NONFINITE);
