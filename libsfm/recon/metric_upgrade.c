@@ -33,7 +33,7 @@
                                variances (a likelihood ratio test, 1 degree
                                of freedom, 3 sigma) */
 
-void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
+void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, int radial, sfmi_mu *c)
 {
     c->nv = nv;
     c->nmax = nmax;
@@ -49,14 +49,16 @@ void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
     c->obs_pt = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
     c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
     for (int v = 0; v < 3; v++)
-        c->xu[v] = v < nv ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
-    /* the largest of the adjustments run: shared focal, k1 and k2, one
-     * focal length per view */
-    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_RADIAL};
+        c->xu[v] = v < nv && radial > 0 ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
+    /* the largest of the adjustments run: shared focal and the radial
+     * terms, one focal length per view */
+    const int kmask = radial >= 2 ? SFM_BA_REFINE_RADIAL : radial == 1 ? SFM_BA_REFINE_K1 : 0;
+    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL | kmask};
     sfm_ba_dims dp = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_PER_CAMERA, SFM_BA_REFINE_FOCAL};
     size_t s1 = sfm_ba_workspace_size(&d), s2 = sfm_ba_workspace_size(&dp);
     c->ba_size = s1 > s2 ? s1 : s2;
     c->ba_ws = sfmi_arena_alloc(a, c->ba_size);
+    c->radial_max = radial;
     c->radial = 0;
     c->kr[0] = c->kr[1] = 0;
 }
@@ -599,7 +601,7 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     const int nv = c->nv;
     sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
-    c->radial = nv == 3 ? o->radial : 0;
+    c->radial = nv == 3 ? (o->radial < c->radial_max ? o->radial : c->radial_max) : 0;
     c->kr[0] = c->kr[1] = 0;
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);

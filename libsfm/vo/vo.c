@@ -68,7 +68,7 @@ static size_t ba_reserve(int window, int max_points, int max_obs, int nf)
     size_t z = sfm_ba_workspace_size(&c);
     /* the self-calibration runs before any map exists: it borrows the BA
      * scratch */
-    size_t u = nf >= 7 ? sfm_recon_three_view_uncalibrated_workspace_size(cal_triplets(nf)) : 1;
+    size_t u = nf >= 7 ? sfm_recon_three_view_uncalibrated_workspace_size_radial(cal_triplets(nf), 0) : 1;
     if (x == 0 || y == 0 || z == 0 || u == 0)
         return 0;
     x = x > y ? x : y;

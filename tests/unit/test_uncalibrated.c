@@ -233,6 +233,17 @@ SFM_TEST(uncal_three_view_contract)
     o.radial = -1;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    /* the pinhole options need less: their own size is enough, a byte
+     * less is not */
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated_workspace_size_radial(NU, 3), 0);
+    size_t need0 = sfm_recon_three_view_uncalibrated_workspace_size_radial(NU, 0);
+    SFM_CHECK(need0 > 0 && need0 < need);
+    o.radial = 0;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need0 - 1), SFM_E_WORKSPACE);
+    SFM_CHECK(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL, NULL, NULL,
+                                                ws, need0) > 0);
+    memset(K, 0, sizeof K);
     px[1][7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_NONFINITE);
