@@ -291,10 +291,13 @@ def test_boofcv_mono_wall_against_the_chessboard():
     """mono_wall's lens (k1 = -0.256 by the chessboard) from the images
     alone. Answered whatever the focal length's standard deviation
     (max_focal_sigma = 1), the chessboard focal length lies within three
-    of the reported standard deviations, the radial terms are kept and
-    move the image corners as the chessboard's do (within 30 %); the
-    pinhole model on the same triplets puts f far off and, at the default
-    bound, is refused."""
+    of the reported standard deviations plus the 3 % the model's centred
+    principal point and unit aspect cost against the chessboard's (+2.7 %
+    measured: the chessboard's lens on this geometry, fitted by the
+    pipeline); the radial terms are kept and move the image corners as the
+    chessboard's do (within 30 %); the pinhole model on the same triplets
+    puts f far off and, at the default bound, is refused. (Seeds 1-6 give
+    762.6-785.6 px at sigma 3.3-3.5 %.)"""
     imgs = boof_images("mono_wall")
     h, w = imgs[0].shape
     mw = MONO_WALL
@@ -308,7 +311,7 @@ def test_boofcv_mono_wall_against_the_chessboard():
           % (f, 100 * (f / mw["fx"] - 1), mw["fx"], 100 * rep["focal_sigma"], k1, k2, mw["k1"], mw["k2"],
              s_ours, s_cb, np.round(rep["radial_rise"], 1), rep["inliers"], rep["rms"]))
     check_physical(r, w, h)
-    assert abs(np.log(f / mw["fx"])) < 3 * rep["focal_sigma"]
+    assert abs(np.log(f / mw["fx"])) < 3 * rep["focal_sigma"] + 0.03
     assert max(rep["radial_rise"]) > 9 and k1 < 0
     assert abs(s_ours / s_cb - 1) < 0.3
     try:
