@@ -61,8 +61,8 @@
  * one essential matrix. Two views carry far less information on f than
  * three (one constraint from the Kruppa equations with the priors): expect
  * more failures, reported as such. Two views stay pinhole (options.radial
- * is ignored): a second unknown on one fundamental matrix is not
- * determined at the baselines measured here.
+ * is ignored): the one constraint on f would be shared with the radial
+ * terms (not attempted).
  *
  * Poses map view-1 coordinates to each camera, x_cam = R X + t; pose 0 is
  * the identity, |t2| = 1. Points X (n x 3) in view-1 coordinates, written
