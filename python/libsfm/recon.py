@@ -1,9 +1,9 @@
 """Uncalibrated reconstruction: projective factorization, self-calibration by
 the absolute dual quadric, and the three- and two-view pipelines from pixels
 of an unknown camera (zero skew, unit aspect, principal point at the image
-centre, one focal length; with three views also up to two radial distortion
-terms, Brown k1 and k2 about the centre). Poses are world-to-camera, x_cam = R X + t, view 1
-the world frame, |t[1]| = 1."""
+centre, one focal length; with three views also up to two radial
+distortion terms, Brown k1 and k2 about the centre). Poses are
+world-to-camera, x_cam = R X + t, view 1 the world frame, |t[1]| = 1."""
 import numpy as np
 
 from ._ffi import as_array, check, dptr, ffi, lib, workspace
