@@ -498,14 +498,17 @@ int main(int argc, char **argv)
         printf("  path: %s, far-profile rise %.3g, focal sigma %.2f %%\n",
                rep.path >= 0 && rep.path <= 2 ? path[rep.path] : "?", rep.profile_rise, 100 * rep.focal_sigma);
         if (status >= 0) {
-            printf("  focal length %.2f px, principal point (%.1f, %.1f), %d inliers, RMS %.3f px, "
-                   "%.1f %% in front, median parallax %.2f deg\n",
-                   K[0], K[2], K[5], status, rep.rms, 100 * rep.front_fraction, rep.parallax_deg);
+            printf("  focal length %.2f px, principal point (%.1f, %.1f), radial k1 %.4f k2 %.4f, %d inliers, "
+                   "RMS %.3f px, %.1f %% in front, median parallax %.2f deg\n",
+                   K[0], K[2], K[5], rep.k1, rep.k2, status, rep.rms, 100 * rep.front_fraction, rep.parallax_deg);
             for (int v = 0; v < 3; v++) {
-                cams[v].model = SFM_CAMERA_PINHOLE;
+                memset(&cams[v], 0, sizeof cams[v]);
+                cams[v].model = rep.k1 != 0 || rep.k2 != 0 ? SFM_CAMERA_BROWN : SFM_CAMERA_PINHOLE;
                 cams[v].fx = cams[v].fy = K[9 * v];
                 cams[v].cx = K[9 * v + 2];
                 cams[v].cy = K[9 * v + 5];
+                cams[v].dist[0] = rep.k1;
+                cams[v].dist[1] = rep.k2;
             }
             if (gt.have_cam[0])
                 printf("  against ground truth: fx %.2f, error %+.2f %%\n", gt.cam[0].fx,

@@ -70,6 +70,9 @@ typedef enum sfm_ba_intrinsics {
 #define SFM_BA_REFINE_RADIAL 4     /* dist[0], dist[1]: k1, k2 (Brown and fisheye) */
 #define SFM_BA_REFINE_DISTORTION 8 /* every coefficient: Brown k1 k2 p1 p2 k3, fisheye k1..k4 */
 #define SFM_BA_REFINE_ALL 15
+#define SFM_BA_REFINE_K1 16        /* dist[0] alone: k1 (Brown and fisheye), the one
+                                      radial term a self-calibration can determine;
+                                      RADIAL and DISTORTION include it */
 
 /* options.loss */
 typedef enum sfm_ba_loss {

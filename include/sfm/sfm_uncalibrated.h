@@ -1,8 +1,14 @@
 /*
  * Uncalibrated reconstruction: metric cameras (K, R, t) and points from
- * pixel matches of an unknown pinhole camera (zero skew, unit aspect ratio,
+ * pixel matches of an unknown camera (zero skew, unit aspect ratio,
  * principal point at the image centre ((width - 1) / 2, (height - 1) / 2),
- * one focal length shared by the views, no distortion).
+ * one focal length shared by the views) and, with three views, up to
+ * options.radial radial distortion terms about the centre: Brown's
+ * x_d = x_n (1 + k1 r^2 + k2 r^4), r = |x_n|, in normalized coordinates
+ * (sfm_camera.h, SFM_CAMERA_BROWN with p1 = p2 = k3 = 0). A lens with
+ * k1 = -0.26 moves the corners of a 640x480 image by about 30 px; modelled
+ * as a pinhole, the focal length absorbs it (mono_wall of the BoofCV
+ * triplets: 1790 px against a chessboard 701 px).
  *
  * Three views (sfm_recon_three_view_uncalibrated):
  *  1. trifocal RANSAC on the centred pixels (sfm_ransac_trifocal: projective
@@ -19,7 +25,15 @@
  *     search on log f around the best candidate;
  *  4. metric bundle adjustment with the focal length free from the linear
  *     start and from the sweep's best (Huber loss at 2 thresholds, view 1
- *     fixed, |t2| = 1); the lower cost wins and names the path;
+ *     fixed, |t2| = 1); the lower cost wins and names the path. The radial
+ *     terms (from 0) are free in every adjustment of steps 3-6, so the
+ *     fixed-focal costs are profiles over them and sigma f below accounts
+ *     for their correlation with f; the answer is then tested against the
+ *     nested smaller models (k2 held at 0, then k1): a term whose removal
+ *     raises the cost by less than 9 noise variances is dropped and the
+ *     smaller fit is the answer (report.k1, k2 = 0). A distortion under
+ *     which an inlier lies outside the region where the map is invertible
+ *     fails step 6;
  *  5. the observability of f: the sweep's cost at focal lengths more than a
  *     factor 1.5 away must exceed the best by options.min_profile times the
  *     noise variance; otherwise (pure translation, parallel optical axes,
@@ -46,7 +60,9 @@
  * of self-calibration", ICCV 1998) as the linear start, then steps 3-6 with
  * one essential matrix. Two views carry far less information on f than
  * three (one constraint from the Kruppa equations with the priors): expect
- * more failures, reported as such.
+ * more failures, reported as such. Two views stay pinhole (options.radial
+ * is ignored): the one constraint on f would be shared with the radial
+ * terms (not attempted).
  *
  * Poses map view-1 coordinates to each camera, x_cam = R X + t; pose 0 is
  * the identity, |t2| = 1. Points X (n x 3) in view-1 coordinates, written
@@ -94,6 +110,9 @@ typedef struct sfm_uncal_options {
                                   when it passes the same checks */
     double min_parallax_deg;   /* default 0.5: median triangulation angle below it
                                   (rotation only) is SFM_E_SINGULAR */
+    int radial;                /* radial distortion terms estimated with the focal
+                                  length (three views; see above): 0 pinhole, 1 k1,
+                                  2 (default) k1 and k2 */
 } sfm_uncal_options;
 
 typedef struct sfm_uncal_report {
@@ -112,20 +131,31 @@ typedef struct sfm_uncal_report {
     int path;                  /* SFM_UNCAL_PATH_* */
     double profile_rise;       /* cost rise at f off by > 1.5x, in noise variances */
     double focal_sigma;        /* relative standard deviation of f from the profile */
-    double focal;              /* px, final */
+    double focal;              /* px, final (with k1, k2, inliers, rms and
+                                  front_fraction: the last candidate's when it is
+                                  refused at the validation stage) */
     int inliers;               /* final inliers */
     double rms;                /* px, final inliers, sqrt(mean squared error per view) */
     double front_fraction;     /* final inlier points in front of every camera */
     double parallax_deg;       /* median over the points of the largest ray angle */
     double focal_view[3];      /* px, the final focal length of each view */
+    double k1, k2;             /* Brown k1, k2 of the answer (0: the term dropped) */
+    double radial_rise[2];     /* cost rise, in noise variances, with k1 ([0],
+                                  against the pinhole) or k2 ([1], against k1
+                                  alone) held at 0; a term is dropped below 9;
+                                  0 when not tested */
 } sfm_uncal_report;
 
 /* Defaults listed above (ransac: sfm_ransac_default_options, threshold 1).
  * Statuses: SFM_OK, SFM_E_ARGUMENT (NULL). */
 SFM_API int sfm_uncal_default_options(sfm_uncal_options *opt);
 
-/* Workspace bytes for n triplets; 0 when n is out of range. */
+/* Workspace bytes for n triplets and the default options (the largest:
+ * radial 2); 0 when n is out of range. */
 SFM_API size_t sfm_recon_three_view_uncalibrated_workspace_size(int n);
+/* The same for options.radial = radial (0..2; 0 when out of range): with
+ * radial 0, 13 % less at 500 triplets. */
+SFM_API size_t sfm_recon_three_view_uncalibrated_workspace_size_radial(int n, int radial);
 
 /* On success returns the final inlier count and writes K (3 x 9: one 3x3
  * per view, equal unless options.per_view_focal), poses[3],

@@ -26,10 +26,14 @@
 #define FINAL_ITERS 50
 #define GOLDEN_STEPS 8
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
-#define NOISE_FLOOR 0.05
-#define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
+#define NOISE_FLOOR 0.05 /* px: noise standard deviation assumed at least */
+#define SEARCH_POINTS 200 /* inliers the focal search runs on */
+#define RADIAL_MIN_RISE 9.0 /* a radial term is kept when holding it at 0
+                               raises the cost by more than this many noise
+                               variances (a likelihood ratio test, 1 degree
+                               of freedom, 3 sigma) */
 
-void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
+void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, int radial, sfmi_mu *c)
 {
     c->nv = nv;
     c->nmax = nmax;
@@ -44,9 +48,59 @@ void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
     c->obs_cam = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
     c->obs_pt = SFM_ARENA_ARRAY(a, int, (size_t)nv * nmax);
     c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
-    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL};
-    c->ba_size = sfm_ba_workspace_size(&d);
+    for (int v = 0; v < 3; v++)
+        c->xu[v] = v < nv && radial > 0 ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
+    /* the largest of the adjustments run: shared focal and the radial
+     * terms, one focal length per view */
+    const int kmask = radial >= 2 ? SFM_BA_REFINE_RADIAL : radial == 1 ? SFM_BA_REFINE_K1 : 0;
+    sfm_ba_dims d = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_SHARED, SFM_BA_REFINE_FOCAL | kmask};
+    sfm_ba_dims dp = {nv, nmax, nv * nmax, SFM_BA_INTRINSICS_PER_CAMERA, SFM_BA_REFINE_FOCAL};
+    size_t s1 = sfm_ba_workspace_size(&d), s2 = sfm_ba_workspace_size(&dp);
+    c->ba_size = s1 > s2 ? s1 : s2;
     c->ba_ws = sfmi_arena_alloc(a, c->ba_size);
+    c->radial_max = radial;
+    c->radial = 0;
+    c->kr[0] = c->kr[1] = 0;
+}
+
+static int has_radial(const double kr[2])
+{
+    return kr[0] != 0 || kr[1] != 0;
+}
+
+/* The camera of focal length f and radial terms kr = (k1, k2) about the
+ * centre (pixels centred): pinhole when both are 0. */
+static void centred_camera(double f, const double kr[2], sfm_camera *cam)
+{
+    memset(cam, 0, sizeof *cam);
+    cam->model = has_radial(kr) ? SFM_CAMERA_BROWN : SFM_CAMERA_PINHOLE;
+    cam->fx = cam->fy = f;
+    cam->dist[0] = kr[0];
+    cam->dist[1] = kr[1];
+}
+
+/* Undistorted centred pixel (and unit-depth ray b, may be NULL) of px under
+ * focal f and radial terms kr. 0 when the distortion map cannot be inverted
+ * there (the pixel is then returned as it is). */
+static int undistort(double f, const double kr[2], const double px[2], double u[2], double b[3])
+{
+    double r[3] = {px[0] / f, px[1] / f, 1};
+    int ok = 1;
+    if (has_radial(kr)) {
+        sfm_camera cam;
+        centred_camera(f, kr, &cam);
+        double d[3];
+        ok = sfm_camera_unproject(&cam, px, d) == SFM_OK && d[2] > 0;
+        if (ok) {
+            r[0] = d[0] / d[2];
+            r[1] = d[1] / d[2];
+        }
+    }
+    u[0] = f * r[0];
+    u[1] = f * r[1];
+    if (b != NULL)
+        memcpy(b, r, sizeof r);
+    return ok;
 }
 
 static void identity_pose(sfm_pose *p)
@@ -60,9 +114,14 @@ static void bearings(sfmi_mu *c, double f)
     for (int v = 0; v < c->nv; v++)
         for (int j = 0; j < c->m; j++) {
             double *b = &c->bear[((size_t)v * c->m + j) * 3];
-            b[0] = c->x[v][2 * j] / f;
-            b[1] = c->x[v][2 * j + 1] / f;
-            b[2] = 1;
+            if (!has_radial(c->kr)) {
+                b[0] = c->x[v][2 * j] / f;
+                b[1] = c->x[v][2 * j + 1] / f;
+                b[2] = 1;
+            } else {
+                double u[2];
+                undistort(f, c->kr, &c->x[v][2 * j], u, b);
+            }
         }
 }
 
@@ -129,9 +188,11 @@ static int build(sfmi_mu *c, const sfm_pose poses[3], double f)
 
 /* Metric bundle adjustment of poses, c->X and f (free or held) over the
  * observations of build(); *cost with the penalty of the inliers that did
- * not triangulate. */
-/* focal: 0 held, 1 one free focal length for all views, 2 one per view;
- * f holds nv focal lengths for mode 2, f[0] otherwise. */
+ * not triangulate. free_focal: 0 held, 1 one free focal length for all
+ * views, 2 one per view; f holds nv focal lengths for mode 2, f[0]
+ * otherwise. The first c->radial radial terms c->kr are free in modes 0
+ * and 1 (the fixed-focal costs are then profiles over them), the others
+ * held; all are held in mode 2. */
 static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int max_it, double *cost)
 {
     const int nv = c->nv, np = c->np, no = np * nv;
@@ -142,8 +203,9 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     for (int v = 0; v < nv; v++) {
         memcpy(&Rs[9 * v], poses[v].R, 9 * sizeof(double));
         memcpy(&ts[3 * v], poses[v].t, 3 * sizeof(double));
-        cams[v].model = SFM_CAMERA_PINHOLE;
-        cams[v].fx = cams[v].fy = free_focal == 2 ? f[v] : f[0];
+        centred_camera(free_focal == 2 ? f[v] : f[0], c->kr, &cams[v]);
+        if (c->radial)
+            cams[v].model = SFM_CAMERA_BROWN;
     }
     sfm_ba_problem p = {nv, np, no, Rs, ts, cams, c->X, c->obs_cam, c->obs_pt, c->obs_xy, NULL, NULL, NULL};
     sfm_ba_options o;
@@ -154,9 +216,14 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     o.scale_camera = 1;
     o.scale_distance = 1.0;
     o.max_iterations = max_it;
+    const int k_free = free_focal != 2 ? c->radial : 0;
+    const int k_mask = k_free == 2 ? SFM_BA_REFINE_RADIAL : k_free == 1 ? SFM_BA_REFINE_K1 : 0;
     if (free_focal) {
         o.intrinsics = free_focal == 2 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
-        o.refine_intrinsics = SFM_BA_REFINE_FOCAL;
+        o.refine_intrinsics = SFM_BA_REFINE_FOCAL | k_mask;
+    } else if (k_free) {
+        o.intrinsics = SFM_BA_INTRINSICS_SHARED;
+        o.refine_intrinsics = k_mask;
     }
     sfm_ba_result res;
     int st = sfm_ba_solve(&p, &o, &res, NULL, 0, c->ba_ws, c->ba_size);
@@ -168,6 +235,8 @@ static int adjust(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     }
     for (int v = 0; v < (free_focal == 2 ? nv : 1); v++)
         f[v] = cams[v].fx;
+    for (int e = 0; e < k_free; e++)
+        c->kr[e] = cams[0].dist[e];
     *cost = res.final_cost + (double)(c->m - np) * nv * 4.0 * c->thr * c->thr;
     return SFM_OK;
 }
@@ -178,17 +247,20 @@ static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
     return st < 0 ? st : adjust(c, poses, f, free_focal, max_it, cost);
 }
 
-/* Fixed-focal score of f (INFINITY when no metric cameras follow). */
+/* Fixed-focal score of f (INFINITY when no metric cameras follow); the
+ * free radial terms start at 0. */
 static double score(sfmi_mu *c, double f, sfm_pose poses[3])
 {
     double cost, ff = f;
+    c->kr[0] = c->kr[1] = 0;
     if (!start_from_focal(c, f, poses) || refine(c, poses, &ff, 0, SWEEP_ITERS, &cost) != SFM_OK)
         return HUGE_VAL;
     return cost;
 }
 
 /* RMS reprojection error per view and share of points in front of every
- * camera, over the BA points of the current inliers. */
+ * camera, over the BA points of the current inliers (projected through the
+ * radial terms c->kr). */
 static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv, double *rms, double *front)
 {
     double se = 0;
@@ -205,7 +277,21 @@ static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv,
                 ok = 0;
                 continue;
             }
-            double du = fv[v] * y[0] / y[2] - c->x[v][2 * j], dv = fv[v] * y[1] / y[2] - c->x[v][2 * j + 1];
+            double du, dv;
+            if (!has_radial(c->kr)) {
+                du = fv[v] * y[0] / y[2] - c->x[v][2 * j];
+                dv = fv[v] * y[1] / y[2] - c->x[v][2 * j + 1];
+            } else {
+                sfm_camera cam;
+                double px[2];
+                centred_camera(fv[v], c->kr, &cam);
+                if (sfm_camera_project(&cam, y, px, NULL) != SFM_OK) {
+                    ok = 0;
+                    continue;
+                }
+                du = px[0] - c->x[v][2 * j];
+                dv = px[1] - c->x[v][2 * j + 1];
+            }
             se += du * du + dv * dv;
         }
         nf += ok;
@@ -214,23 +300,23 @@ static void quality(const sfmi_mu *c, const sfm_pose poses[3], const double *fv,
     *front = c->m > 0 ? (double)nf / c->m : 0.0;
 }
 
-/* 1 when, for every view v > 1, the homography fitted to the inliers
- * (view 1 -> v, normalized DLT) transfers them with an RMS error of at most
- * three times the metric model's per-observation RMS. With a translation
+/* 1 when, for every view v > 1, the homography fitted to the inliers x
+ * (undistorted; view 1 -> v, normalized DLT) transfers them with an RMS
+ * error of at most three times the metric model's per-observation RMS. With a translation
  * the scene's depth makes the transfer error grow with the parallax; without
  * one it stays at the noise: 1.9 and 2.1 in the two views of a pure rotation
  * at 0.3 px (both images noisy, no point to adjust). */
-static int homographies_explain(const sfmi_mu *c, double rms_metric)
+static int homographies_explain(const sfmi_mu *c, double rms_metric, const double *const x[3])
 {
     if (c->m < 8 || !(rms_metric >= 0))
         return 0;
     for (int v = 1; v < c->nv; v++) {
         sfm_mat3 H;
-        if (sfm_homography_dlt(c->x[0], c->x[v], c->m, &H) != 1)
+        if (sfm_homography_dlt(x[0], x[v], c->m, &H) != 1)
             return 0;
         double se = 0;
         for (int j = 0; j < c->m; j++) {
-            const double *p = &c->x[0][2 * j], *q = &c->x[v][2 * j];
+            const double *p = &x[0][2 * j], *q = &x[v][2 * j];
             double w = H.m[6] * p[0] + H.m[7] * p[1] + H.m[8];
             if (!(fabs(w) > 0))
                 return 0;
@@ -284,10 +370,19 @@ static double median_parallax(const sfmi_mu *c, const sfm_pose poses[3], double 
     return c->np > 0 ? scratch[c->np / 2] : 0.0;
 }
 
-/* Inliers of all n input points under metric cameras K [R | t]: the mean
- * squared error per view after triangulation below thr^2. */
-static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_pose poses[3], double f)
+/* Inliers of all n input points under metric cameras K [R | t] and the
+ * radial terms c->kr: the mean squared error per view after triangulation
+ * (in undistorted pixels) below thr^2. */
+static int recollect(sfmi_mu *c, const double *const xin[3], int n, const sfm_pose poses[3], double f)
 {
+    const double *xall[3] = {xin[0], xin[1], xin[2]};
+    if (has_radial(c->kr)) {
+        for (int v = 0; v < c->nv; v++) {
+            for (int i = 0; i < n; i++)
+                undistort(f, c->kr, &xin[v][2 * i], &c->xu[v][2 * i], NULL);
+            xall[v] = c->xu[v];
+        }
+    }
     double P[3][12];
     for (int v = 0; v < c->nv; v++)
         for (int r = 0; r < 3; r++) {
@@ -320,8 +415,8 @@ static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_p
         if (!(e2 / c->nv < c->thr * c->thr))
             continue;
         for (int v = 0; v < c->nv; v++) {
-            c->x[v][2 * m] = xall[v][2 * i];
-            c->x[v][2 * m + 1] = xall[v][2 * i + 1];
+            c->x[v][2 * m] = xin[v][2 * i];
+            c->x[v][2 * m + 1] = xin[v][2 * i + 1];
         }
         c->idx[m] = i;
         m++;
@@ -330,16 +425,27 @@ static int recollect(sfmi_mu *c, const double *const xall[3], int n, const sfm_p
     return m;
 }
 
+/* Noise variance of a fit of cost over the current BA points. */
+static double noise_variance(const sfmi_mu *c, double cost)
+{
+    int nobs = c->np * c->nv * 2, dof = c->np * 3 + 6 * (c->nv - 1);
+    double s2 = nobs > dof ? 2 * cost / (nobs - dof) : 0;
+    return s2 < NOISE_FLOOR * NOISE_FLOOR ? NOISE_FLOOR * NOISE_FLOOR : s2;
+}
+
 /* The final stage from one candidate: inliers re-collected under its
- * metric cameras, a free-focal adjustment on them, the standard deviation
- * of f from the profile's curvature and the physical checks. */
-static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
-                    const sfm_pose best[3], double best_f, sfm_pose poses[3], double *f_out,
-                    sfm_uncal_report *rep)
+ * metric cameras, a free-focal adjustment on them, the radial terms tested,
+ * the standard deviation of f from the profile's curvature and the
+ * physical checks. */
+static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
+                         const sfm_pose best[3], double best_f, const double best_k[2], sfm_pose poses[3],
+                         double *f_out, sfm_uncal_report *rep)
 {
     const int nv = c->nv;
     /* inliers under the metric cameras, one more adjustment, checks */
     rep->stage = SFM_UNCAL_STAGE_VALIDATE;
+    c->kr[0] = best_k[0];
+    c->kr[1] = best_k[1];
     if (recollect(c, xall, n, best, best_f) < SFM_TRIFOCAL_MIN_POINTS + 1)
         return SFM_E_NO_CONVERGENCE;
     double ff = best_f, cost;
@@ -348,11 +454,36 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
     int st = refine(c, cand, &ff, 1, FINAL_ITERS, &cost);
     if (st < 0)
         return st == SFM_E_SINGULAR ? SFM_E_NO_CONVERGENCE : st;
-    /* noise variance of the final fit */
-    int nobsf = c->np * nv * 2, doff = c->np * 3 + 6 * (nv - 1);
-    double sigma2f = nobsf > doff ? 2 * cost / (nobsf - doff) : 0;
-    if (sigma2f < NOISE_FLOOR * NOISE_FLOOR)
-        sigma2f = NOISE_FLOOR * NOISE_FLOOR;
+    double sigma2f = noise_variance(c, cost);
+    /* nested models: the last free radial term held at 0 (k2, then k1),
+     * refitted from the same answer; the term stays when the data reject
+     * it being 0, else the smaller model is the answer (and its profile
+     * gives sigma f) */
+    rep->radial_rise[0] = rep->radial_rise[1] = 0;
+    while (c->radial > 0) {
+        const int e = c->radial - 1;
+        sfm_pose pp[3];
+        double f0 = ff, cost0 = HUGE_VAL;
+        const double k_fit[2] = {c->kr[0], c->kr[1]}; /* the smaller fit moves the others */
+        memcpy(pp, cand, sizeof pp);
+        memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+        c->radial = e;
+        c->kr[e] = 0;
+        int ast = adjust(c, pp, &f0, 1, FINAL_ITERS, &cost0);
+        rep->radial_rise[e] = ast == SFM_OK ? 2 * (cost0 - cost) / sigma2f : (double)INFINITY;
+        if (!(ast == SFM_OK && f0 > 0 && rep->radial_rise[e] < RADIAL_MIN_RISE)) {
+            c->radial = e + 1;
+            c->kr[0] = k_fit[0];
+            c->kr[1] = k_fit[1];
+            memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+            break;
+        }
+        memcpy(cand, pp, sizeof pp);
+        ff = f0;
+        cost = cost0;
+        sigma2f = noise_variance(c, cost);
+    }
+    const double k_ans[2] = {c->kr[0], c->kr[1]};
     /* local curvature of the profile likelihood: the fixed-focal optimum at
      * f e^{+-d}, started from the answer (its cameras and points), against
      * the free optimum, on the final inliers; the chi-square rise
@@ -367,26 +498,30 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
             memcpy(pp, cand, sizeof pp);
             memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
             double fd = ff * sfmi_exp(sgn ? -d : d);
+            c->kr[0] = k_ans[0]; /* free again in the profile */
+            c->kr[1] = k_ans[1];
             int ast = adjust(c, pp, &fd, 0, FINAL_ITERS, &cpm[sgn]);
             if (ast != SFM_OK)
                 cpm[sgn] = c0;
         }
+        c->kr[0] = k_ans[0];
+        c->kr[1] = k_ans[1];
         memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
         /* the flatter side: a profile steep on one side only does not pin f */
         double rise = 2 * (fmin(cpm[0], cpm[1]) - c0) / sigma2f;
         rep->focal_sigma = rise > 0 ? d / sqrt(rise) : (double)INFINITY;
-        if (!(rep->focal_sigma <= o->max_focal_sigma)) {
-            rep->stage = SFM_UNCAL_STAGE_VALIDATE;
-            return SFM_E_SINGULAR;
-        }
     }
-
+    /* the candidate's figures, reported also when it is refused */
     double rms, front, fv[3] = {ff, ff, ff};
     quality(c, cand, fv, &rms, &front);
     rep->focal = ff;
+    rep->k1 = c->kr[0];
+    rep->k2 = c->kr[1];
     rep->inliers = c->m;
     rep->rms = rms;
     rep->front_fraction = front;
+    if (!(rep->focal_sigma <= o->max_focal_sigma))
+        return SFM_E_SINGULAR;
     /* rotation alone: |t2| = 1 is then fitted to noise and the points go to
      * infinity, their rays parallel */
     rep->parallax_deg = median_parallax(c, cand, c->bear);
@@ -398,7 +533,20 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
      * well as the metric model explains them (a rotation about the centre,
      * or a plane: both critical for self-calibration), the translation is
      * not determined by the data. */
-    if (homographies_explain(c, rms))
+    const double *xh[3] = {c->x[0], c->x[1], c->x[2]};
+    int invertible = 1;
+    if (has_radial(c->kr) && ff > 0) {
+        /* every inlier inside the region where the distortion map is
+         * invertible (a distortion folding the image is not a lens) */
+        for (int v = 0; v < nv; v++) {
+            for (int j = 0; j < c->m; j++)
+                invertible &= undistort(ff, c->kr, &c->x[v][2 * j], &c->xu[v][2 * j], NULL);
+            xh[v] = c->xu[v];
+        }
+    }
+    if (!invertible)
+        return SFM_E_NO_CONVERGENCE;
+    if (homographies_explain(c, rms, xh))
         return SFM_E_SINGULAR;
     double max_rms = o->max_rms > 0 ? o->max_rms : c->thr;
     if (!(ff > 0) || !(front >= o->min_front) || !(rms <= max_rms))
@@ -435,12 +583,26 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
     return SFM_OK;
 }
 
+/* validate_once() with c->radial restored (the pinhole choice is per
+ * candidate). */
+static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_uncal_options *o,
+                    const sfm_pose best[3], double best_f, const double best_k[2], sfm_pose poses[3], double *f_out,
+                    sfm_uncal_report *rep)
+{
+    const int radial = c->radial;
+    int st = validate_once(c, xall, n, o, best, best_f, best_k, poses, f_out, rep);
+    c->radial = radial;
+    return st;
+}
+
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
                   const sfm_uncal_options *o, sfm_pose poses[3], double *f_out, sfm_uncal_report *rep)
 {
     const int nv = c->nv;
     sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
+    c->radial = nv == 3 ? (o->radial < c->radial_max ? o->radial : c->radial_max) : 0;
+    c->kr[0] = c->kr[1] = 0;
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
     rep->stage = SFM_UNCAL_STAGE_SWEEP;
@@ -504,10 +666,11 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     /* free-focal bundle adjustment from the linear start and from the
      * sweep's best; the sweep's fixed-focal answer as a third candidate */
     rep->stage = SFM_UNCAL_STAGE_BA;
-    double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, ks[3][2] = {{0, 0}, {0, 0}, {0, 0}};
     sfm_pose sol[3][3];
     for (int s = 0; s < 3; s++) {
         double f0 = s == 0 ? f_linear : f_sweep;
+        c->kr[0] = c->kr[1] = 0;
         if (!(f0 > 0) || !start_from_focal(c, f0, sol[s]))
             continue;
         double ff = f0;
@@ -515,6 +678,8 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
             continue;
         fs[s] = ff;
         cs[s] = cost;
+        ks[s][0] = c->kr[0];
+        ks[s][1] = c->kr[1];
     }
     /* candidates in order of cost (the fixed-focal one last), each checked
      * in full; the first that passes is the answer */
@@ -548,7 +713,7 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
             st = SFM_E_SINGULAR;
             continue;
         }
-        st = validate(c, xall, n, o, sol[s], best_f, poses, f_out, rep);
+        st = validate(c, xall, n, o, sol[s], best_f, ks[s], poses, f_out, rep);
         if (st == SFM_OK) {
             int lin = s == 0 || (s == 1 && fs[0] > 0 && fabs(fs[1] / fs[0] - 1) < 0.01);
             rep->path = lin ? SFM_UNCAL_PATH_LINEAR : SFM_UNCAL_PATH_SWEEP;

@@ -31,13 +31,21 @@ typedef struct sfmi_mu {
     void *ba_ws;
     size_t ba_size;
     int evaluations;
+    int radial_max;   /* radial terms the layout has room for (0..2) */
+    int radial;       /* radial terms free in the adjustments (0..2: k1, k2) */
+    double kr[2];     /* Brown k1, k2 of the working candidate (normalized
+                         coordinates about the centre); 0, 0: pinhole */
+    double *xu[3];    /* nmax x 2 scratch: undistorted centred pixels */
 } sfmi_mu;
 
-void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c);
+/* Carves the stage for up to `radial` radial terms (0..2; the solve then
+ * estimates at most min(radial, o->radial)). */
+void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, int radial, sfmi_mu *c);
 
 /* Runs sweep, starts and the final checks; fills report fields focal_sweep,
- * evaluations, path, profile_rise, focal, inliers, rms, front_fraction and
- * stage. xall: the nv full centred arrays (nmax x 2) for re-collection.
+ * evaluations, path, profile_rise, focal, k1, k2, radial_rise, inliers,
+ * rms, front_fraction and stage. o->radial radial terms (at most those the
+ * layout has room for) are estimated with three views (none with two). xall: the nv full centred arrays (nmax x 2) for re-collection.
  * On success writes poses[nv], f[nv] (equal unless per_view_focal), and leaves the final inliers in c (x,
  * idx, m) and their points in c->X / c->pidx / c->np. */
 int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,

@@ -23,7 +23,7 @@ typedef struct tu_ws {
     sfmi_mu mu;
 } tu_ws;
 
-static void layout(sfmi_arena *a, int n, tu_ws *w)
+static void layout(sfmi_arena *a, int n, int radial, tu_ws *w)
 {
     for (int v = 0; v < 3; v++)
         w->xc[v] = SFM_ARENA_ARRAY(a, double, 2 * (size_t)n);
@@ -31,7 +31,7 @@ static void layout(sfmi_arena *a, int n, tu_ws *w)
     w->Xh = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->ransac_size = sfm_ransac_trifocal_workspace_size(n);
     w->ransac_ws = sfmi_arena_alloc(a, w->ransac_size);
-    sfmi_mu_layout(a, 3, n, &w->mu);
+    sfmi_mu_layout(a, 3, n, radial, &w->mu);
 }
 
 int sfm_uncal_default_options(sfm_uncal_options *opt)
@@ -48,6 +48,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
     opt->min_parallax_deg = 0.5;
     opt->max_focal_sigma = 0.05 / 3;
     opt->per_view_focal = 0;
+    opt->radial = 2;
     return SFM_OK;
 }
 
@@ -58,20 +59,26 @@ int sfmi_uncal_check_options(const sfm_uncal_options *o)
         !(o->focal_max > o->focal_min) || !isfinite(o->focal_max) || !(o->max_rms >= 0) ||
         !isfinite(o->max_rms) || !(o->min_front >= 0 && o->min_front <= 1) || !(o->min_profile >= 0) ||
         !isfinite(o->min_profile) ||
-        !(o->max_focal_sigma > 0) || (o->per_view_focal != 0 && o->per_view_focal != 1) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
+        !(o->max_focal_sigma > 0) || (o->per_view_focal != 0 && o->per_view_focal != 1) ||
+        (o->radial < 0 || o->radial > 2) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
         return SFM_E_ARGUMENT;
     return SFM_OK;
 }
 
-size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
+size_t sfm_recon_three_view_uncalibrated_workspace_size_radial(int n, int radial)
 {
-    if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS)
+    if (n < SFM_TRIFOCAL_MIN_POINTS || n > SFM_RANSAC_MAX_POINTS || radial < 0 || radial > 2)
         return 0;
     sfmi_arena a;
     tu_ws w;
     sfmi_arena_measure(&a);
-    layout(&a, n, &w);
+    layout(&a, n, radial, &w);
     return sfmi_arena_required(&a);
+}
+
+size_t sfm_recon_three_view_uncalibrated_workspace_size(int n)
+{
+    return sfm_recon_three_view_uncalibrated_workspace_size_radial(n, 2);
 }
 
 /* One run from RANSAC to the checked metric answer. */
@@ -172,7 +179,7 @@ int sfm_recon_three_view_uncalibrated(const double *px1, const double *px2, cons
     sfmi_arena a;
     tu_ws w;
     sfmi_arena_init(&a, ws, ws_size);
-    layout(&a, n, &w);
+    layout(&a, n, o.radial, &w);
     sfm_uncal_report rep;
     const double *px[3] = {px1, px2, px3};
     if (!sfmi_arena_ok(&a))

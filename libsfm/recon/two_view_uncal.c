@@ -29,7 +29,7 @@ static void layout(sfmi_arena *a, int n, twu_ws *w)
     w->mask = SFM_ARENA_ARRAY(a, uint8_t, n);
     w->ransac_size = sfm_ransac_fundamental_workspace_size(n);
     w->ransac_ws = sfmi_arena_alloc(a, w->ransac_size);
-    sfmi_mu_layout(a, 2, n, &w->mu);
+    sfmi_mu_layout(a, 2, n, 0, &w->mu); /* two views stay pinhole */
 }
 
 size_t sfm_recon_two_view_uncalibrated_workspace_size(int n)

@@ -68,7 +68,7 @@ static int check_options(const sfm_ba_options *o, int m)
         return SFM_E_ARGUMENT;
     if ((unsigned)o->intrinsics > (unsigned)SFM_BA_INTRINSICS_PER_CAMERA)
         return SFM_E_ARGUMENT;
-    if (o->refine_intrinsics < 0 || o->refine_intrinsics > SFM_BA_REFINE_ALL)
+    if (o->refine_intrinsics < 0 || o->refine_intrinsics > (SFM_BA_REFINE_ALL | SFM_BA_REFINE_K1))
         return SFM_E_ARGUMENT;
     if ((unsigned)o->loss > (unsigned)SFM_BA_LOSS_TRUNCATED)
         return SFM_E_ARGUMENT;

@@ -26,7 +26,10 @@ int sfmi_ba_n_intrinsics(const sfm_ba_dims *d)
     if (d->intrinsics == SFM_BA_INTRINSICS_FIXED)
         return 0;
     const int mask = d->refine_intrinsics;
-    int nd = (mask & SFM_BA_REFINE_DISTORTION) ? SFMI_BA_NDIST : (mask & SFM_BA_REFINE_RADIAL) ? 2 : 0;
+    int nd = (mask & SFM_BA_REFINE_DISTORTION) ? SFMI_BA_NDIST
+             : (mask & SFM_BA_REFINE_RADIAL)   ? 2
+             : (mask & SFM_BA_REFINE_K1)       ? 1
+                                               : 0;
     return ((mask & SFM_BA_REFINE_FOCAL) ? 1 : 0) + ((mask & SFM_BA_REFINE_PRINCIPAL) ? 2 : 0) + nd;
 }
 
@@ -36,7 +39,7 @@ int sfmi_ba_dims_valid(const sfm_ba_dims *d)
         return 0;
     if ((unsigned)d->intrinsics > (unsigned)SFM_BA_INTRINSICS_PER_CAMERA)
         return 0;
-    if (d->refine_intrinsics < 0 || d->refine_intrinsics > SFM_BA_REFINE_ALL)
+    if (d->refine_intrinsics < 0 || d->refine_intrinsics > (SFM_BA_REFINE_ALL | SFM_BA_REFINE_K1))
         return 0;
     /* the reduced system must fit the dense solver and int indexing */
     long long ni = sfmi_ba_n_intrinsics(d);
@@ -103,7 +106,7 @@ static int intrinsics_columns(const sfm_camera *cam, int mask, int *cols)
     if (!(mask & SFM_BA_REFINE_DISTORTION) && (mask & SFM_BA_REFINE_RADIAL) && nd > 2)
         nd = 2;
     if (!(mask & (SFM_BA_REFINE_DISTORTION | SFM_BA_REFINE_RADIAL)))
-        nd = 0;
+        nd = (mask & SFM_BA_REFINE_K1) && nd > 0 ? 1 : 0;
     for (int e = 0; e < nd; e++)
         cols[k++] = 9 + e;
     return k;

@@ -68,7 +68,7 @@ static size_t ba_reserve(int window, int max_points, int max_obs, int nf)
     size_t z = sfm_ba_workspace_size(&c);
     /* the self-calibration runs before any map exists: it borrows the BA
      * scratch */
-    size_t u = nf >= 7 ? sfm_recon_three_view_uncalibrated_workspace_size(cal_triplets(nf)) : 1;
+    size_t u = nf >= 7 ? sfm_recon_three_view_uncalibrated_workspace_size_radial(cal_triplets(nf), 0) : 1;
     if (x == 0 || y == 0 || z == 0 || u == 0)
         return 0;
     x = x > y ? x : y;
@@ -740,6 +740,7 @@ static int self_calibrate(sfm_vo *vo, const double *gravity, int want_cov, doubl
         sfm_uncal_options uo;
         sfm_uncal_default_options(&uo);
         uo.ransac.threshold = vo->p.threshold;
+        uo.radial = 0; /* the map's camera is a pinhole */
         uo.ransac.seed = vo->p.seed ^ (0x9e3779b97f4a7c15ull * (uint64_t)(vo->frame_index + 1));
         st = sfm_recon_three_view_uncalibrated(p1, p2, p3, n3, vo->dims.width, vo->dims.height, &uo,
                                                Kc, poses, NULL, NULL, &rep, vo->ba_ws,

@@ -21,7 +21,7 @@ Each camera projects through its model (sfm_camera.h). Cost =
 
 * ``mode``: "full" | "pose_only" | "points_only"
 * ``intrinsics``: "fixed" | "shared" | "per_camera"
-* ``refine``: iterable of "focal", "principal", "radial" (k1, k2),
+* ``refine``: iterable of "focal", "principal", "radial" (k1, k2), "k1" (k1 alone),
   "distortion" (every coefficient of the model)
 * ``loss``: "squared" | "huber" | "cauchy" | "truncated"; ``loss_scale`` (a)
 * ``gauge``: "first_camera" | "none"
@@ -48,7 +48,7 @@ from .geometry import Camera
 
 _MODES = {"full": 0, "pose_only": 1, "points_only": 2}
 _INTR = {"fixed": 0, "shared": 1, "per_camera": 2}
-_REFINE = {"focal": 1, "principal": 2, "radial": 4, "distortion": 8}
+_REFINE = {"focal": 1, "principal": 2, "radial": 4, "distortion": 8, "k1": 16}
 _LOSS = {"squared": 0, "huber": 1, "cauchy": 2, "truncated": 3}
 _GAUGE = {"none": 0, "first_camera": 1}
 _SCALE = {"none": 0, "coordinate": 1, "distance": 2}

@@ -1,8 +1,9 @@
 """Uncalibrated reconstruction: projective factorization, self-calibration by
 the absolute dual quadric, and the three- and two-view pipelines from pixels
 of an unknown camera (zero skew, unit aspect, principal point at the image
-centre, one focal length). Poses are world-to-camera, x_cam = R X + t, view 1
-the world frame, |t[1]| = 1."""
+centre, one focal length; with three views also up to two radial
+distortion terms, Brown k1 and k2 about the centre). Poses are
+world-to-camera, x_cam = R X + t, view 1 the world frame, |t[1]| = 1."""
 import numpy as np
 
 from ._ffi import as_array, check, dptr, ffi, lib, workspace
@@ -90,7 +91,8 @@ def self_calibrate(P, image_sizes, X=None):
                 front_fraction=res.front_fraction)
 
 
-def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal):
+def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
+                   radial=2):
     o = ffi.new("sfm_uncal_options *")
     lib.sfm_uncal_default_options(o)
     o.ransac.threshold = float(threshold_px)
@@ -102,6 +104,10 @@ def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_para
     if min_parallax_deg is not None:
         o.min_parallax_deg = float(min_parallax_deg)
     o.per_view_focal = 1 if per_view_focal else 0
+    radial = int(radial)
+    if radial not in (0, 1, 2):
+        raise ValueError("radial must be 0, 1 or 2, got %r" % radial)
+    o.radial = radial
     return o
 
 
@@ -111,15 +117,17 @@ def _report(r):
                 linear_status=r.linear_status, linear_flags=r.linear_flags, focal_linear=r.focal_linear,
                 focal_sweep=r.focal_sweep, evaluations=r.evaluations, path=PATHS.get(r.path, r.path),
                 focal_view=[r.focal_view[v] for v in range(3)], profile_rise=r.profile_rise, focal_sigma=r.focal_sigma, focal=r.focal, inliers=r.inliers,
-                rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg)
+                rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg, k1=r.k1, k2=r.k2,
+                radial_rise=[r.radial_rise[0], r.radial_rise[1]])
 
 
 def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
-         per_view_focal):
+         per_view_focal, radial=0):
     x1 = as_array(xs[0], (None, 2), "x1")
     n = x1.shape[0]
     xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
-    o = _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal)
+    o = _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
+                       radial)
     size_fn = (lib.sfm_recon_three_view_uncalibrated_workspace_size if nv == 3
                else lib.sfm_recon_two_view_uncalibrated_workspace_size)
     need = size_fn(n)
@@ -145,24 +153,29 @@ def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_si
         raise
     R = np.array([list(poses[v].R) for v in range(nv)]).reshape(nv, 3, 3)
     t = np.array([list(poses[v].t) for v in range(nv)])
-    return dict(K=K, R=R, t=t, X=X, inliers=mask.astype(bool), report=_report(rep))
+    dist = np.array([rep.k1, rep.k2, 0.0, 0.0, 0.0])
+    return dict(K=K, dist=dist, R=R, t=t, X=X, inliers=mask.astype(bool), report=_report(rep))
 
 
 def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, max_iterations=None,
-                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False):
+                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, radial=2):
     """Metric cameras and points from (n,2) pixel triplets of one unknown
     camera of image size width x height.
 
     per_view_focal: after the shared answer, one focal length per view
-    (kept when it passes the same checks).
-    Returns dict(K (3,3,3), R (3,3,3), t (3,3), X (n,3) (zero off the
-    inliers), inliers (n,) bool, report dict (stage, path "linear" or
-    "sweep", focal_linear, focal_sweep, focal, focal_sigma, rms, ...)).
+    (kept when it passes the same checks). radial: radial distortion terms
+    estimated with the focal length (Brown k1, k2 about the image centre):
+    0 pinhole, 1 k1, 2 k1 and k2; a term is dropped when the data do not
+    reject it being 0.
+    Returns dict(K (3,3,3), dist (5,) OpenCV distortion vector (k1, k2, 0,
+    0, 0), R (3,3,3), t (3,3), X (n,3) (zero off the inliers), inliers (n,)
+    bool, report dict (stage, path "linear" or "sweep", focal_linear,
+    focal_sweep, focal, focal_sigma, k1, k2, radial_rise, rms, ...)).
     Raises SfmError when the data do not determine the answer or it fails a
     physical check; the exception carries .report.
     """
     return _run(3, (x1, x2, x3), width, height, threshold_px, seed, max_iterations, max_focal_sigma,
-                min_parallax_deg, per_view_focal)
+                min_parallax_deg, per_view_focal, radial)
 
 
 def reconstruct_two_view(x1, x2, width, height, seed=0, threshold_px=1.0, max_iterations=None,
@@ -182,7 +195,7 @@ def _gray(img, name):
     return np.ascontiguousarray(a)
 
 
-def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=2000, threshold_px=1.0, **kw):
+def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, threshold_px=1.0, **kw):
     """reconstruct_three_view on three images of one size: features
     (detect_and_describe), matching of the pairs 1-2, 2-3, 3-1 and the cyclic
     three-view association in front of it. The result also has x (3, t, 2),

@@ -5,7 +5,9 @@ three-view pipeline.
 
 1. Self-calibrated metric cameras and sparse points from the three images
    (libsfm.reconstruct_three_view_images: features, cyclic association,
-   trifocal RANSAC, absolute-dual-quadric self-calibration, metric BA).
+   trifocal RANSAC, absolute-dual-quadric self-calibration, metric BA with
+   the focal length and the radial distortion; the rectification below
+   goes through that distortion).
 2. The best-conditioned pair: of the three, the one whose baseline is
    longest against the scene's depth among those a planar rectification
    exists for (baseline far from the viewing direction).
@@ -37,9 +39,11 @@ def _relative(R, t, i, j):
     return Rr, t[j] - Rr @ t[i]
 
 
-def choose_pair(K, R, t, X, size):
+def choose_pair(K, R, t, X, size, dist=None):
     """The pair (i, j) with the largest baseline over median depth that can
-    be rectified, and its rectification; raises SfmError when none can."""
+    be rectified, and its rectification (through the lens distortion dist,
+    an OpenCV vector shared by the views, or None); raises SfmError when
+    none can."""
     best = None
     last = None
     for i, j in PAIRS:
@@ -50,7 +54,7 @@ def choose_pair(K, R, t, X, size):
         if best is not None and score <= best[0]:
             continue
         try:
-            rect = stereo.rectify_pair(K[i], K[j], Rr, tr, size)
+            rect = stereo.rectify_pair(K[i], K[j], Rr, tr, size, dist1=dist, dist2=dist)
         except SfmError as e:
             last = e
             continue
@@ -76,7 +80,8 @@ def stereo_from_three_views(img1, img2, img3, seed=0, max_disparities=256, color
     X = rec["X"][rec["inliers"]]
     t0 = time.perf_counter()
     h, w = grays[0].shape
-    score, i, j, rect = choose_pair(K, R, t, X, (w, h))
+    dist = rec["dist"] if np.any(rec["dist"] != 0) else None
+    score, i, j, rect = choose_pair(K, R, t, X, (w, h), dist)
     Li = stereo.remap(grays[i], rect["maps"], 1)
     Rj = stereo.remap(grays[j], rect["maps"], 2)
     times["rectification"] = time.perf_counter() - t0

@@ -144,7 +144,8 @@ struct CeresBA {
             const int model = p.cameras[0].model;
             const int nd = model == SFM_CAMERA_BROWN ? 5 : model == SFM_CAMERA_FISHEYE ? 4 : 0;
             const int free_d = (o.refine_intrinsics & SFM_BA_REFINE_DISTORTION) ? nd
-                               : (o.refine_intrinsics & SFM_BA_REFINE_RADIAL) ? (nd < 2 ? nd : 2) : 0;
+                               : (o.refine_intrinsics & SFM_BA_REFINE_RADIAL) ? (nd < 2 ? nd : 2)
+                               : (o.refine_intrinsics & SFM_BA_REFINE_K1) ? (nd < 1 ? nd : 1) : 0;
             for (int e = free_d; e < 5; e++)
                 held.push_back(3 + e);
             if (!held.empty())

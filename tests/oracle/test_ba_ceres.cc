@@ -87,6 +87,19 @@ int main(int, char **argv)
         run("shared focal+k1k2", sc, io);
     }
     {
+        /* k1 alone free, k2 held at its non-zero value (the
+         * self-calibration's one-term model) */
+        Scene sc("ceres_focal_k1", 5, 300, 0.5, 2.0, 0.05, 0.05);
+        const double dist[5] = {-0.2, 0.08, 0.0, 0.0, 0.0};
+        sc.set_model(SFM_CAMERA_BROWN, dist, 0.5, 1.02);
+        for (int i = 0; i < sc.s.m; i++)
+            sc.cams0[i].dist[0] = -0.15;
+        sfm_ba_options io = o;
+        io.intrinsics = SFM_BA_INTRINSICS_SHARED;
+        io.refine_intrinsics = SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_K1;
+        run("brown shared focal+k1", sc, io);
+    }
+    {
         /* Brown-Conrady: radial, tangential and k3 refined with the focal */
         Scene sc("ceres_brown", 5, 300, 0.5, 2.0, 0.05, 0.05);
         const double dist[5] = {-0.12, 0.05, 0.001, -0.0015, -0.01};

@@ -478,8 +478,9 @@ SFM_TEST(ba_covariance_matches_full_inverse)
 
 SFM_TEST(ba_intrinsics_recovered)
 {
-    /* noise-free: shared focal, then per-camera focal + principal point + radial */
-    for (int mode = 0; mode < 2; mode++) {
+    /* noise-free: shared focal, then per-camera focal + principal point +
+     * radial, then shared focal + k1 alone (k2 held at a non-zero truth) */
+    for (int mode = 0; mode < 3; mode++) {
         ba_scene s;
         scene(t, &s, 5, 60, 0.0, 1.0, 0.02, 0.02);
         st0[3] = st[3];
@@ -488,6 +489,9 @@ SFM_TEST(ba_intrinsics_recovered)
             if (mode == 1) {
                 K[0] = 780 + 10 * i; K[1] = K[0] * 1.01; K[2] = 315 + i; K[3] = 245 - i;
                 K[4] = -0.1; K[5] = 0.02;
+            } else if (mode == 2) {
+                K[0] = 700; K[1] = 700; K[2] = 320; K[3] = 240;
+                K[4] = -0.25; K[5] = 0.1;
             }
         }
         /* re-observe with these intrinsics */
@@ -499,6 +503,8 @@ SFM_TEST(ba_intrinsics_recovered)
             sK0[6 * i + 1] *= 1.03;
             if (mode == 1) {
                 sK0[6 * i + 2] += 3; sK0[6 * i + 3] -= 2; sK0[6 * i + 4] = 0; sK0[6 * i + 5] = 0;
+            } else if (mode == 2) {
+                sK0[6 * i + 4] = 0;
             }
         }
         sfm_ba_problem p;
@@ -506,14 +512,16 @@ SFM_TEST(ba_intrinsics_recovered)
         sfm_ba_options o;
         sfm_ba_default_options(&o);
         o.scale_gauge = SFM_BA_SCALE_COORDINATE;
-        o.intrinsics = mode == 0 ? SFM_BA_INTRINSICS_SHARED : SFM_BA_INTRINSICS_PER_CAMERA;
-        o.refine_intrinsics = mode == 0 ? SFM_BA_REFINE_FOCAL : 7;
+        o.intrinsics = mode == 1 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
+        o.refine_intrinsics = mode == 0 ? SFM_BA_REFINE_FOCAL : mode == 1 ? 7 : SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_K1;
         o.function_tolerance = 1e-15;
         o.parameter_tolerance = 1e-15;
         o.max_iterations = 200;
         sfm_ba_result r;
         SFM_CHECK(ws_for(&p, &o) <= sizeof g_ws);
         SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+        if (mode == 2) /* f and k1 free, k2 held: 2 intrinsics after the 6 (m - 1) - 1 pose columns */
+            SFM_CHECK_EQ_INT(r.n_camera_params, 6 * (s.m - 1) - 1 + 2);
         bas_rows_from_cameras(pC, s.m, pK);
         double ek = bas_max_abs_diff(pK, sK, 6 * s.m);
         BA_LOG("mode %d: K error %.3g, cost %.3g -> %.3g, %d iters, reason %d", mode, ek,

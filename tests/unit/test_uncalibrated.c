@@ -14,6 +14,7 @@ static unsigned char ws[512 << 10];
 static double px[3][2 * NU];
 static sfm_pose truth[3];
 static const double FT = 700, WI = 640, HE = 480;
+static double K1T = 0; /* Brown k1 of the synthetic lens (0: pinhole) */
 
 /* motion: 0 general, 1 pure translation (parallel axes), 2 along the
  * optical axis, 3 pure rotation */
@@ -50,8 +51,9 @@ static void scene(sfm_test_ctx *t, int motion, double sigma, double outliers)
             double Y[3];
             for (int r = 0; r < 3; r++)
                 Y[r] = truth[v].R[3 * r] * X[0] + truth[v].R[3 * r + 1] * X[1] + truth[v].R[3 * r + 2] * X[2] + truth[v].t[r];
-            y[v][0] = FT * Y[0] / Y[2] + (WI - 1) / 2;
-            y[v][1] = FT * Y[1] / Y[2] + (HE - 1) / 2;
+            const double xn = Y[0] / Y[2], yn = Y[1] / Y[2], d = 1 + K1T * (xn * xn + yn * yn);
+            y[v][0] = FT * xn * d + (WI - 1) / 2;
+            y[v][1] = FT * yn * d + (HE - 1) / 2;
             ok = Y[2] > 0 && y[v][0] >= 0 && y[v][0] < WI && y[v][1] >= 0 && y[v][1] < HE;
         }
         if (!ok)
@@ -100,6 +102,7 @@ static int run3(sfm_test_ctx *t, double sigma, double outliers, double tol, int 
     for (int v = 1; v < 3; v++)
         SFM_CHECK(scene_rot_err_deg(est[v].R, truth[v].R) < 100 * tol);
     SFM_CHECK(r.front_fraction >= 0.95);
+    SFM_CHECK(fabs(r.k1) < 0.02 && fabs(r.k2) < 0.05); /* a pinhole lens: no radial term, or negligible ones */
     return 1;
 }
 
@@ -107,6 +110,51 @@ SFM_TEST(uncal_three_view_noise_free_focal_within_1_percent)
 {
     int path;
     run3(t, 0.0, 0.0, 0.01, &path);
+}
+
+SFM_TEST(uncal_three_view_radial_distortion)
+{
+    /* a lens of k1 = -0.25 (the corners move by about 25 px): the focal
+     * length and k1 recovered with the radial term, the pinhole model
+     * rejected; without the term the answer must be refused or within the
+     * 5 % the acceptance bound promises, never silently off */
+    K1T = -0.25;
+    int answered = 0, runs = SFM_TEST_ITERS(4);
+    for (int k = 0; k < runs; k++) {
+        scene(t, 0, 0.2, 0.1);
+        size_t need = sfm_recon_three_view_uncalibrated_workspace_size(NU);
+        SFM_CHECK(need > 0 && need <= sizeof ws);
+        sfm_uncal_options o;
+        sfm_uncal_default_options(&o);
+        o.ransac.threshold = 0.6;
+        double K[27];
+        sfm_pose est[3];
+        sfm_uncal_report r;
+        int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, &o, K, est, NULL,
+                                                   NULL, &r, ws, need);
+        SFM_TEST_LOG("k1 %.2f: status %d, f %.2f, k1 %.4f k2 %.4f (rises %.1f %.1f), sigma f %.4f, rms %.3f", K1T,
+                     st, r.focal, r.k1, r.k2, r.radial_rise[0], r.radial_rise[1], r.focal_sigma, r.rms);
+        if (st == SFM_E_SINGULAR)
+            continue;
+        SFM_CHECK(st > 0);
+        if (st <= 0)
+            continue;
+        answered++;
+        SFM_CHECK(fabs(K[0] / FT - 1) < 0.05);
+        /* k2 = 0 is the truth: dropped, or small enough to leave k1 */
+        SFM_CHECK(fabs(r.k1 - K1T) < 0.03 + 0.5 * fabs(r.k2));
+        SFM_CHECK(fabs(r.k2) < 0.1);
+        SFM_CHECK(r.radial_rise[0] > 9 || r.radial_rise[1] > 9);
+        for (int v = 1; v < 3; v++)
+            SFM_CHECK(scene_rot_err_deg(est[v].R, truth[v].R) < 2);
+        o.radial = 0;
+        st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, (int)WI, (int)HE, &o, K, est, NULL, NULL,
+                                               &r, ws, need);
+        SFM_TEST_LOG("  pinhole: status %d, f %.2f", st, st > 0 ? K[0] : r.focal);
+        SFM_CHECK(st < 0 || fabs(K[0] / FT - 1) < 0.05);
+    }
+    K1T = 0;
+    SFM_CHECK(2 * answered >= runs);
 }
 
 SFM_TEST(uncal_three_view_noise_and_outliers)
@@ -177,6 +225,25 @@ SFM_TEST(uncal_three_view_contract)
     o.focal_max = o.focal_min;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    sfm_uncal_default_options(&o);
+    SFM_CHECK_EQ_INT(o.radial, 2);
+    o.radial = 3;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    o.radial = -1;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    /* the pinhole options need less: their own size is enough, a byte
+     * less is not */
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated_workspace_size_radial(NU, 3), 0);
+    size_t need0 = sfm_recon_three_view_uncalibrated_workspace_size_radial(NU, 0);
+    SFM_CHECK(need0 > 0 && need0 < need);
+    o.radial = 0;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need0 - 1), SFM_E_WORKSPACE);
+    SFM_CHECK(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL, NULL, NULL,
+                                                ws, need0) > 0);
+    memset(K, 0, sizeof K);
     px[1][7] = (double)NAN;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, NULL, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_NONFINITE);
