@@ -668,35 +668,31 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         return SFM_E_ARGUMENT;
     if (!sfmi_la_all_finite(x1, 15) || !sfmi_la_all_finite(x2, 15))
         return SFM_E_NONFINITE;
-    /* only directions matter: unit bearings, scaled by a power of two
-     * first so that lengths near 1e+-150 neither overflow nor underflow */
-    double u1[15], u2[15];
+    /* only directions matter: each bearing is divided by its largest
+     * magnitude (lengths near the range limits first scaled by an exact
+     * power of two, so that the reciprocal neither overflows nor underflows) */
+    double A[45], N[36], u[30];
     for (int i = 0; i < 10; i++) {
         const double *src = i < 5 ? &x1[3 * i] : &x2[3 * (i - 5)];
-        double *dst = i < 5 ? &u1[3 * i] : &u2[3 * (i - 5)];
-        double m = fmax(fabs(src[0]), fmax(fabs(src[1]), fabs(src[2])));
+        double a0 = src[0], a1 = src[1], a2 = src[2];
+        double m = fabs(a0), m1 = fabs(a1), m2 = fabs(a2);
+        m = m1 > m ? m1 : m;
+        m = m2 > m ? m2 : m;
         if (!(m > 0.0))
             return 0; /* a zero bearing: no direction */
-        int e;
-        frexp(m, &e);
-        double l = 0.0;
-        for (int k = 0; k < 3; k++) {
-            dst[k] = ldexp(src[k], -e);
-            l += dst[k] * dst[k];
+        if (m < 0x1p-900 || m > 0x1p+900) {
+            double p = m < 0x1p-900 ? 0x1p+600 : 0x1p-600;
+            a0 *= p; a1 *= p; a2 *= p; m *= p;
         }
-        l = sqrt(l);
-        for (int k = 0; k < 3; k++)
-            dst[k] /= l;
+        double r = 1.0 / m;
+        u[3 * i] = a0 * r; u[3 * i + 1] = a1 * r; u[3 * i + 2] = a2 * r;
     }
-    x1 = u1;
-    x2 = u2;
 
     /* 1. Null space. */
-    double A[45], N[36];
     for (int i = 0; i < 5; i++)
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++)
-                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
+                A[9 * i + 3 * r + c] = u[15 + 3 * i + r] * u[3 * i + c];
     if (sfmi_null9_exact(A, 5, N))
         return 0;
     /* Nister fixes the coefficient of one null vector to 1; how well the
