@@ -432,6 +432,27 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     return 0;
 }
 
+/* r[k] -= f p[k] for k = k0..19 (k0 even), written out in pairs of
+ * columns entered at the pair of k0: no loop counter, and each pair is one
+ * two-lane operation where the target has them. */
+static inline void row_axpy(double *restrict r, const double *restrict p, double f, int k0)
+{
+#define RA_PAIR(k) r[k] -= f * p[k]; r[k + 1] -= f * p[k + 1]
+    switch (k0 >> 1) {
+    case 0: RA_PAIR(0); /* fall through */
+    case 1: RA_PAIR(2); /* fall through */
+    case 2: RA_PAIR(4); /* fall through */
+    case 3: RA_PAIR(6); /* fall through */
+    case 4: RA_PAIR(8); /* fall through */
+    case 5: RA_PAIR(10); /* fall through */
+    case 6: RA_PAIR(12); /* fall through */
+    case 7: RA_PAIR(14); /* fall through */
+    case 8: RA_PAIR(16); /* fall through */
+    default: RA_PAIR(18);
+    }
+#undef RA_PAIR
+}
+
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
  * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
@@ -514,7 +535,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     double *R[10];
     for (int r = 0; r < 10; r++)
         R[r] = M[r];
-    double minpiv = HUGE_VAL;
+    double minpiv = HUGE_VAL, ipiv[10];
     for (int c = 0; c < 10; c++) {
         int piv = c;
         double pmax = fabs(R[c][c]);
@@ -532,37 +553,32 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         double *rc = R[piv];
         R[piv] = R[c];
         R[c] = rc;
-        /* Updates from a local copy of the pivot row (no aliasing, so the
-         * compiler vectorizes them). Columns left of c are never read again;
-         * the updates start at the even column at or before c. */
-        double inv = 1.0 / rc[c], pr[20];
-        for (int k = 0; k < 20; k++)
-            pr[k] = rc[k] * inv;
-        for (int k = 0; k < 20; k++)
-            rc[k] = pr[k];
+        /* The pivot row stays unscaled (its reciprocal pivot is kept for the
+         * back substitution). Columns left of c are never read again; the
+         * updates start at the even column at or before c. */
+        const double inv = 1.0 / rc[c];
+        ipiv[c] = inv;
         const int k0 = c & ~1;
-        for (int r = c + 1; r < 10; r++) {
-            double *rr = R[r], f = rr[c];
-            for (int k = k0; k < 20; k++)
-                rr[k] -= f * pr[k];
-        }
+        for (int r = c + 1; r < 10; r++)
+            row_axpy(R[r], rc, R[r][c] * inv, k0);
     }
     /* Back substitution, only for the rows 4..9 used below (each needs only
      * the rows after it): row i becomes x_i + B_i . (last ten monomials),
      * B_i stored in Bred[i - 4]. */
     for (int k = 0; k < 10; k++)
-        Bred[5][k] = R[9][10 + k];
+        Bred[5][k] = R[9][10 + k] * ipiv[9];
     for (int i = 8; i >= 4; i--) {
         double ri[10];
+        const double *Ri = R[i];
         for (int k = 0; k < 10; k++)
-            ri[k] = R[i][10 + k];
+            ri[k] = Ri[10 + k];
         for (int j = i + 1; j < 10; j++) {
-            double f = R[i][j];
+            const double f = Ri[j], *Bj = Bred[j - 4];
             for (int k = 0; k < 10; k++)
-                ri[k] -= f * Bred[j - 4][k];
+                ri[k] -= f * Bj[k];
         }
         for (int k = 0; k < 10; k++)
-            Bred[i - 4][k] = ri[k];
+            Bred[i - 4][k] = ri[k] * ipiv[i];
     }
     return minpiv;
 }
