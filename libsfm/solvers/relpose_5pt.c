@@ -22,6 +22,7 @@
  * representable in this parametrization; they have measure zero.
  */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/linalg_util.h"
@@ -93,6 +94,9 @@ typedef struct sturm_seq {
     double s[STURM_MAX + 1][STURM_MAX + 1]; /* s[k] of degree deg[k], descending */
     int deg[STURM_MAX + 1];
     int n; /* number of polynomials */
+    /* s[k-1] = (qa[k] x + qb[k]) s[k] - qe[k] s[k+1], qe[k] > 0, for
+     * k = 1..9 when the degrees are 10, 9, ..., 0 (the generic case) */
+    double qa[STURM_MAX], qb[STURM_MAX], qe[STURM_MAX];
 } sturm_seq;
 
 static void sturm_build(const double *c, int d, sturm_seq *S)
@@ -116,6 +120,8 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
             double f = r[k] * b[0];
             for (int j = 1; j <= db; j++)
                 r[k + j] -= f * b[j];
+            if (da - db == 1)
+                (k == 0 ? S->qa : S->qb)[S->n - 1] = f;
         }
         /* remainder: r[da-db+1 .. da], degree db-1; negate and make monic */
         const double *rem = r + da - db + 1;
@@ -136,6 +142,7 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
             dr -= skip;
             lead = rem[0];
         }
+        S->qe[S->n - 1] = fabs(lead);
         double sc = -1.0 / fabs(lead);
         for (int i = 0; i <= dr; i++)
             S->s[S->n][i] = rem[i] * sc; /* -rem / |lead| */
@@ -166,6 +173,13 @@ static inline double horner(const double *p, int deg, double x)
     return y;
 }
 
+static inline uint64_t dbits(double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    return u;
+}
+
 /* Sign changes, zeros skipped, of the values y[0..n-1]. */
 static inline int sign_changes(const double *y, int n)
 {
@@ -183,15 +197,28 @@ static int sturm_var(const sturm_seq *S, double x)
 {
     double y[STURM_MAX + 1];
     if (S->n == STURM_MAX + 1) {
-        /* the generic sequence: degrees 10, 9, ..., 0 (each evaluation
-         * written out for its degree) */
-        y[0] = horner(S->s[0], 10, x); y[1] = horner(S->s[1], 9, x);
-        y[2] = horner(S->s[2], 8, x); y[3] = horner(S->s[3], 7, x);
-        y[4] = horner(S->s[4], 6, x); y[5] = horner(S->s[5], 5, x);
-        y[6] = horner(S->s[6], 4, x); y[7] = horner(S->s[7], 3, x);
-        y[8] = horner(S->s[8], 2, x); y[9] = horner(S->s[9], 1, x);
-        y[10] = S->s[10][0];
-        return sign_changes(y, STURM_MAX + 1);
+        /* The generic sequence, degrees 10, 9, ..., 0: its values by the
+         * three-term recurrence of the Euclidean algorithm, from the constant
+         * upwards (5 operations per polynomial instead of one Horner step per
+         * coefficient), sign changes counted on the sign bits as they come.
+         * A value that is exactly zero inside the sequence needs no care: its
+         * neighbours then have opposite signs (s[k-1] = -qe[k] s[k+1]), one
+         * change whatever sign the zero is given. Only p(x) = 0 does. */
+        double b = S->s[10][0], a = S->s[9][0] * x + S->s[9][1], c;
+        uint64_t ua = dbits(a), uc;
+        unsigned v = (unsigned)((ua ^ dbits(b)) >> 63);
+#define SV_STEP(k)                                                             \
+    c = (S->qa[k] * x + S->qb[k]) * a - S->qe[k] * b;                          \
+    uc = dbits(c);                                                             \
+    v += (unsigned)((uc ^ ua) >> 63);                                          \
+    ua = uc;                                                                   \
+    b = a;                                                                     \
+    a = c
+        SV_STEP(9); SV_STEP(8); SV_STEP(7); SV_STEP(6); SV_STEP(5);
+        SV_STEP(4); SV_STEP(3); SV_STEP(2); SV_STEP(1);
+#undef SV_STEP
+        if (c != 0.0)
+            return (int)v;
     }
     for (int k = 0; k < S->n; k++)
         y[k] = horner(S->s[k], S->deg[k], x);
