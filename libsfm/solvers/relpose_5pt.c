@@ -50,30 +50,51 @@ static void mul11(const double *a, const double *b, double *q)
     q[9] = a[3] * b[3];
 }
 
-/* c += q * l for a quadratic q and a linear l, written out per cubic
- * monomial of the order above. */
-static void addmul21(double *c, const double *q, const double *l)
+/* c = a b + c d + e f for linear a..f (quadratic c). */
+static inline void quad3(double *q, const double *a, const double *b, const double *c,
+                         const double *d, const double *e, const double *f)
 {
-    c[0] += q[0] * l[0];
-    c[1] += q[2] * l[1];
-    c[2] += q[0] * l[1] + q[1] * l[0];
-    c[3] += q[1] * l[1] + q[2] * l[0];
-    c[4] += q[0] * l[2] + q[3] * l[0];
-    c[5] += q[0] * l[3] + q[6] * l[0];
-    c[6] += q[2] * l[2] + q[4] * l[1];
-    c[7] += q[2] * l[3] + q[7] * l[1];
-    c[8] += q[1] * l[2] + q[3] * l[1] + q[4] * l[0];
-    c[9] += q[1] * l[3] + q[6] * l[1] + q[7] * l[0];
-    c[10] += q[3] * l[2] + q[5] * l[0];
-    c[11] += q[3] * l[3] + q[6] * l[2] + q[8] * l[0];
-    c[12] += q[6] * l[3] + q[9] * l[0];
-    c[13] += q[4] * l[2] + q[5] * l[1];
-    c[14] += q[4] * l[3] + q[7] * l[2] + q[8] * l[1];
-    c[15] += q[7] * l[3] + q[9] * l[1];
-    c[16] += q[5] * l[2];
-    c[17] += q[5] * l[3] + q[8] * l[2];
-    c[18] += q[8] * l[3] + q[9] * l[2];
-    c[19] += q[9] * l[3];
+#define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
+    q[0] = P(0, 0);
+    q[1] = P(0, 1) + P(1, 0);
+    q[2] = P(1, 1);
+    q[3] = P(0, 2) + P(2, 0);
+    q[4] = P(1, 2) + P(2, 1);
+    q[5] = P(2, 2);
+    q[6] = P(0, 3) + P(3, 0);
+    q[7] = P(1, 3) + P(3, 1);
+    q[8] = P(2, 3) + P(3, 2);
+    q[9] = P(3, 3);
+#undef P
+}
+
+/* c = qa la + qb lb + qc lc for quadratics q and linears l, written out per
+ * cubic monomial of the order above. */
+static inline void cubic3(double *c, const double *qa, const double *la, const double *qb,
+                          const double *lb, const double *qc, const double *lc)
+{
+#define T(i, j) (qa[i] * la[j] + qb[i] * lb[j] + qc[i] * lc[j])
+    c[0] = T(0, 0);
+    c[1] = T(2, 1);
+    c[2] = T(0, 1) + T(1, 0);
+    c[3] = T(1, 1) + T(2, 0);
+    c[4] = T(0, 2) + T(3, 0);
+    c[5] = T(0, 3) + T(6, 0);
+    c[6] = T(2, 2) + T(4, 1);
+    c[7] = T(2, 3) + T(7, 1);
+    c[8] = T(1, 2) + T(3, 1) + T(4, 0);
+    c[9] = T(1, 3) + T(6, 1) + T(7, 0);
+    c[10] = T(3, 2) + T(5, 0);
+    c[11] = T(3, 3) + T(6, 2) + T(8, 0);
+    c[12] = T(6, 3) + T(9, 0);
+    c[13] = T(4, 2) + T(5, 1);
+    c[14] = T(4, 3) + T(7, 2) + T(8, 1);
+    c[15] = T(7, 3) + T(9, 1);
+    c[16] = T(5, 2);
+    c[17] = T(5, 3) + T(8, 2);
+    c[18] = T(8, 3) + T(9, 2);
+    c[19] = T(9, 3);
+#undef T
 }
 
 /* Real roots of the tenth-degree polynomial by a Sturm sequence: bisection
@@ -492,38 +513,29 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         for (int j = 0; j < 4; j++)
             e[k][j] = N[9 * ((j + perm) & 3) + k];
 
-    /* 2. The 10x20 constraint matrix. */
-    memset(M, 0, 10 * 20 * sizeof(double));
-    double q[10];
-    mul11(e[4], e[8], q);
+    /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
+     * then (E E^T - tr(E E^T)/2 I) E. */
     {
-        double t[10];
+        double c0[10], c1[10], c2[10], t[10];
+        mul11(e[4], e[8], c0);
         mul11(e[5], e[7], t);
         for (int k = 0; k < 10; k++)
-            q[k] -= t[k];
-        addmul21(M[0], q, e[0]);
-        mul11(e[3], e[8], q);
-        mul11(e[5], e[6], t);
+            c0[k] -= t[k];
+        mul11(e[5], e[6], c1);
+        mul11(e[3], e[8], t);
         for (int k = 0; k < 10; k++)
-            q[k] = t[k] - q[k];
-        addmul21(M[0], q, e[1]);
-        mul11(e[3], e[7], q);
+            c1[k] -= t[k];
+        mul11(e[3], e[7], c2);
         mul11(e[4], e[6], t);
         for (int k = 0; k < 10; k++)
-            q[k] -= t[k];
-        addmul21(M[0], q, e[2]);
+            c2[k] -= t[k];
+        cubic3(M[0], c0, e[0], c1, e[1], c2, e[2]);
     }
     double EEt[3][3][10];
     for (int i = 0; i < 3; i++)
         for (int j = i; j < 3; j++) {
-            double t[10];
-            mul11(e[3 * i], e[3 * j], EEt[i][j]);
-            mul11(e[3 * i + 1], e[3 * j + 1], t);
-            for (int k = 0; k < 10; k++)
-                EEt[i][j][k] += t[k];
-            mul11(e[3 * i + 2], e[3 * j + 2], t);
-            for (int k = 0; k < 10; k++)
-                EEt[i][j][k] += t[k];
+            quad3(EEt[i][j], e[3 * i], e[3 * j], e[3 * i + 1], e[3 * j + 1], e[3 * i + 2],
+                  e[3 * j + 2]);
             if (j != i)
                 memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
         }
@@ -535,8 +547,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     }
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++)
-                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
+            cubic3(M[1 + 3 * i + j], EEt[i][0], e[j], EEt[i][1], e[3 + j], EEt[i][2], e[6 + j]);
 
     /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
      * first scaled to unit largest entry (M0T keeps the scaled, unreduced
