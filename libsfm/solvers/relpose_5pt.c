@@ -385,13 +385,18 @@ static int sturm_roots(const double *c, int d, double *roots)
     return nr;
 }
 
-static void polymul(const double *a, int da, const double *b, int db, double *c)
+/* o = a b - c d for cubics a, b, c, d (descending coefficients). */
+static inline void cubic_cross(const double *a, const double *b, const double *c, const double *d,
+                               double *o)
 {
-    for (int i = 0; i <= da + db; i++)
-        c[i] = 0.0;
-    for (int i = 0; i <= da; i++)
-        for (int j = 0; j <= db; j++)
-            c[i + j] += a[i] * b[j];
+    o[0] = a[0] * b[0] - c[0] * d[0];
+    o[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    o[2] = (a[0] * b[2] + a[1] * b[1] + a[2] * b[0]) - (c[0] * d[2] + c[1] * d[1] + c[2] * d[0]);
+    o[3] = (a[0] * b[3] + a[1] * b[2] + a[2] * b[1] + a[3] * b[0]) -
+           (c[0] * d[3] + c[1] * d[2] + c[2] * d[1] + c[3] * d[0]);
+    o[4] = (a[1] * b[3] + a[2] * b[2] + a[3] * b[1]) - (c[1] * d[3] + c[2] * d[2] + c[3] * d[1]);
+    o[5] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    o[6] = a[3] * b[3] - c[3] * d[3];
 }
 
 #ifndef PERM_RETRY_PIVOT
@@ -646,17 +651,18 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
         pc[k][4] = Be[9];
     }
     /* det B(z) = c0 (a1 b2 - a2 b1) - c1 (a0 b2 - a2 b0) + c2 (a0 b1 - a1 b0). */
-    double poly[11], m1[7], m2[7], t10[11];
-    memset(poly, 0, sizeof poly);
+    double poly[11] = {0.0};
     for (int k = 0; k < 3; k++) {
-        int i = (k + 1) % 3, j = (k + 2) % 3;
-        polymul(pa[i], 3, pb[j], 3, m1);
-        polymul(pa[j], 3, pb[i], 3, m2);
-        for (int s = 0; s < 7; s++)
-            m1[s] -= m2[s];
-        polymul(pc[k], 4, m1, 6, t10);
-        for (int s = 0; s < 11; s++)
-            poly[s] += t10[s];
+        int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+        double m[7];
+        cubic_cross(pa[i], pb[j], pa[j], pb[i], m);
+        const double *c = pc[k];
+        for (int r = 0; r < 5; r++) {
+            const double f = c[r];
+            double *o = poly + r;
+            o[0] += f * m[0]; o[1] += f * m[1]; o[2] += f * m[2]; o[3] += f * m[3];
+            o[4] += f * m[4]; o[5] += f * m[5]; o[6] += f * m[6];
+        }
     }
 
     /* Sturm bisection for the real roots. Drop vanishing leading terms. */
