@@ -127,12 +127,33 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
         S->s[0][i] = c[i] * inv;
     for (int i = 0; i < d; i++)
         S->s[1][i] = S->s[0][i] * (double)(d - i) / (double)d; /* p'/d, monic */
+    S->s[1][d] = 0.0; /* one zero past the end of each divisor, read below */
     S->deg[0] = d;
     S->deg[1] = d - 1;
     S->n = 2;
     while (S->deg[S->n - 1] > 0) {
         const double *a = S->s[S->n - 2], *b = S->s[S->n - 1];
         int da = S->deg[S->n - 2], db = S->deg[S->n - 1];
+        if (da == db + 1) {
+            /* the usual step: a linear quotient f0 x + f1 and the remainder
+             * rem[i] = a[i+2] - f0 b[i+2] - f1 b[i+1] in one pass, unless its
+             * leading term vanishes (then the general code below) */
+            const double f0 = a[0] * b[0], f1 = (a[1] - f0 * b[1]) * b[0];
+            const double lead = (a[2] - f0 * b[2]) - f1 * b[1];
+            if (fabs(lead) >= 1e-300) {
+                double *o = S->s[S->n];
+                const double sc = -1.0 / fabs(lead);
+                for (int i = 0; i < db; i++)
+                    o[i] = ((a[i + 2] - f0 * b[i + 2]) - f1 * b[i + 1]) * sc;
+                o[db] = 0.0;
+                S->qa[S->n - 1] = f0;
+                S->qb[S->n - 1] = f1;
+                S->qe[S->n - 1] = fabs(lead);
+                S->deg[S->n] = db - 1;
+                S->n++;
+                continue;
+            }
+        }
         double r[STURM_MAX + 1];
         for (int i = 0; i <= da; i++)
             r[i] = a[i];
@@ -167,6 +188,7 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
         double sc = -1.0 / fabs(lead);
         for (int i = 0; i <= dr; i++)
             S->s[S->n][i] = rem[i] * sc; /* -rem / |lead| */
+        S->s[S->n][dr + 1] = 0.0;
         S->deg[S->n] = dr;
         S->n++;
     }
