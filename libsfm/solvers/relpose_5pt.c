@@ -474,16 +474,23 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     }
     if (fmax_ <= REFINE_TOL * mmax)
         return 1;
-    double mx[20] = {3 * x * x, 0, 2 * x * y, y * y, 2 * x * z, 2 * x, 0, 0, y * z, y, z * z, z, 1,
-                     0, 0, 0, 0, 0, 0, 0};
-    double my[20] = {0, 3 * y * y, x * x, 2 * x * y, 0, 0, 2 * y * z, 2 * y, x * z, x, 0, 0, 0,
-                     z * z, z, 1, 0, 0, 0, 0};
-    double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
-                     3 * z * z, 2 * z, 1, 0};
+    /* Jacobian columns over the monomials whose derivative is nonzero */
+    const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+    const double xx3 = 3.0 * xx, yy3 = 3.0 * yy, zz3 = 3.0 * zz, xy2 = 2.0 * xy, xz2 = 2.0 * xz,
+                 yz2 = 2.0 * yz, x2 = 2.0 * x, y2 = 2.0 * y, z2 = 2.0 * z;
     double ja[10], jb[10], jc[10];
-    axpy10(M0T, mx, ja);
-    axpy10(M0T, my, jb);
-    axpy10(M0T, mz, jc);
+    for (int r = 0; r < 10; r++)
+        ja[r] = xx3 * M0T[0][r] + xy2 * M0T[2][r] + yy * M0T[3][r] + xz2 * M0T[4][r] +
+                x2 * M0T[5][r] + yz * M0T[8][r] + y * M0T[9][r] + zz * M0T[10][r] +
+                z * M0T[11][r] + M0T[12][r];
+    for (int r = 0; r < 10; r++)
+        jb[r] = yy3 * M0T[1][r] + xx * M0T[2][r] + xy2 * M0T[3][r] + yz2 * M0T[6][r] +
+                y2 * M0T[7][r] + xz * M0T[8][r] + x * M0T[9][r] + zz * M0T[13][r] +
+                z * M0T[14][r] + M0T[15][r];
+    for (int r = 0; r < 10; r++)
+        jc[r] = xx * M0T[4][r] + yy * M0T[6][r] + xy * M0T[8][r] + xz2 * M0T[10][r] +
+                x * M0T[11][r] + yz2 * M0T[13][r] + y * M0T[14][r] + zz3 * M0T[16][r] +
+                z2 * M0T[17][r] + M0T[18][r];
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
         double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
