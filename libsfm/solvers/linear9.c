@@ -8,6 +8,35 @@
 #include "sfm/sfm_linalg.h"
 #include "solvers/linear9.h"
 
+/* Null basis: Q e_j for j = m..8, Q = H_0 H_1 ... H_{m-1}, the nn = 9 - m
+ * vectors as the columns of X (9 x nn, row-major) while the reflectors are
+ * applied, so that the inner loops run across the columns; each dot product
+ * and update adds its terms in the order of one vector at a time. */
+static inline void null_basis(const double *A, const double *beta, int m, int nn, double *N)
+{
+    double X[9 * 8];
+    for (int i = 0; i < 9; i++)
+        for (int c = 0; c < nn; c++)
+            X[nn * i + c] = i == m + c ? 1.0 : 0.0;
+    for (int k = m - 1; k >= 0; k--) {
+        const double *a = A + 9 * k;
+        double w[8];
+        for (int c = 0; c < nn; c++)
+            w[c] = 0.0;
+        for (int i = k; i < 9; i++)
+            for (int c = 0; c < nn; c++)
+                w[c] += a[i] * X[nn * i + c];
+        for (int c = 0; c < nn; c++)
+            w[c] *= beta[k];
+        for (int i = k; i < 9; i++)
+            for (int c = 0; c < nn; c++)
+                X[nn * i + c] -= w[c] * a[i];
+    }
+    for (int c = 0; c < nn; c++)
+        for (int i = 0; i < 9; i++)
+            N[9 * c + i] = X[nn * i + c];
+}
+
 int sfmi_null9_exact(double *A, int m, double *N)
 {
     /* Column j of A^T is row j of A: A[j*9 + i] = (A^T)(i, j). Reflector k
@@ -46,21 +75,10 @@ int sfmi_null9_exact(double *A, int m, double *N)
     }
     if (!(dmin > 1e-12 * dmax))
         return -1;
-    /* Null basis: Q e_j for j = m..8, Q = H_0 H_1 ... H_{m-1}. */
-    for (int j = m; j < 9; j++) {
-        double *q = N + 9 * (j - m);
-        memset(q, 0, 9 * sizeof(double));
-        q[j] = 1.0;
-        for (int k = m - 1; k >= 0; k--) {
-            const double *a = A + 9 * k;
-            double dot = 0.0;
-            for (int i = k; i < 9; i++)
-                dot += a[i] * q[i];
-            dot *= beta[k];
-            for (int i = k; i < 9; i++)
-                q[i] -= dot * a[i];
-        }
-    }
+    if (m == 5)
+        null_basis(A, beta, 5, 4, N); /* the 5-point's: four columns at a time */
+    else
+        null_basis(A, beta, m, 9 - m, N);
     return 0;
 }
 
