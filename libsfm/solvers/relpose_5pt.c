@@ -587,19 +587,24 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
      * first scaled to unit largest entry (M0T keeps the scaled, unreduced
      * rows, transposed, for the polish). */
     for (int r = 0; r < 10; r++) {
-        double m0 = 0.0, m1 = 0.0; /* two lanes of the maximum */
-        for (int c = 0; c < 20; c += 2) {
-            double a0 = fabs(M[r][c]), a1 = fabs(M[r][c + 1]);
-            m0 = a0 > m0 ? a0 : m0;
-            m1 = a1 > m1 ? a1 : m1;
-        }
+        double *row = M[r];
+        double m0 = fabs(row[0]), m1 = fabs(row[1]); /* two lanes of the maximum */
+#define MX_PAIR(k)                                                             \
+    do {                                                                       \
+        double a0 = fabs(row[k]), a1 = fabs(row[k + 1]);                       \
+        m0 = a0 > m0 ? a0 : m0;                                                \
+        m1 = a1 > m1 ? a1 : m1;                                                \
+    } while (0)
+        MX_PAIR(2); MX_PAIR(4); MX_PAIR(6); MX_PAIR(8); MX_PAIR(10);
+        MX_PAIR(12); MX_PAIR(14); MX_PAIR(16); MX_PAIR(18);
+#undef MX_PAIR
         double mx = m1 > m0 ? m1 : m0;
         if (!(mx > 0.0))
             return 0.0;
         mx = 1.0 / mx;
         for (int c = 0; c < 20; c++) {
-            double v = M[r][c] * mx;
-            M[r][c] = v;
+            double v = row[c] * mx;
+            row[c] = v;
             M0T[c][r] = v;
         }
     }
