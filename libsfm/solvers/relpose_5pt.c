@@ -535,6 +535,36 @@ static inline void row_axpy(double *restrict r, const double *restrict p, double
 #undef RA_PAIR
 }
 
+#ifndef ESSENTIAL_TOL
+#define ESSENTIAL_TOL 1e-12
+#endif
+/* 1 when det(E) and (E E^T - tr(E E^T)/2 I) E, cubic in E, are all below
+ * ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level. */
+static int essential_at_rounding(const double *E)
+{
+    double a00 = E[0] * E[0] + E[1] * E[1] + E[2] * E[2];
+    double a01 = E[0] * E[3] + E[1] * E[4] + E[2] * E[5];
+    double a02 = E[0] * E[6] + E[1] * E[7] + E[2] * E[8];
+    double a11 = E[3] * E[3] + E[4] * E[4] + E[5] * E[5];
+    double a12 = E[3] * E[6] + E[4] * E[7] + E[5] * E[8];
+    double a22 = E[6] * E[6] + E[7] * E[7] + E[8] * E[8];
+    double n2 = a00 + a11 + a22, h = 0.5 * n2;
+    a00 -= h;
+    a11 -= h;
+    a22 -= h;
+    double c = fabs(E[0] * (E[4] * E[8] - E[5] * E[7]) - E[1] * (E[3] * E[8] - E[5] * E[6]) +
+                    E[2] * (E[3] * E[7] - E[4] * E[6]));
+    for (int j = 0; j < 3; j++) {
+        double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
+        double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
+        double r2 = fabs(a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j]);
+        c = r0 > c ? r0 : c;
+        c = r1 > c ? r1 : c;
+        c = r2 > c ? r2 : c;
+    }
+    return c * c <= (ESSENTIAL_TOL * ESSENTIAL_TOL) * (n2 * n2 * n2);
+}
+
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
  * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
@@ -743,12 +773,15 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
         if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
-        for (int iter = 0; iter < REFINE_ITERS; iter++)
-            if (refine(M0T, &x, &y, &z))
-                break;
+        /* The Gauss-Newton polish runs only when the cheaper test on E
+         * itself finds the constraints above rounding level. */
         double *o = out[ns];
-        for (int k = 0; k < 9; k++)
-            o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+        for (int iter = 0;; iter++) {
+            for (int k = 0; k < 9; k++)
+                o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(M0T, &x, &y, &z))
+                break;
+        }
         if (sfmi_normalize9(o))
             continue;
         ns++;
