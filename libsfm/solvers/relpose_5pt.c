@@ -573,9 +573,14 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
                            double Bred[6][10])
 {
     double M[10][20];
-    for (int k = 0; k < 9; k++)
-        for (int j = 0; j < 4; j++)
-            e[k][j] = N[9 * ((j + perm) & 3) + k];
+    const double *n0 = N + 9 * (perm & 3), *n1 = N + 9 * ((perm + 1) & 3),
+                 *n2 = N + 9 * ((perm + 2) & 3), *n3 = N + 9 * ((perm + 3) & 3);
+    for (int k = 0; k < 9; k++) {
+        e[k][0] = n0[k];
+        e[k][1] = n1[k];
+        e[k][2] = n2[k];
+        e[k][3] = n3[k];
+    }
 
     /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
      * then (E E^T - tr(E E^T)/2 I) E. */
