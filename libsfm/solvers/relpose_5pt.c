@@ -29,6 +29,7 @@
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
+#include "solvers/small_math.h"
 
 #ifndef PRE_BISECT
 #define PRE_BISECT 4
@@ -762,18 +763,22 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
             B[k][1] = peval(pb[k], 3, z);
             B[k][2] = peval(pc[k], 4, z);
         }
-        double best[3] = {0.0, 0.0, 0.0}, bn = -1.0;
-        for (int k = 0; k < 3; k++) {
-            const double *u = B[k], *w = B[(k + 1) % 3];
-            double v[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                           u[0] * w[1] - u[1] * w[0]};
-            double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            if (n2 > bn) {
-                bn = n2;
-                best[0] = v[0];
-                best[1] = v[1];
-                best[2] = v[2];
-            }
+        /* the largest of the cross products of two rows (in the order
+         * (0,1), (1,2), (2,0); the first of equal norms) */
+        double c01[3], c12[3], c20[3];
+        sfmi_cross3(B[0], B[1], c01);
+        sfmi_cross3(B[1], B[2], c12);
+        sfmi_cross3(B[2], B[0], c20);
+        double n01 = sfmi_dot3(c01, c01), n12 = sfmi_dot3(c12, c12), n20 = sfmi_dot3(c20, c20);
+        const double *best = c01;
+        double bn = n01;
+        if (n12 > bn) {
+            best = c12;
+            bn = n12;
+        }
+        if (n20 > bn) {
+            best = c20;
+            bn = n20;
         }
         if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
             continue;
