@@ -25,7 +25,6 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -37,18 +36,21 @@
 
 /* Linear polynomials are coefficient vectors over (x, y, z, 1); quadratics over
  * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above. */
-static void mul11(const double *a, const double *b, double *q)
+/* q = a b - c d for linear a, b, c, d (the coefficients of mul11(a, b)
+ * minus those of mul11(c, d)). */
+static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
+                              double *q)
 {
-    q[0] = a[0] * b[0];
-    q[1] = a[0] * b[1] + a[1] * b[0];
-    q[2] = a[1] * b[1];
-    q[3] = a[0] * b[2] + a[2] * b[0];
-    q[4] = a[1] * b[2] + a[2] * b[1];
-    q[5] = a[2] * b[2];
-    q[6] = a[0] * b[3] + a[3] * b[0];
-    q[7] = a[1] * b[3] + a[3] * b[1];
-    q[8] = a[2] * b[3] + a[3] * b[2];
-    q[9] = a[3] * b[3];
+    q[0] = a[0] * b[0] - c[0] * d[0];
+    q[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    q[2] = a[1] * b[1] - c[1] * d[1];
+    q[3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
+    q[4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
+    q[5] = a[2] * b[2] - c[2] * d[2];
+    q[6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
+    q[7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
+    q[8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    q[9] = a[3] * b[3] - c[3] * d[3];
 }
 
 /* c = a b + c d + e f for linear a..f (quadratic c). */
@@ -566,6 +568,14 @@ static int essential_at_rounding(const double *E)
     return c * c <= (ESSENTIAL_TOL * ESSENTIAL_TOL) * (n2 * n2 * n2);
 }
 
+/* r[k] -= f p[k] for k = 0..9, in pairs as above. */
+static inline void row_axpy10(double *restrict r, const double *restrict p, double f)
+{
+    r[0] -= f * p[0]; r[1] -= f * p[1]; r[2] -= f * p[2]; r[3] -= f * p[3];
+    r[4] -= f * p[4]; r[5] -= f * p[5]; r[6] -= f * p[6]; r[7] -= f * p[7];
+    r[8] -= f * p[8]; r[9] -= f * p[9];
+}
+
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
  * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
@@ -586,19 +596,10 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
      * then (E E^T - tr(E E^T)/2 I) E. */
     {
-        double c0[10], c1[10], c2[10], t[10];
-        mul11(e[4], e[8], c0);
-        mul11(e[5], e[7], t);
-        for (int k = 0; k < 10; k++)
-            c0[k] -= t[k];
-        mul11(e[5], e[6], c1);
-        mul11(e[3], e[8], t);
-        for (int k = 0; k < 10; k++)
-            c1[k] -= t[k];
-        mul11(e[3], e[7], c2);
-        mul11(e[4], e[6], t);
-        for (int k = 0; k < 10; k++)
-            c2[k] -= t[k];
+        double c0[10], c1[10], c2[10];
+        quad_cross(e[4], e[8], e[5], e[7], c0);
+        quad_cross(e[5], e[6], e[3], e[8], c1);
+        quad_cross(e[3], e[7], e[4], e[6], c2);
         cubic3(M[0], c0, e[0], c1, e[1], c2, e[2]);
     }
     double EEt[3][3][10];
@@ -685,11 +686,8 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         const double *Ri = R[i];
         for (int k = 0; k < 10; k++)
             ri[k] = Ri[10 + k];
-        for (int j = i + 1; j < 10; j++) {
-            const double f = Ri[j], *Bj = Bred[j - 4];
-            for (int k = 0; k < 10; k++)
-                ri[k] -= f * Bj[k];
-        }
+        for (int j = i + 1; j < 10; j++)
+            row_axpy10(ri, Bred[j - 4], Ri[j]);
         for (int k = 0; k < 10; k++)
             Bred[i - 4][k] = ri[k] * ipiv[i];
     }
@@ -787,8 +785,10 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
          * itself finds the constraints above rounding level. */
         double *o = out[ns];
         for (int iter = 0;; iter++) {
-            for (int k = 0; k < 9; k++)
-                o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+#define E_ENTRY(k) o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3]
+            E_ENTRY(0); E_ENTRY(1); E_ENTRY(2); E_ENTRY(3); E_ENTRY(4);
+            E_ENTRY(5); E_ENTRY(6); E_ENTRY(7); E_ENTRY(8);
+#undef E_ENTRY
             if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(M0T, &x, &y, &z))
                 break;
         }
@@ -803,7 +803,8 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E)
         return SFM_E_ARGUMENT;
-    if (!sfmi_la_all_finite(x1, 15) || !sfmi_la_all_finite(x2, 15))
+    if (!(sfmi_all_finite9(x1) & sfmi_all_finite3(x1 + 9) & sfmi_all_finite3(x1 + 12) &
+          sfmi_all_finite9(x2) & sfmi_all_finite3(x2 + 9) & sfmi_all_finite3(x2 + 12)))
         return SFM_E_NONFINITE;
     /* only directions matter: each bearing is divided by its largest
      * magnitude (lengths near the range limits first scaled by an exact
@@ -826,10 +827,13 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
     }
 
     /* 1. Null space. */
-    for (int i = 0; i < 5; i++)
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                A[9 * i + 3 * r + c] = u[15 + 3 * i + r] * u[3 * i + c];
+    for (int i = 0; i < 5; i++) {
+        const double *a = u + 3 * i, *b = u + 15 + 3 * i;
+        double *row = A + 9 * i;
+        row[0] = b[0] * a[0]; row[1] = b[0] * a[1]; row[2] = b[0] * a[2];
+        row[3] = b[1] * a[0]; row[4] = b[1] * a[1]; row[5] = b[1] * a[2];
+        row[6] = b[2] * a[0]; row[7] = b[2] * a[1]; row[8] = b[2] * a[2];
+    }
     if (sfmi_null9_exact(A, 5, N))
         return 0;
     /* Nister fixes the coefficient of one null vector to 1; how well the
