@@ -24,14 +24,11 @@ M7_LDFLAGS := -nostartfiles --specs=rdimon.specs -L $(M7_DIR) -T $(M7_DIR)/mps2_
 # decompositions off the loop, refinement, three-view, new modules until
 # listed here) is built for size. The list is what callgrind shows taking
 # >= 1 % of a relative-pose RANSAC run. With the support checks, the LM
-# driver and the library's own elementary functions in the pose path, the
-# 5-point solver (the largest share of a run) was the last source at OPT;
-# its rewrite for fewer instructions is 12,144 B at OPT, more than the
-# budget leaves, and 10,320 B built for size, where it still runs fewer
-# instructions than the former one did at OPT (x86-64 callgrind as the
-# proxy: 37.7k against 43.8k per call). So everything is built for size
-# (130,458 B of 131,072). M7_HOT_SRCS=<sources> builds those at OPT.
-M7_HOT_SRCS ?=
+# driver and the library's own elementary functions in the pose path, only
+# the 5-point solver (the largest share of a run) still fits the 128 KB
+# budget at OPT: the rest, the feature pipeline included, is built for size
+# (129,874 B of 131,072). M7_HOT_SRCS= builds everything for size.
+M7_HOT_SRCS ?= libsfm/solvers/relpose_5pt.c
 cortexm7_COLD_SRCS := $(filter-out $(M7_HOT_SRCS),$(LIB_SRCS))
 cortexm7_COLD_OPT := -Os
 $(eval $(call variant,cortexm7,$(BUILD)/cortex-m7,$(M7_CC),$(M7_CFLAGS),$(M7_LDFLAGS),$(M7_AR)))
