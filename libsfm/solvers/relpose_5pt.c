@@ -17,7 +17,9 @@
  *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
  *    tenth-degree polynomial, solved by Sturm bisection (below).
  * 4. For each real root, [x y 1] is the null vector of B(z): the largest
- *    cross product of two of its rows.
+ *    cross product of two of its rows; Gauss-Newton on the 10 cubics only
+ *    when det(E) and the trace constraint of that E are above rounding.
+ * Instructions per call, and what each change bought: bench/README.md.
  * Solutions with a vanishing W coefficient (x, y or z infinite) are not
  * representable in this parametrization; they have measure zero.
  */
@@ -165,8 +167,9 @@ static inline void cubic3(double *c, const double *qa, const double *la, const d
  *
  * Why not the core's sfm_poly_real_roots: measured with the whole solver
  * built both ways (x86-64, gcc 12 -O2, solvers_bench under callgrind,
- * 1000 vs 3000 calls) it costs 70.5k instructions per call against 41.0k
- * with this copy (about 40k of them inside the core routine), for the same
+ * 1000 vs 3000 calls) it cost 70.5k instructions per call against 41.0k
+ * with this copy (about 40k of them inside the core routine; the copy has
+ * been made cheaper since, see bench/README.md), for the same
  * accuracy: ground truth found in 100% of the bench's problems either way,
  * and in the unit tests' eight scene classes (3000 each; this copy first)
  * 20999 vs 20998 of 21000 outside very-far, 2867 vs 2868 very-far. */
