@@ -95,8 +95,7 @@ static void cubic3(double *c, const double *qa, const double *la, const double *
 #undef T
 }
 #else
-/* q = a b - c d for linear a, b, c, d (the coefficients of mul11(a, b)
- * minus those of mul11(c, d)). */
+/* q = a b - c d for linear a, b, c, d (quadratic q). */
 static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
                               double *q)
 {
