@@ -27,7 +27,7 @@ M7_LDFLAGS := -nostartfiles --specs=rdimon.specs -L $(M7_DIR) -T $(M7_DIR)/mps2_
 # driver and the library's own elementary functions in the pose path, only
 # the 5-point solver (the largest share of a run) still fits the 128 KB
 # budget at OPT: the rest, the feature pipeline included, is built for size
-# (129,874 B of 131,072). M7_HOT_SRCS= builds everything for size.
+# (129,866 B of 131,072). M7_HOT_SRCS= builds everything for size.
 M7_HOT_SRCS ?= libsfm/solvers/relpose_5pt.c
 cortexm7_COLD_SRCS := $(filter-out $(M7_HOT_SRCS),$(LIB_SRCS))
 cortexm7_COLD_OPT := -Os
