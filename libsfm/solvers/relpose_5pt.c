@@ -17,63 +17,147 @@
  *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
  *    tenth-degree polynomial, solved by Sturm bisection (below).
  * 4. For each real root, [x y 1] is the null vector of B(z): the largest
- *    cross product of two of its rows.
+ *    cross product of two of its rows; Gauss-Newton on the 10 cubics only
+ *    when det(E) and the trace constraint of that E are above rounding.
+ * Instructions per call, and what each change bought: bench/README.md.
  * Solutions with a vanishing W coefficient (x, y or z infinite) are not
  * representable in this parametrization; they have measure zero.
  */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
-#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
+#include "solvers/small_math.h"
 
 #ifndef PRE_BISECT
 #define PRE_BISECT 4
 #endif
 
 /* Linear polynomials are coefficient vectors over (x, y, z, 1); quadratics over
- * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above. */
-static void mul11(const double *a, const double *b, double *q)
+ * (x^2, xy, y^2, xz, yz, z^2, x, y, z, 1); cubics over the order above.
+ *
+ * The sums of this file are written out term by term where the target has
+ * two-lane doubles (SSE2, NEON) and the build is for speed: no loop
+ * counters, and pairs of terms become one vector operation. Elsewhere (the
+ * Cortex-M7, and any build for size) the same sums run as loops over the
+ * same terms in the same order, 2.5 KB less code (Cortex-M7, -O2) that
+ * gives the same bits; the golden outputs of every target compare the two. */
+#if (defined(__SSE2__) || defined(__ARM_NEON)) && !defined(__OPTIMIZE_SIZE__)
+#define RP5_WRITTEN_OUT 1
+#else
+#define RP5_WRITTEN_OUT 0
+#endif
+#if !RP5_WRITTEN_OUT
+/* Quadratic monomial m = x_i x_j (x_3 = 1), i <= j. */
+static const unsigned char QUAD_IJ[10][2] = {{0, 0}, {0, 1}, {1, 1}, {0, 2}, {1, 2},
+                                             {2, 2}, {0, 3}, {1, 3}, {2, 3}, {3, 3}};
+/* Cubic monomial m: the number of (quadratic, linear) pairs giving it, then
+ * the pairs as 4 q + l, in the order of the written-out sums. */
+static const unsigned char CUBIC_QL[20][4] = {
+    {1, 0}, {1, 9}, {2, 1, 4}, {2, 5, 8}, {2, 2, 12}, {2, 3, 24}, {2, 10, 17},
+    {2, 11, 29}, {3, 6, 13, 16}, {3, 7, 25, 28}, {2, 14, 20}, {3, 15, 26, 32}, {2, 27, 36},
+    {2, 18, 21}, {3, 19, 30, 33}, {2, 31, 37}, {1, 22}, {2, 23, 34}, {2, 35, 38}, {1, 39}};
+
+static void quad_cross(const double *a, const double *b, const double *c, const double *d, double *q)
 {
-    q[0] = a[0] * b[0];
-    q[1] = a[0] * b[1] + a[1] * b[0];
-    q[2] = a[1] * b[1];
-    q[3] = a[0] * b[2] + a[2] * b[0];
-    q[4] = a[1] * b[2] + a[2] * b[1];
-    q[5] = a[2] * b[2];
-    q[6] = a[0] * b[3] + a[3] * b[0];
-    q[7] = a[1] * b[3] + a[3] * b[1];
-    q[8] = a[2] * b[3] + a[3] * b[2];
-    q[9] = a[3] * b[3];
+    for (int m = 0; m < 10; m++) {
+        int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
+        q[m] = i == j ? a[i] * b[i] - c[i] * d[i]
+                      : (a[i] * b[j] + a[j] * b[i]) - (c[i] * d[j] + c[j] * d[i]);
+    }
 }
 
-/* c += q * l for a quadratic q and a linear l, written out per cubic
- * monomial of the order above. */
-static void addmul21(double *c, const double *q, const double *l)
+static void quad3(double *q, const double *a, const double *b, const double *c, const double *d,
+                  const double *e, const double *f)
 {
-    c[0] += q[0] * l[0];
-    c[1] += q[2] * l[1];
-    c[2] += q[0] * l[1] + q[1] * l[0];
-    c[3] += q[1] * l[1] + q[2] * l[0];
-    c[4] += q[0] * l[2] + q[3] * l[0];
-    c[5] += q[0] * l[3] + q[6] * l[0];
-    c[6] += q[2] * l[2] + q[4] * l[1];
-    c[7] += q[2] * l[3] + q[7] * l[1];
-    c[8] += q[1] * l[2] + q[3] * l[1] + q[4] * l[0];
-    c[9] += q[1] * l[3] + q[6] * l[1] + q[7] * l[0];
-    c[10] += q[3] * l[2] + q[5] * l[0];
-    c[11] += q[3] * l[3] + q[6] * l[2] + q[8] * l[0];
-    c[12] += q[6] * l[3] + q[9] * l[0];
-    c[13] += q[4] * l[2] + q[5] * l[1];
-    c[14] += q[4] * l[3] + q[7] * l[2] + q[8] * l[1];
-    c[15] += q[7] * l[3] + q[9] * l[1];
-    c[16] += q[5] * l[2];
-    c[17] += q[5] * l[3] + q[8] * l[2];
-    c[18] += q[8] * l[3] + q[9] * l[2];
-    c[19] += q[9] * l[3];
+#define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
+    for (int m = 0; m < 10; m++) {
+        int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
+        q[m] = i == j ? P(i, i) : P(i, j) + P(j, i);
+    }
+#undef P
 }
+
+static void cubic3(double *c, const double *qa, const double *la, const double *qb,
+                   const double *lb, const double *qc, const double *lc)
+{
+#define T(t) (qa[(t) >> 2] * la[(t) & 3] + qb[(t) >> 2] * lb[(t) & 3] + qc[(t) >> 2] * lc[(t) & 3])
+    for (int m = 0; m < 20; m++) {
+        const unsigned char *t = CUBIC_QL[m];
+        double acc = T(t[1]);
+        for (int n = 2; n <= t[0]; n++)
+            acc += T(t[n]);
+        c[m] = acc;
+    }
+#undef T
+}
+#else
+/* q = a b - c d for linear a, b, c, d (quadratic q). */
+static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
+                              double *q)
+{
+    q[0] = a[0] * b[0] - c[0] * d[0];
+    q[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    q[2] = a[1] * b[1] - c[1] * d[1];
+    q[3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
+    q[4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
+    q[5] = a[2] * b[2] - c[2] * d[2];
+    q[6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
+    q[7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
+    q[8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    q[9] = a[3] * b[3] - c[3] * d[3];
+}
+
+/* c = a b + c d + e f for linear a..f (quadratic c). */
+static inline void quad3(double *q, const double *a, const double *b, const double *c,
+                         const double *d, const double *e, const double *f)
+{
+#define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
+    q[0] = P(0, 0);
+    q[1] = P(0, 1) + P(1, 0);
+    q[2] = P(1, 1);
+    q[3] = P(0, 2) + P(2, 0);
+    q[4] = P(1, 2) + P(2, 1);
+    q[5] = P(2, 2);
+    q[6] = P(0, 3) + P(3, 0);
+    q[7] = P(1, 3) + P(3, 1);
+    q[8] = P(2, 3) + P(3, 2);
+    q[9] = P(3, 3);
+#undef P
+}
+
+/* c = qa la + qb lb + qc lc for quadratics q and linears l, written out per
+ * cubic monomial of the order above. */
+static inline void cubic3(double *c, const double *qa, const double *la, const double *qb,
+                          const double *lb, const double *qc, const double *lc)
+{
+#define T(i, j) (qa[i] * la[j] + qb[i] * lb[j] + qc[i] * lc[j])
+    c[0] = T(0, 0);
+    c[1] = T(2, 1);
+    c[2] = T(0, 1) + T(1, 0);
+    c[3] = T(1, 1) + T(2, 0);
+    c[4] = T(0, 2) + T(3, 0);
+    c[5] = T(0, 3) + T(6, 0);
+    c[6] = T(2, 2) + T(4, 1);
+    c[7] = T(2, 3) + T(7, 1);
+    c[8] = T(1, 2) + T(3, 1) + T(4, 0);
+    c[9] = T(1, 3) + T(6, 1) + T(7, 0);
+    c[10] = T(3, 2) + T(5, 0);
+    c[11] = T(3, 3) + T(6, 2) + T(8, 0);
+    c[12] = T(6, 3) + T(9, 0);
+    c[13] = T(4, 2) + T(5, 1);
+    c[14] = T(4, 3) + T(7, 2) + T(8, 1);
+    c[15] = T(7, 3) + T(9, 1);
+    c[16] = T(5, 2);
+    c[17] = T(5, 3) + T(8, 2);
+    c[18] = T(8, 3) + T(9, 2);
+    c[19] = T(9, 3);
+#undef T
+}
+#endif
 
 /* Real roots of the tenth-degree polynomial by a Sturm sequence: bisection
  * until each interval holds one root, then safeguarded Newton on the
@@ -82,8 +166,9 @@ static void addmul21(double *c, const double *q, const double *l)
  *
  * Why not the core's sfm_poly_real_roots: measured with the whole solver
  * built both ways (x86-64, gcc 12 -O2, solvers_bench under callgrind,
- * 1000 vs 3000 calls) it costs 70.5k instructions per call against 41.0k
- * with this copy (about 40k of them inside the core routine), for the same
+ * 1000 vs 3000 calls) it cost 70.5k instructions per call against 41.0k
+ * with this copy (about 40k of them inside the core routine; the copy has
+ * been made cheaper since, see bench/README.md), for the same
  * accuracy: ground truth found in 100% of the bench's problems either way,
  * and in the unit tests' eight scene classes (3000 each; this copy first)
  * 20999 vs 20998 of 21000 outside very-far, 2867 vs 2868 very-far. */
@@ -93,6 +178,9 @@ typedef struct sturm_seq {
     double s[STURM_MAX + 1][STURM_MAX + 1]; /* s[k] of degree deg[k], descending */
     int deg[STURM_MAX + 1];
     int n; /* number of polynomials */
+    /* s[k-1] = (qa[k] x + qb[k]) s[k] - qe[k] s[k+1], qe[k] > 0, for
+     * k = 1..9 when the degrees are 10, 9, ..., 0 (the generic case) */
+    double qa[STURM_MAX], qb[STURM_MAX], qe[STURM_MAX];
 } sturm_seq;
 
 static void sturm_build(const double *c, int d, sturm_seq *S)
@@ -102,12 +190,33 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
         S->s[0][i] = c[i] * inv;
     for (int i = 0; i < d; i++)
         S->s[1][i] = S->s[0][i] * (double)(d - i) / (double)d; /* p'/d, monic */
+    S->s[1][d] = 0.0; /* one zero past the end of each divisor, read below */
     S->deg[0] = d;
     S->deg[1] = d - 1;
     S->n = 2;
     while (S->deg[S->n - 1] > 0) {
         const double *a = S->s[S->n - 2], *b = S->s[S->n - 1];
         int da = S->deg[S->n - 2], db = S->deg[S->n - 1];
+        if (da == db + 1) {
+            /* the usual step: a linear quotient f0 x + f1 and the remainder
+             * rem[i] = a[i+2] - f0 b[i+2] - f1 b[i+1] in one pass, unless its
+             * leading term vanishes (then the general code below) */
+            const double f0 = a[0] * b[0], f1 = (a[1] - f0 * b[1]) * b[0];
+            const double lead = (a[2] - f0 * b[2]) - f1 * b[1];
+            if (fabs(lead) >= 1e-300) {
+                double *o = S->s[S->n];
+                const double sc = -1.0 / fabs(lead);
+                for (int i = 0; i < db; i++)
+                    o[i] = ((a[i + 2] - f0 * b[i + 2]) - f1 * b[i + 1]) * sc;
+                o[db] = 0.0;
+                S->qa[S->n - 1] = f0;
+                S->qb[S->n - 1] = f1;
+                S->qe[S->n - 1] = fabs(lead);
+                S->deg[S->n] = db - 1;
+                S->n++;
+                continue;
+            }
+        }
         double r[STURM_MAX + 1];
         for (int i = 0; i <= da; i++)
             r[i] = a[i];
@@ -116,6 +225,8 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
             double f = r[k] * b[0];
             for (int j = 1; j <= db; j++)
                 r[k + j] -= f * b[j];
+            if (da - db == 1)
+                (k == 0 ? S->qa : S->qb)[S->n - 1] = f;
         }
         /* remainder: r[da-db+1 .. da], degree db-1; negate and make monic */
         const double *rem = r + da - db + 1;
@@ -136,9 +247,11 @@ static void sturm_build(const double *c, int d, sturm_seq *S)
             dr -= skip;
             lead = rem[0];
         }
+        S->qe[S->n - 1] = fabs(lead);
         double sc = -1.0 / fabs(lead);
         for (int i = 0; i <= dr; i++)
             S->s[S->n][i] = rem[i] * sc; /* -rem / |lead| */
+        S->s[S->n][dr + 1] = 0.0;
         S->deg[S->n] = dr;
         S->n++;
     }
@@ -166,6 +279,13 @@ static inline double horner(const double *p, int deg, double x)
     return y;
 }
 
+static inline uint64_t dbits(double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    return u;
+}
+
 /* Sign changes, zeros skipped, of the values y[0..n-1]. */
 static inline int sign_changes(const double *y, int n)
 {
@@ -183,15 +303,34 @@ static int sturm_var(const sturm_seq *S, double x)
 {
     double y[STURM_MAX + 1];
     if (S->n == STURM_MAX + 1) {
-        /* the generic sequence: degrees 10, 9, ..., 0 (each evaluation
-         * written out for its degree) */
-        y[0] = horner(S->s[0], 10, x); y[1] = horner(S->s[1], 9, x);
-        y[2] = horner(S->s[2], 8, x); y[3] = horner(S->s[3], 7, x);
-        y[4] = horner(S->s[4], 6, x); y[5] = horner(S->s[5], 5, x);
-        y[6] = horner(S->s[6], 4, x); y[7] = horner(S->s[7], 3, x);
-        y[8] = horner(S->s[8], 2, x); y[9] = horner(S->s[9], 1, x);
-        y[10] = S->s[10][0];
-        return sign_changes(y, STURM_MAX + 1);
+        /* The generic sequence, degrees 10, 9, ..., 0: its values by the
+         * three-term recurrence of the Euclidean algorithm, from the constant
+         * upwards (5 operations per polynomial instead of one Horner step per
+         * coefficient), sign changes counted on the sign bits as they come.
+         * A value that is exactly zero inside the sequence needs no care: its
+         * neighbours then have opposite signs (s[k-1] = -qe[k] s[k+1]), one
+         * change whatever sign the zero is given. Only p(x) = 0 does. */
+        double b = S->s[10][0], a = S->s[9][0] * x + S->s[9][1], c;
+        uint64_t ua = dbits(a), uc;
+        unsigned v = (unsigned)((ua ^ dbits(b)) >> 63);
+#define SV_STEP(k)                                                             \
+    c = (S->qa[k] * x + S->qb[k]) * a - S->qe[k] * b;                          \
+    uc = dbits(c);                                                             \
+    v += (unsigned)((uc ^ ua) >> 63);                                          \
+    ua = uc;                                                                   \
+    b = a;                                                                     \
+    a = c
+#if !RP5_WRITTEN_OUT
+        for (int k = 9; k >= 1; k--) {
+            SV_STEP(k);
+        }
+#else
+        SV_STEP(9); SV_STEP(8); SV_STEP(7); SV_STEP(6); SV_STEP(5);
+        SV_STEP(4); SV_STEP(3); SV_STEP(2); SV_STEP(1);
+#endif
+#undef SV_STEP
+        if (c != 0.0)
+            return (int)v;
     }
     for (int k = 0; k < S->n; k++)
         y[k] = horner(S->s[k], S->deg[k], x);
@@ -337,13 +476,30 @@ static int sturm_roots(const double *c, int d, double *roots)
     return nr;
 }
 
-static void polymul(const double *a, int da, const double *b, int db, double *c)
+/* o = a b - c d for cubics a, b, c, d (descending coefficients). */
+static inline void cubic_cross(const double *a, const double *b, const double *c, const double *d,
+                               double *o)
 {
-    for (int i = 0; i <= da + db; i++)
-        c[i] = 0.0;
-    for (int i = 0; i <= da; i++)
-        for (int j = 0; j <= db; j++)
-            c[i + j] += a[i] * b[j];
+#if !RP5_WRITTEN_OUT
+    for (int n = 0; n < 7; n++) {
+        int i0 = n > 3 ? n - 3 : 0, i1 = n < 3 ? n : 3;
+        double s1 = a[i0] * b[n - i0], s2 = c[i0] * d[n - i0];
+        for (int i = i0 + 1; i <= i1; i++) {
+            s1 += a[i] * b[n - i];
+            s2 += c[i] * d[n - i];
+        }
+        o[n] = s1 - s2;
+    }
+#else
+    o[0] = a[0] * b[0] - c[0] * d[0];
+    o[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    o[2] = (a[0] * b[2] + a[1] * b[1] + a[2] * b[0]) - (c[0] * d[2] + c[1] * d[1] + c[2] * d[0]);
+    o[3] = (a[0] * b[3] + a[1] * b[2] + a[2] * b[1] + a[3] * b[0]) -
+           (c[0] * d[3] + c[1] * d[2] + c[2] * d[1] + c[3] * d[0]);
+    o[4] = (a[1] * b[3] + a[2] * b[2] + a[3] * b[1]) - (c[1] * d[3] + c[2] * d[2] + c[3] * d[1]);
+    o[5] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    o[6] = a[3] * b[3] - c[3] * d[3];
+#endif
 }
 
 #ifndef PERM_RETRY_PIVOT
@@ -399,16 +555,23 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     }
     if (fmax_ <= REFINE_TOL * mmax)
         return 1;
-    double mx[20] = {3 * x * x, 0, 2 * x * y, y * y, 2 * x * z, 2 * x, 0, 0, y * z, y, z * z, z, 1,
-                     0, 0, 0, 0, 0, 0, 0};
-    double my[20] = {0, 3 * y * y, x * x, 2 * x * y, 0, 0, 2 * y * z, 2 * y, x * z, x, 0, 0, 0,
-                     z * z, z, 1, 0, 0, 0, 0};
-    double mz[20] = {0, 0, 0, 0, x * x, 0, y * y, 0, x * y, 0, 2 * x * z, x, 0, 2 * y * z, y, 0,
-                     3 * z * z, 2 * z, 1, 0};
+    /* Jacobian columns over the monomials whose derivative is nonzero */
+    const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
+    const double xx3 = 3.0 * xx, yy3 = 3.0 * yy, zz3 = 3.0 * zz, xy2 = 2.0 * xy, xz2 = 2.0 * xz,
+                 yz2 = 2.0 * yz, x2 = 2.0 * x, y2 = 2.0 * y, z2 = 2.0 * z;
     double ja[10], jb[10], jc[10];
-    axpy10(M0T, mx, ja);
-    axpy10(M0T, my, jb);
-    axpy10(M0T, mz, jc);
+    for (int r = 0; r < 10; r++)
+        ja[r] = xx3 * M0T[0][r] + xy2 * M0T[2][r] + yy * M0T[3][r] + xz2 * M0T[4][r] +
+                x2 * M0T[5][r] + yz * M0T[8][r] + y * M0T[9][r] + zz * M0T[10][r] +
+                z * M0T[11][r] + M0T[12][r];
+    for (int r = 0; r < 10; r++)
+        jb[r] = yy3 * M0T[1][r] + xx * M0T[2][r] + xy2 * M0T[3][r] + yz2 * M0T[6][r] +
+                y2 * M0T[7][r] + xz * M0T[8][r] + x * M0T[9][r] + zz * M0T[13][r] +
+                z * M0T[14][r] + M0T[15][r];
+    for (int r = 0; r < 10; r++)
+        jc[r] = xx * M0T[4][r] + yy * M0T[6][r] + xy * M0T[8][r] + xz2 * M0T[10][r] +
+                x * M0T[11][r] + yz2 * M0T[13][r] + y * M0T[14][r] + zz3 * M0T[16][r] +
+                z2 * M0T[17][r] + M0T[18][r];
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
         double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
@@ -432,6 +595,75 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     return 0;
 }
 
+/* r[k] -= f p[k] for k = k0..19 (k0 even), written out in pairs of
+ * columns entered at the pair of k0: no loop counter, and each pair is one
+ * two-lane operation where the target has them. */
+static inline void row_axpy(double *restrict r, const double *restrict p, double f, int k0)
+{
+#if !RP5_WRITTEN_OUT
+    for (int k = k0; k < 20; k++)
+        r[k] -= f * p[k];
+#else
+#define RA_PAIR(k) r[k] -= f * p[k]; r[k + 1] -= f * p[k + 1]
+    switch (k0 >> 1) {
+    case 0: RA_PAIR(0); /* fall through */
+    case 1: RA_PAIR(2); /* fall through */
+    case 2: RA_PAIR(4); /* fall through */
+    case 3: RA_PAIR(6); /* fall through */
+    case 4: RA_PAIR(8); /* fall through */
+    case 5: RA_PAIR(10); /* fall through */
+    case 6: RA_PAIR(12); /* fall through */
+    case 7: RA_PAIR(14); /* fall through */
+    case 8: RA_PAIR(16); /* fall through */
+    default: RA_PAIR(18);
+    }
+#undef RA_PAIR
+#endif
+}
+
+#ifndef ESSENTIAL_TOL
+#define ESSENTIAL_TOL 1e-12
+#endif
+/* 1 when det(E) and (E E^T - tr(E E^T)/2 I) E, cubic in E, are all below
+ * ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level. */
+static int essential_at_rounding(const double *E)
+{
+    double a00 = E[0] * E[0] + E[1] * E[1] + E[2] * E[2];
+    double a01 = E[0] * E[3] + E[1] * E[4] + E[2] * E[5];
+    double a02 = E[0] * E[6] + E[1] * E[7] + E[2] * E[8];
+    double a11 = E[3] * E[3] + E[4] * E[4] + E[5] * E[5];
+    double a12 = E[3] * E[6] + E[4] * E[7] + E[5] * E[8];
+    double a22 = E[6] * E[6] + E[7] * E[7] + E[8] * E[8];
+    double n2 = a00 + a11 + a22, h = 0.5 * n2;
+    a00 -= h;
+    a11 -= h;
+    a22 -= h;
+    double c = fabs(E[0] * (E[4] * E[8] - E[5] * E[7]) - E[1] * (E[3] * E[8] - E[5] * E[6]) +
+                    E[2] * (E[3] * E[7] - E[4] * E[6]));
+    for (int j = 0; j < 3; j++) {
+        double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
+        double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
+        double r2 = fabs(a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j]);
+        c = r0 > c ? r0 : c;
+        c = r1 > c ? r1 : c;
+        c = r2 > c ? r2 : c;
+    }
+    return c * c <= (ESSENTIAL_TOL * ESSENTIAL_TOL) * (n2 * n2 * n2);
+}
+
+/* r[k] -= f p[k] for k = 0..9, in pairs as above. */
+static inline void row_axpy10(double *restrict r, const double *restrict p, double f)
+{
+#if !RP5_WRITTEN_OUT
+    for (int k = 0; k < 10; k++)
+        r[k] -= f * p[k];
+#else
+    r[0] -= f * p[0]; r[1] -= f * p[1]; r[2] -= f * p[2]; r[3] -= f * p[3];
+    r[4] -= f * p[4]; r[5] -= f * p[5]; r[6] -= f * p[6]; r[7] -= f * p[7];
+    r[8] -= f * p[8]; r[9] -= f * p[9];
+#endif
+}
+
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
  * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
  * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
@@ -440,42 +672,29 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
                            double Bred[6][10])
 {
     double M[10][20];
-    for (int k = 0; k < 9; k++)
-        for (int j = 0; j < 4; j++)
-            e[k][j] = N[9 * ((j + perm) & 3) + k];
+    const double *n0 = N + 9 * (perm & 3), *n1 = N + 9 * ((perm + 1) & 3),
+                 *n2 = N + 9 * ((perm + 2) & 3), *n3 = N + 9 * ((perm + 3) & 3);
+    for (int k = 0; k < 9; k++) {
+        e[k][0] = n0[k];
+        e[k][1] = n1[k];
+        e[k][2] = n2[k];
+        e[k][3] = n3[k];
+    }
 
-    /* 2. The 10x20 constraint matrix. */
-    memset(M, 0, 10 * 20 * sizeof(double));
-    double q[10];
-    mul11(e[4], e[8], q);
+    /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
+     * then (E E^T - tr(E E^T)/2 I) E. */
     {
-        double t[10];
-        mul11(e[5], e[7], t);
-        for (int k = 0; k < 10; k++)
-            q[k] -= t[k];
-        addmul21(M[0], q, e[0]);
-        mul11(e[3], e[8], q);
-        mul11(e[5], e[6], t);
-        for (int k = 0; k < 10; k++)
-            q[k] = t[k] - q[k];
-        addmul21(M[0], q, e[1]);
-        mul11(e[3], e[7], q);
-        mul11(e[4], e[6], t);
-        for (int k = 0; k < 10; k++)
-            q[k] -= t[k];
-        addmul21(M[0], q, e[2]);
+        double c0[10], c1[10], c2[10];
+        quad_cross(e[4], e[8], e[5], e[7], c0);
+        quad_cross(e[5], e[6], e[3], e[8], c1);
+        quad_cross(e[3], e[7], e[4], e[6], c2);
+        cubic3(M[0], c0, e[0], c1, e[1], c2, e[2]);
     }
     double EEt[3][3][10];
     for (int i = 0; i < 3; i++)
         for (int j = i; j < 3; j++) {
-            double t[10];
-            mul11(e[3 * i], e[3 * j], EEt[i][j]);
-            mul11(e[3 * i + 1], e[3 * j + 1], t);
-            for (int k = 0; k < 10; k++)
-                EEt[i][j][k] += t[k];
-            mul11(e[3 * i + 2], e[3 * j + 2], t);
-            for (int k = 0; k < 10; k++)
-                EEt[i][j][k] += t[k];
+            quad3(EEt[i][j], e[3 * i], e[3 * j], e[3 * i + 1], e[3 * j + 1], e[3 * i + 2],
+                  e[3 * j + 2]);
             if (j != i)
                 memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
         }
@@ -487,26 +706,35 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     }
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++)
-                addmul21(M[1 + 3 * i + j], EEt[i][k], e[3 * k + j]);
+            cubic3(M[1 + 3 * i + j], EEt[i][0], e[j], EEt[i][1], e[3 + j], EEt[i][2], e[6 + j]);
 
     /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
      * first scaled to unit largest entry (M0T keeps the scaled, unreduced
      * rows, transposed, for the polish). */
     for (int r = 0; r < 10; r++) {
-        double m0 = 0.0, m1 = 0.0; /* two lanes of the maximum */
-        for (int c = 0; c < 20; c += 2) {
-            double a0 = fabs(M[r][c]), a1 = fabs(M[r][c + 1]);
-            m0 = a0 > m0 ? a0 : m0;
-            m1 = a1 > m1 ? a1 : m1;
-        }
+        double *row = M[r];
+        double m0 = fabs(row[0]), m1 = fabs(row[1]); /* two lanes of the maximum */
+#define MX_PAIR(k)                                                             \
+    do {                                                                       \
+        double a0 = fabs(row[k]), a1 = fabs(row[k + 1]);                       \
+        m0 = a0 > m0 ? a0 : m0;                                                \
+        m1 = a1 > m1 ? a1 : m1;                                                \
+    } while (0)
+#if !RP5_WRITTEN_OUT
+        for (int k = 2; k < 20; k += 2)
+            MX_PAIR(k);
+#else
+        MX_PAIR(2); MX_PAIR(4); MX_PAIR(6); MX_PAIR(8); MX_PAIR(10);
+        MX_PAIR(12); MX_PAIR(14); MX_PAIR(16); MX_PAIR(18);
+#endif
+#undef MX_PAIR
         double mx = m1 > m0 ? m1 : m0;
         if (!(mx > 0.0))
             return 0.0;
         mx = 1.0 / mx;
         for (int c = 0; c < 20; c++) {
-            double v = M[r][c] * mx;
-            M[r][c] = v;
+            double v = row[c] * mx;
+            row[c] = v;
             M0T[c][r] = v;
         }
     }
@@ -514,7 +742,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     double *R[10];
     for (int r = 0; r < 10; r++)
         R[r] = M[r];
-    double minpiv = HUGE_VAL;
+    double minpiv = HUGE_VAL, ipiv[10];
     for (int c = 0; c < 10; c++) {
         int piv = c;
         double pmax = fabs(R[c][c]);
@@ -532,37 +760,29 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         double *rc = R[piv];
         R[piv] = R[c];
         R[c] = rc;
-        /* Updates from a local copy of the pivot row (no aliasing, so the
-         * compiler vectorizes them). Columns left of c are never read again;
-         * the updates start at the even column at or before c. */
-        double inv = 1.0 / rc[c], pr[20];
-        for (int k = 0; k < 20; k++)
-            pr[k] = rc[k] * inv;
-        for (int k = 0; k < 20; k++)
-            rc[k] = pr[k];
+        /* The pivot row stays unscaled (its reciprocal pivot is kept for the
+         * back substitution). Columns left of c are never read again; the
+         * updates start at the even column at or before c. */
+        const double inv = 1.0 / rc[c];
+        ipiv[c] = inv;
         const int k0 = c & ~1;
-        for (int r = c + 1; r < 10; r++) {
-            double *rr = R[r], f = rr[c];
-            for (int k = k0; k < 20; k++)
-                rr[k] -= f * pr[k];
-        }
+        for (int r = c + 1; r < 10; r++)
+            row_axpy(R[r], rc, R[r][c] * inv, k0);
     }
     /* Back substitution, only for the rows 4..9 used below (each needs only
      * the rows after it): row i becomes x_i + B_i . (last ten monomials),
      * B_i stored in Bred[i - 4]. */
     for (int k = 0; k < 10; k++)
-        Bred[5][k] = R[9][10 + k];
+        Bred[5][k] = R[9][10 + k] * ipiv[9];
     for (int i = 8; i >= 4; i--) {
         double ri[10];
+        const double *Ri = R[i];
         for (int k = 0; k < 10; k++)
-            ri[k] = R[i][10 + k];
-        for (int j = i + 1; j < 10; j++) {
-            double f = R[i][j];
-            for (int k = 0; k < 10; k++)
-                ri[k] -= f * Bred[j - 4][k];
-        }
+            ri[k] = Ri[10 + k];
+        for (int j = i + 1; j < 10; j++)
+            row_axpy10(ri, Bred[j - 4], Ri[j]);
         for (int k = 0; k < 10; k++)
-            Bred[i - 4][k] = ri[k];
+            Bred[i - 4][k] = ri[k] * ipiv[i];
     }
     return minpiv;
 }
@@ -592,17 +812,18 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
         pc[k][4] = Be[9];
     }
     /* det B(z) = c0 (a1 b2 - a2 b1) - c1 (a0 b2 - a2 b0) + c2 (a0 b1 - a1 b0). */
-    double poly[11], m1[7], m2[7], t10[11];
-    memset(poly, 0, sizeof poly);
+    double poly[11] = {0.0};
     for (int k = 0; k < 3; k++) {
-        int i = (k + 1) % 3, j = (k + 2) % 3;
-        polymul(pa[i], 3, pb[j], 3, m1);
-        polymul(pa[j], 3, pb[i], 3, m2);
-        for (int s = 0; s < 7; s++)
-            m1[s] -= m2[s];
-        polymul(pc[k], 4, m1, 6, t10);
-        for (int s = 0; s < 11; s++)
-            poly[s] += t10[s];
+        int i = k == 2 ? 0 : k + 1, j = k == 0 ? 2 : k - 1;
+        double m[7];
+        cubic_cross(pa[i], pb[j], pa[j], pb[i], m);
+        const double *c = pc[k];
+        for (int r = 0; r < 5; r++) {
+            const double f = c[r];
+            double *o = poly + r;
+            o[0] += f * m[0]; o[1] += f * m[1]; o[2] += f * m[2]; o[3] += f * m[3];
+            o[4] += f * m[4]; o[5] += f * m[5]; o[6] += f * m[6];
+        }
     }
 
     /* Sturm bisection for the real roots. Drop vanishing leading terms. */
@@ -633,28 +854,42 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
             B[k][1] = peval(pb[k], 3, z);
             B[k][2] = peval(pc[k], 4, z);
         }
-        double best[3] = {0.0, 0.0, 0.0}, bn = -1.0;
-        for (int k = 0; k < 3; k++) {
-            const double *u = B[k], *w = B[(k + 1) % 3];
-            double v[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                           u[0] * w[1] - u[1] * w[0]};
-            double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-            if (n2 > bn) {
-                bn = n2;
-                best[0] = v[0];
-                best[1] = v[1];
-                best[2] = v[2];
-            }
+        /* the largest of the cross products of two rows (in the order
+         * (0,1), (1,2), (2,0); the first of equal norms) */
+        double c01[3], c12[3], c20[3];
+        sfmi_cross3(B[0], B[1], c01);
+        sfmi_cross3(B[1], B[2], c12);
+        sfmi_cross3(B[2], B[0], c20);
+        double n01 = sfmi_dot3(c01, c01), n12 = sfmi_dot3(c12, c12), n20 = sfmi_dot3(c20, c20);
+        const double *best = c01;
+        double bn = n01;
+        if (n12 > bn) {
+            best = c12;
+            bn = n12;
+        }
+        if (n20 > bn) {
+            best = c20;
+            bn = n20;
         }
         if (!(fabs(best[2]) > 1e-14 * sqrt(bn)))
             continue;
         double x = best[0] / best[2], y = best[1] / best[2];
-        for (int iter = 0; iter < REFINE_ITERS; iter++)
-            if (refine(M0T, &x, &y, &z))
-                break;
+        /* The Gauss-Newton polish runs only when the cheaper test on E
+         * itself finds the constraints above rounding level. */
         double *o = out[ns];
-        for (int k = 0; k < 9; k++)
-            o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3];
+        for (int iter = 0;; iter++) {
+#define E_ENTRY(k) o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3]
+#if !RP5_WRITTEN_OUT
+            for (int k = 0; k < 9; k++)
+                E_ENTRY(k);
+#else
+            E_ENTRY(0); E_ENTRY(1); E_ENTRY(2); E_ENTRY(3); E_ENTRY(4);
+            E_ENTRY(5); E_ENTRY(6); E_ENTRY(7); E_ENTRY(8);
+#endif
+#undef E_ENTRY
+            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(M0T, &x, &y, &z))
+                break;
+        }
         if (sfmi_normalize9(o))
             continue;
         ns++;
@@ -666,37 +901,37 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
 {
     if (!x1 || !x2 || !E)
         return SFM_E_ARGUMENT;
-    if (!sfmi_la_all_finite(x1, 15) || !sfmi_la_all_finite(x2, 15))
+    if (!(sfmi_all_finite9(x1) & sfmi_all_finite3(x1 + 9) & sfmi_all_finite3(x1 + 12) &
+          sfmi_all_finite9(x2) & sfmi_all_finite3(x2 + 9) & sfmi_all_finite3(x2 + 12)))
         return SFM_E_NONFINITE;
-    /* only directions matter: unit bearings, scaled by a power of two
-     * first so that lengths near 1e+-150 neither overflow nor underflow */
-    double u1[15], u2[15];
+    /* only directions matter: each bearing is divided by its largest
+     * magnitude (lengths near the range limits first scaled by an exact
+     * power of two, so that the reciprocal neither overflows nor underflows) */
+    double A[45], N[36], u[30];
     for (int i = 0; i < 10; i++) {
         const double *src = i < 5 ? &x1[3 * i] : &x2[3 * (i - 5)];
-        double *dst = i < 5 ? &u1[3 * i] : &u2[3 * (i - 5)];
-        double m = fmax(fabs(src[0]), fmax(fabs(src[1]), fabs(src[2])));
+        double a0 = src[0], a1 = src[1], a2 = src[2];
+        double m = fabs(a0), m1 = fabs(a1), m2 = fabs(a2);
+        m = m1 > m ? m1 : m;
+        m = m2 > m ? m2 : m;
         if (!(m > 0.0))
             return 0; /* a zero bearing: no direction */
-        int e;
-        frexp(m, &e);
-        double l = 0.0;
-        for (int k = 0; k < 3; k++) {
-            dst[k] = ldexp(src[k], -e);
-            l += dst[k] * dst[k];
+        if (m < 0x1p-900 || m > 0x1p+900) {
+            double p = m < 0x1p-900 ? 0x1p+600 : 0x1p-600;
+            a0 *= p; a1 *= p; a2 *= p; m *= p;
         }
-        l = sqrt(l);
-        for (int k = 0; k < 3; k++)
-            dst[k] /= l;
+        double r = 1.0 / m;
+        u[3 * i] = a0 * r; u[3 * i + 1] = a1 * r; u[3 * i + 2] = a2 * r;
     }
-    x1 = u1;
-    x2 = u2;
 
     /* 1. Null space. */
-    double A[45], N[36];
-    for (int i = 0; i < 5; i++)
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                A[9 * i + 3 * r + c] = x2[3 * i + r] * x1[3 * i + c];
+    for (int i = 0; i < 5; i++) {
+        const double *a = u + 3 * i, *b = u + 15 + 3 * i;
+        double *row = A + 9 * i;
+        row[0] = b[0] * a[0]; row[1] = b[0] * a[1]; row[2] = b[0] * a[2];
+        row[3] = b[1] * a[0]; row[4] = b[1] * a[1]; row[5] = b[1] * a[2];
+        row[6] = b[2] * a[0]; row[7] = b[2] * a[1]; row[8] = b[2] * a[2];
+    }
     if (sfmi_null9_exact(A, 5, N))
         return 0;
     /* Nister fixes the coefficient of one null vector to 1; how well the
