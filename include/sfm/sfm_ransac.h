@@ -239,7 +239,7 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 /* The same size as a constant expression, for static buffers. */
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
-    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 4u +                           \
+    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 5u +                           \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) * 2u +          \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
      SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 3u + 15u)
