@@ -46,7 +46,15 @@
  * refit, until the set of points in the band stops changing, at most
  * opt->polish_rounds refits (with 1 px noise a 1 px threshold keeps only
  * about half of the true inliers; the polish uses nearly all of them, while
- * the band and the loss keep the outliers out). The polished model is kept
+ * the band and the loss keep the outliers out). For estimators with
+ * set_scale the polish refits only on the band's points that at least half
+ * of the models close to the best hold within 2 robust deviations of their
+ * own residuals (each new best and each inner-RANSAC candidate within 35 %
+ * of what the best saves, n tau^2 minus its MSAC cost; the count starts
+ * again when a new best leaves the old one out of that margin): at a small
+ * baseline the lowest-cost model of the rotation-translation valley is the
+ * one that gathered a few chance outliers into its band, and those points
+ * alone hold the refit degrees off. The polished model is kept
  * unless it loses more than 5 % of the inliers.
  *
  * Memory: the run call works in caller memory only. Its size comes from
@@ -239,7 +247,7 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 /* The same size as a constant expression, for static buffers. */
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
-    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 4u +                           \
+    (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 5u +                           \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) * 2u +          \
      SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
      SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 3u + 15u)
