@@ -26,19 +26,25 @@
  * one (the "gamma trick" of Morgan & Sommese, 1989), so the 40 paths are
  * smooth and end at every isolated solution of P1. Each path is tracked
  * with an RK4 predictor on the Davidenko equation H_x x' = -H_s and up to
- * three Newton corrections, the step halved when Newton does not converge
- * (or its first correction is large) and grown by 1.6 after a success
- * (at most 0.1); at most MAX_STEPS steps and step sizes above MIN_STEP,
- * then the path is given up. Complex arithmetic in a two-double struct,
- * 8 x 8 complex Gaussian elimination with partial pivoting.
+ * three Newton corrections: a step is accepted when Newton's correction
+ * falls below NEWTON_TOL (relative) and its first one is below JUMP_TOL,
+ * else it is halved; the step doubles after GROW_AFTER successes in a row
+ * (at most H_MAX). At most MAX_STEPS steps per path; a step below MIN_STEP
+ * gives the path up, except within END_ZONE of s = 1, where the end point
+ * is ill-conditioned (a near-double root: the truth close to a singular
+ * configuration) and Newton at s = 1 takes over. Complex arithmetic in a
+ * two-double struct, 8 x 8 complex Gaussian elimination with partial
+ * pivoting.
  *
- * At s = 1: Newton to full accuracy; an end point is real when, divided by
- * its largest e component, every imaginary part is below REAL_TOL of its
- * size. Real end points become (C, p), are polished by Newton on the six
- * real equations in (C, p) (C updated on the left by a rotation vector),
- * kept when every equation is met to RES_TOL (unit scale) and
- * deduplicated. C is a proper rotation by construction (the quaternion's
- * matrix, then exponential updates).
+ * At s = 1: Newton to full accuracy. An end point is a candidate real
+ * solution when, divided by its largest e component, every imaginary part
+ * is below REAL_TOL of its size (loose: an ill-conditioned real end point
+ * carries imaginary noise of 1e-6..1e-4; the real Newton and the residual
+ * test below are what decide). Candidates become (C, p), are polished by
+ * Newton on the six real equations in (C, p) (C updated on the left by a
+ * rotation vector), kept when every equation is met to RES_TOL (unit
+ * scale) and deduplicated. C is a proper rotation by construction (the
+ * quaternion's matrix, then exponential updates).
  *
  * Degenerate data (SFM_E_DEGENERATE): either robot's positions on one
  * straight line (standing still included): C may turn about that line
@@ -59,11 +65,13 @@
 #define MAX_STEPS 400     /* per path */
 #define H_START 0.02
 #define H_MAX 0.1
-#define H_GROW 1.6
+#define H_GROW 2.0       /* after GROW_AFTER successes in a row */
+#define GROW_AFTER 3
 #define MIN_STEP 1e-9
-#define NEWTON_TOL 1e-9   /* relative correction of a converged step */
-#define JUMP_TOL 1e-3     /* relative first correction: step too long */
-#define REAL_TOL 1e-6     /* relative imaginary part of a real end point */
+#define END_ZONE 1e-4     /* a path stalled this close to s = 1 goes to Newton at 1 */
+#define NEWTON_TOL 1e-7   /* relative correction of a converged step */
+#define JUMP_TOL 3e-2     /* relative first correction: step too long */
+#define REAL_TOL 1e-3     /* relative imaginary part of a candidate real end point */
 #define RES_TOL 1e-8      /* |f_k| of a kept solution, unit scale */
 #define DUP_TOL 1e-8
 
@@ -252,6 +260,7 @@ static int newton(const hom *h, cx *x, double s, double *rel)
 static int track(const hom *h, cx *x)
 {
     double s = 0.0, step = H_START;
+    int run = 0;
     for (int it = 0; it < MAX_STEPS && s < 1.0; it++) {
         double hh = fmin(step, 1.0 - s);
         cx k1[8], k2[8], k3[8], k4[8], y[8];
@@ -280,10 +289,14 @@ static int track(const hom *h, cx *x)
         if (conv) {
             memcpy(x, y, sizeof y);
             s = hh == 1.0 - s ? 1.0 : s + hh;
-            step = fmin(hh * H_GROW, H_MAX);
+            step = ++run >= GROW_AFTER ? fmin(hh * H_GROW, H_MAX) : hh;
+            run = run >= GROW_AFTER ? 0 : run;
         } else {
             step = 0.5 * hh;
-            if (step < MIN_STEP)
+            run = 0;
+            if (step < MIN_STEP && 1.0 - s < END_ZONE)
+                s = 1.0; /* an ill-conditioned end point: Newton takes it from here */
+            else if (step < MIN_STEP)
                 return 0;
         }
     }
@@ -397,7 +410,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
         /* Newton on the real equations */
         double r[6], J[36], res = HUGE_VAL;
         int piv[6];
-        for (int n = 0; n < 4; n++) {
+        for (int n = 0; n < 8; n++) {
             real_resid(&dt, C, p, r, J);
             if (sfm_lu_factor(J, 6, piv) < 0 || sfm_lu_solve(J, piv, 6, r, 1) < 0)
                 break;
