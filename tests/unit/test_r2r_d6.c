@@ -6,13 +6,15 @@
  * solutions, every solution a proper rotation meeting the six equations,
  * at most 40 real solutions and an even number of them (the 40 complex
  * solutions of real data come in conjugate pairs), the dispatcher's
- * recognition of six distances in any order, and degenerate motion refused.
+ * recognition of six distances in any order, degenerate motion refused,
+ * and the generated start system checked against the formulation.
  */
 #include <math.h>
 #include <string.h>
 
 #include "r2r_scene.h"
 #include "r2r_sim.h"
+#include "solvers/generated/r2r_d6_start.h"
 #include "solvers/r2r_solve_internal.h"
 
 static double d6_ws[1 << 14];
@@ -174,4 +176,71 @@ SFM_TEST(r2r_d6_registered)
     SFM_CHECK(sfmi_r2r_table[SFM_R2R_SYS_D6] == &sfmi_r2r_d6);
     SFM_CHECK_EQ_INT(sfmi_r2r_d6.max_solutions, 40);
     SFM_CHECK_EQ_INT(sfmi_r2r_d6.n_steps, 6);
+}
+
+/* The generated start system against the formulation written out here:
+ * each of the 40 start solutions x = (e, g) meets, at the start parameters,
+ *   |e t2 - t1 e + 2 g|^2 = d^2 e.e (bilinear, quaternion products written
+ *   out below), e . g = 0 and c . x = 1,
+ * to 1e-12, and no two coincide (the homotopy needs all 40, distinct). */
+typedef struct tcx {
+    double re, im;
+} tcx;
+
+static tcx tc_mul(tcx a, tcx b) { return (tcx){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; }
+static tcx tc_add(tcx a, tcx b) { return (tcx){a.re + b.re, a.im + b.im}; }
+static tcx tc_neg(tcx a) { return (tcx){-a.re, -a.im}; }
+
+/* quaternion product p q (w first) over complex entries */
+static void tq_mul(const tcx *p, const tcx *q, tcx *r)
+{
+    r[0] = tc_add(tc_add(tc_mul(p[0], q[0]), tc_neg(tc_mul(p[1], q[1]))),
+                  tc_add(tc_neg(tc_mul(p[2], q[2])), tc_neg(tc_mul(p[3], q[3]))));
+    r[1] = tc_add(tc_add(tc_mul(p[0], q[1]), tc_mul(p[1], q[0])),
+                  tc_add(tc_mul(p[2], q[3]), tc_neg(tc_mul(p[3], q[2]))));
+    r[2] = tc_add(tc_add(tc_mul(p[0], q[2]), tc_mul(p[2], q[0])),
+                  tc_add(tc_mul(p[3], q[1]), tc_neg(tc_mul(p[1], q[3]))));
+    r[3] = tc_add(tc_add(tc_mul(p[0], q[3]), tc_mul(p[3], q[0])),
+                  tc_add(tc_mul(p[1], q[2]), tc_neg(tc_mul(p[2], q[1]))));
+}
+
+SFM_TEST(r2r_d6_start_system_is_consistent)
+{
+    double worst = 0.0, closest = HUGE_VAL;
+    for (int j = 0; j < SFMI_R2R_D6_NSOL; j++) {
+        tcx x[8], ee = {0.0, 0.0}, eg = {0.0, 0.0}, ch = {-1.0, 0.0};
+        for (int i = 0; i < 8; i++)
+            x[i] = (tcx){sfmi_r2r_d6_start_sol[j][i][0], sfmi_r2r_d6_start_sol[j][i][1]};
+        for (int i = 0; i < 4; i++) {
+            ee = tc_add(ee, tc_mul(x[i], x[i]));
+            eg = tc_add(eg, tc_mul(x[i], x[4 + i]));
+        }
+        for (int i = 0; i < 8; i++)
+            ch = tc_add(ch, tc_mul((tcx){sfmi_r2r_d6_chart[i][0], sfmi_r2r_d6_chart[i][1]}, x[i]));
+        worst = fmax(worst, fmax(hypot(eg.re, eg.im), hypot(ch.re, ch.im)));
+        for (int k = 0; k < 6; k++) {
+            const double(*P)[2] = sfmi_r2r_d6_start_par + 7 * k;
+            tcx t1[4] = {{0, 0}, {P[0][0], P[0][1]}, {P[1][0], P[1][1]}, {P[2][0], P[2][1]}};
+            tcx t2[4] = {{0, 0}, {P[3][0], P[3][1]}, {P[4][0], P[4][1]}, {P[5][0], P[5][1]}};
+            tcx d2 = {P[6][0], P[6][1]}, a[4], b[4], u = {0.0, 0.0};
+            tq_mul(x, t2, a); /* e t2 */
+            tq_mul(t1, x, b); /* t1 e */
+            for (int i = 0; i < 4; i++) {
+                tcx w = tc_add(tc_add(a[i], tc_neg(b[i])), tc_add(x[4 + i], x[4 + i]));
+                u = tc_add(u, tc_mul(w, w));
+            }
+            tcx f = tc_add(u, tc_neg(tc_mul(d2, ee)));
+            worst = fmax(worst, hypot(f.re, f.im));
+        }
+        for (int q = 0; q < j; q++) {
+            double d = 0.0;
+            for (int i = 0; i < 8; i++)
+                d = fmax(d, hypot(sfmi_r2r_d6_start_sol[j][i][0] - sfmi_r2r_d6_start_sol[q][i][0],
+                                  sfmi_r2r_d6_start_sol[j][i][1] - sfmi_r2r_d6_start_sol[q][i][1]));
+            closest = fmin(closest, d);
+        }
+    }
+    SFM_TEST_LOG("start system: largest residual %.2g, closest two solutions %.3g apart", worst, closest);
+    SFM_CHECK(worst < 1e-12);
+    SFM_CHECK(closest > 1e-3);
 }
