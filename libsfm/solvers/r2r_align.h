@@ -1,5 +1,5 @@
 /*
- * Internal: the frames, aligning rotations and small numerical helpers the
+ * Internal: the frames, aligning rotations and small numerical routines the
  * robot-to-robot base-system solvers share (libsfm/solvers/r2r_*.c).
  * Header-only, static inline; no state.
  *
