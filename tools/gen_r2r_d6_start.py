@@ -12,8 +12,9 @@ forward kinematics of the general Stewart-Gough platform (base points t1_k,
 platform points t2_k, leg lengths d_k): 40 complex solutions for generic data
 (Raghavan 1993; Wampler 1996; Husty 1996).
 
-Formulation (Study parameters, Wampler's "forward kinematics of general
-Stewart-Gough platforms", ASME J. Mech. Des. 1996, in our notation). With
+Formulation (Study parameters, as in Wampler, "Forward displacement analysis
+of general six-in-parallel SPS (Stewart) platform manipulators using soma
+coordinates", Mech. Mach. Theory 1996; in our notation). With
 quaternions w-first, e the rotation's (unnormalised) quaternion and
 g = (1/2) p e, so that C = R(e) / e.e and p = 2 vec(g conj(e)) / e.e, each
 distance reads |e t2 - t1 e + 2 g|^2 = d^2 e.e, i.e. with m = t2 - t1,

@@ -5,8 +5,8 @@
  * platform points t2_k, leg lengths d_k): 40 complex solutions (Raghavan
  * 1993; Husty 1996; Wampler, "Forward displacement analysis of general
  * six-in-parallel SPS (Stewart) platform manipulators using soma
- * coordinates", Mech. Mach. Theory 1996). Zhou & Roumeliotis (T-RO 2013)
- * name the system and leave it to a numerical method.
+ * coordinates", Mech. Mach. Theory 1996); the base system of six distances
+ * of Zhou & Roumeliotis (T-RO 2013).
  *
  * Formulation (Study parameters; derivation in tools/gen_r2r_d6_start.py):
  * x = (e, g) in C^8, e the rotation's quaternion (w first), g = (1/2) p e;
@@ -35,9 +35,9 @@
  * configuration) and Newton at s = 1 takes over. A path given up, and both
  * of two paths that end at one point (one jumped onto the other: the 40
  * end points of generic data are distinct), are tracked again with steps
- * of at most H_MAX_CAREFUL and the stricter JUMP_TOL_CAREFUL. Complex arithmetic in a
- * two-double struct, 8 x 8 complex Gaussian elimination with partial
- * pivoting.
+ * of at most H_MAX_CAREFUL and the stricter JUMP_TOL_CAREFUL. Complex
+ * arithmetic in a two-double struct, 8 x 8 complex Gaussian elimination
+ * with partial pivoting.
  *
  * At s = 1: Newton to full accuracy. An end point is a candidate real
  * solution when, divided by its largest e component, every imaginary part
@@ -55,7 +55,9 @@
  * Work memory: the 40 end points, 16 * 40 doubles of ws (descriptor). Stack:
  * about 5 KiB (x86-64 gcc -O2: 3.1 KiB in solve with the tracker inlined,
  * 1.2 KiB a Newton step, 0.6 KiB the evaluation).
- * Cost: 40 paths of typically 20-40 steps, 5-7 complex 8 x 8 solves each.
+ * Cost (random scenes, bench/README.md): about 7,400 complex 8 x 8 solves
+ * per call, 29 tries of a step per path of which 4 rejected; 72 M
+ * instructions on x86-64, half in the eliminations, half in eval.
  */
 #include <math.h>
 #include <string.h>
