@@ -117,14 +117,13 @@ static inline void cx_cross3(const cx *a, const cx *b, cx *c)
     c[2] = cx_sub(cx_mul(a[0], b[1]), cx_mul(a[1], b[0]));
 }
 
-/* Parameters of one point: per step t1 (3), t2 (3), d^2. */
-typedef struct par {
-    cx t[6][7];
-} par;
-
+/* The segment P(s) = P0 + s (P1 - P0), per step in the combinations the
+ * equations use: m = t2 - t1 = m0 + s dm, n = t1 + t2 = n0 + s dn,
+ * d^2 = d0 + s dd. Step 0 has t1 = t2 = 0 at both ends. */
 typedef struct hom {
-    par p0, dp; /* P(s) = p0 + s dp */
-    cx c[8];    /* the chart */
+    cx m0[6][3], dm[6][3], n0[6][3], dn[6][3];
+    cx d0[6], dd[6];
+    cx c[8]; /* the chart */
 } hom;
 
 /* H(x, s) into H (may be NULL), H_x into J (row-major 8 x 8) and H_s into
@@ -133,15 +132,26 @@ static void eval(const hom *h, const cx *x, double s, cx *H, cx *J, cx *Hs)
 {
     const cx e0 = x[0], *ev = x + 1, g0 = x[4], *gv = x + 5;
     cx ee = cx_add(cx_mul(e0, e0), cx_dot3(ev, ev));
-    for (int k = 0; k < 6; k++) {
-        cx a[3], b[3], m[3], n[3], cr[3], uv[3], nu[3], D;
+    { /* step 0: u = 2 g */
+        cx D = cx_add(h->d0[0], cx_scale(s, h->dd[0])), D2 = cx_scale(-2.0, D);
+        if (H)
+            H[0] = cx_sub(cx_scale(4.0, cx_add(cx_mul(g0, g0), cx_dot3(gv, gv))), cx_mul(D, ee));
+        J[0] = cx_mul(D2, e0);
         for (int i = 0; i < 3; i++) {
-            a[i] = cx_add(h->p0.t[k][i], cx_scale(s, h->dp.t[k][i]));
-            b[i] = cx_add(h->p0.t[k][3 + i], cx_scale(s, h->dp.t[k][3 + i]));
-            m[i] = cx_sub(b[i], a[i]);
-            n[i] = cx_add(a[i], b[i]);
+            J[1 + i] = cx_mul(D2, ev[i]);
+            J[5 + i] = cx_scale(8.0, gv[i]);
         }
-        D = cx_add(h->p0.t[k][6], cx_scale(s, h->dp.t[k][6]));
+        J[4] = cx_scale(8.0, g0);
+        if (Hs)
+            Hs[0] = cx_sub((cx){0.0, 0.0}, cx_mul(h->dd[0], ee));
+    }
+    for (int k = 1; k < 6; k++) {
+        cx m[3], n[3], cr[3], uv[3], nu[3], D;
+        for (int i = 0; i < 3; i++) {
+            m[i] = cx_add(h->m0[k][i], cx_scale(s, h->dm[k][i]));
+            n[i] = cx_add(h->n0[k][i], cx_scale(s, h->dn[k][i]));
+        }
+        D = cx_add(h->d0[k], cx_scale(s, h->dd[k]));
         cx u0 = cx_sub(cx_scale(2.0, g0), cx_dot3(ev, m));
         cx_cross3(ev, n, cr);
         for (int i = 0; i < 3; i++)
@@ -157,17 +167,13 @@ static void eval(const hom *h, const cx *x, double s, cx *H, cx *J, cx *Hs)
         }
         Jr[4] = cx_scale(4.0, u0);
         if (Hs) {
-            cx dm[3], dn[3], duv[3];
-            for (int i = 0; i < 3; i++) {
-                dm[i] = cx_sub(h->dp.t[k][3 + i], h->dp.t[k][i]);
-                dn[i] = cx_add(h->dp.t[k][3 + i], h->dp.t[k][i]);
-            }
-            cx du0 = cx_sub((cx){0.0, 0.0}, cx_dot3(ev, dm));
-            cx_cross3(ev, dn, cr);
+            cx duv[3];
+            cx du0 = cx_sub((cx){0.0, 0.0}, cx_dot3(ev, h->dm[k]));
+            cx_cross3(ev, h->dn[k], cr);
             for (int i = 0; i < 3; i++)
-                duv[i] = cx_add(cx_mul(e0, dm[i]), cr[i]);
+                duv[i] = cx_add(cx_mul(e0, h->dm[k][i]), cr[i]);
             cx q = cx_add(cx_mul(u0, du0), cx_dot3(uv, duv));
-            Hs[k] = cx_sub(cx_scale(2.0, q), cx_mul(h->dp.t[k][6], ee));
+            Hs[k] = cx_sub(cx_scale(2.0, q), cx_mul(h->dd[k], ee));
         }
     }
     cx st = {0.0, 0.0}, ch = {-1.0, 0.0};
@@ -374,12 +380,17 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
             dt.t2[k][i] = k ? s[k].t2.v[i] / L : 0.0;
         }
         dt.d2[k] = (s[k].d / L) * (s[k].d / L);
-        for (int j = 0; j < 7; j++) {
-            const double *v = sfmi_r2r_d6_start_par[7 * k + j];
-            double tgt = j < 3 ? dt.t1[k][j] : (j < 6 ? dt.t2[k][j - 3] : dt.d2[k]);
-            h.p0.t[k][j] = (cx){v[0], v[1]};
-            h.dp.t[k][j] = (cx){tgt - v[0], -v[1]};
+        const double(*P)[2] = sfmi_r2r_d6_start_par + 7 * k; /* t1, t2, d^2 at P0 */
+        for (int i = 0; i < 3; i++) {
+            cx a0 = {P[i][0], P[i][1]}, b0 = {P[3 + i][0], P[3 + i][1]};
+            cx da = cx_sub((cx){dt.t1[k][i], 0.0}, a0), db = cx_sub((cx){dt.t2[k][i], 0.0}, b0);
+            h.m0[k][i] = cx_sub(b0, a0);
+            h.n0[k][i] = cx_add(a0, b0);
+            h.dm[k][i] = cx_sub(db, da);
+            h.dn[k][i] = cx_add(da, db);
         }
+        h.d0[k] = (cx){P[6][0], P[6][1]};
+        h.dd[k] = cx_sub((cx){dt.d2[k], 0.0}, h.d0[k]);
     }
     for (int i = 0; i < 8; i++)
         h.c[i] = (cx){sfmi_r2r_d6_chart[i][0], sfmi_r2r_d6_chart[i][1]};
