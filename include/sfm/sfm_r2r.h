@@ -130,7 +130,7 @@ SFM_API int sfm_r2r_predict(const sfm_r2r_step *step, const sfm_r2r_transform *T
  * template is singular for these data. All 14 base systems are built
  * (SFM_E_UNSUPPORTED stays in the list for a registry without one).
  * Cost: six distances alone (D6, the Stewart-Gough forward kinematics, 40
- * complex solutions) are a parameter homotopy of 40 paths, about 72 M
+ * complex solutions) are a parameter homotopy of 40 paths, about 67 M
  * instructions (x86-64); every other base system is below 0.5 M except
  * B1_D_D_D_D (33 M). With more equations than six D6 is tried last.
  * out must hold SFM_R2R_MAX_SOLUTIONS; ws at least

@@ -56,8 +56,8 @@
  * about 5 KiB (x86-64 gcc -O2: 3.1 KiB in solve with the tracker inlined,
  * 1.2 KiB a Newton step, 0.6 KiB the evaluation).
  * Cost (random scenes, bench/README.md): about 7,400 complex 8 x 8 solves
- * per call, 29 tries of a step per path of which 4 rejected; 72 M
- * instructions on x86-64, half in the eliminations, half in eval.
+ * per call, 29 tries of a step per path of which 4 rejected; 67 M
+ * instructions on x86-64, about half in the eliminations, half in eval.
  */
 #include <math.h>
 #include <string.h>

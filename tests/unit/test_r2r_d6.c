@@ -19,7 +19,7 @@
 
 static double d6_ws[1 << 14];
 
-/* A solve is about 72 M instructions (40 tracked paths): emulated targets
+/* A solve is about 67 M instructions (40 tracked paths): emulated targets
  * (SFM_TEST_REDUCED) run a fiftieth of the instances, enough to prove the
  * code runs there; the native run has the thousands. */
 #ifdef SFM_TEST_REDUCED
