@@ -25,7 +25,7 @@
 #include <math.h>
 
 #include "sfm/sfm_poly.h"
-#include "solvers/r2r_axis.h"
+#include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
 static int solve_b1b2_d_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)

@@ -15,7 +15,7 @@
  */
 #include <math.h>
 
-#include "solvers/r2r_axis.h"
+#include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
 static int solve_db1_b1_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)

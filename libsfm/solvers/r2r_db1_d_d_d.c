@@ -22,7 +22,7 @@
 #include <math.h>
 
 #include "solvers/generated/r2r_tmpl.h"
-#include "solvers/r2r_axis.h"
+#include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
 /* Cayley rotation (1 + s's) C = (1 - s's) I + 2 [s]x + 2 s s^T. */

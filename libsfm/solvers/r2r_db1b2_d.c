@@ -12,7 +12,7 @@
  * none when the data admit no rotation). No polynomial solve is needed, so
  * no generated template. Stack under 1 KB; no workspace.
  */
-#include "solvers/r2r_axis.h"
+#include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
 static int solve_db1b2_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)

@@ -280,7 +280,7 @@ static int collinear(const sfm_r2r_step *s, const unsigned *use, int n, int robo
 /* A turn of C about robot 2's line of motion that no measurement sees:
  * robot 2's positions on one line and no b2, or robot 1's on one line and
  * no b1 (see the header comment). */
-static int motion_degenerate(const sfm_r2r_step *s, const unsigned *use, int n)
+int sfmi_r2r_motion_degenerate(const sfm_r2r_step *s, const unsigned *use, int n)
 {
     unsigned any = 0;
     for (int k = 0; k < n; k++)
@@ -671,7 +671,7 @@ int sfmi_r2r_solve_with(const sfmi_r2r_system_desc *const *table, const sfm_r2r_
     int nm = merge_steps(steps, n_steps, w.m), em = 0;
     for (int k = 0; k < nm; k++)
         em += n_eq(w.m[k].has);
-    if (em < 6 || motion_degenerate(w.m, NULL, nm))
+    if (em < 6 || sfmi_r2r_motion_degenerate(w.m, NULL, nm))
         return SFM_E_DEGENERATE;
 
     sfmi_r2r_canon c;
@@ -697,7 +697,7 @@ int sfmi_r2r_solve_with(const sfmi_r2r_system_desc *const *table, const sfm_r2r_
         for (int swap = 0; swap < 2 - symmetric && kept < SUBSETS; swap++) {
             if (!pick_subset(w.m, nm, sys, swap, w.use))
                 continue;
-            if (motion_degenerate(w.m, w.use, nm))
+            if (sfmi_r2r_motion_degenerate(w.m, w.use, nm))
                 continue;
             if (sfmi_r2r_canonicalize(w.m, w.use, nm, &c) < 0)
                 continue;

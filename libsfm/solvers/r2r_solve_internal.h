@@ -36,6 +36,12 @@ void sfmi_r2r_to_canonical(const sfmi_r2r_canon *c, const sfm_r2r_transform *in,
 void sfmi_r2r_from_canonical(const sfmi_r2r_canon *c, const sfm_r2r_transform *in,
                              sfm_r2r_transform *out);
 
+/* 1 when a turn of C about one robot's line of motion is unseen: robot 2's
+ * positions on one straight line (or still, within 1e-6 of the scene's
+ * scale) and no b2 among the measurements use[k] (NULL: each step's has),
+ * or robot 1's and no b1. Base solvers call it on their own steps too. */
+int sfmi_r2r_motion_degenerate(const sfm_r2r_step *s, const unsigned *use, int n);
+
 /* The canonical pattern of each base system (index = sfm_r2r_system). */
 extern const unsigned char sfmi_r2r_patterns[SFM_R2R_SYS_COUNT_][7]; /* n, masks... */
 

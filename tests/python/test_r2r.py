@@ -100,8 +100,6 @@ def test_six_equations_any_order_and_exchange(name):
         try:
             sols = libsfm.r2r_solve(steps)
         except SfmError as e:
-            if e.name == "SFM_E_UNSUPPORTED":
-                pytest.skip("%s: base system not built on this branch" % name)
             if name in RANK_DEFICIENT and e.name == "SFM_E_DEGENERATE":
                 runs += 1
                 found += 1
@@ -127,11 +125,7 @@ def test_long_sequences_truth_first():
         n = int(rng.integers(7, 21))
         masks = [7] * n if it % 2 == 0 else list(rng.integers(1, 8, n))
         steps, C, p = random_scene(rng, masks)
-        try:
-            sols = libsfm.r2r_solve(steps)
-        except SfmError as e:
-            assert e.name == "SFM_E_UNSUPPORTED"
-            continue
+        sols = libsfm.r2r_solve(steps)
         runs += 1
         ok += len(sols) >= 1 and has_truth(sols[:1], C, p)
     assert runs > 0
@@ -207,3 +201,43 @@ def test_bad_inputs():
         libsfm.r2r_solve([])
     with pytest.raises(TypeError):
         libsfm.r2r_solve(steps[0])
+
+
+def test_d6_six_distances():
+    """Six distances (the Stewart-Gough forward kinematics, 40 complex
+    solutions): the truth among the answers, every answer a rotation meeting
+    the six distances (checked here with numpy), at most 40 real answers and
+    an even number of them (the complex ones come in conjugate pairs)."""
+    rng = np.random.default_rng(16)
+    found = runs = 0
+    for _ in range(80):
+        steps, C, p = random_scene(rng, [D] * 6)
+        assert libsfm.r2r_classify(steps) == "D6"
+        sols = libsfm.r2r_solve(steps)
+        runs += 1
+        found += has_truth(sols, C, p)
+        assert len(sols) <= 40 and len(sols) % 2 == 0
+        for Cs, ps in sols:
+            assert np.abs(Cs @ Cs.T - np.eye(3)).max() < 1e-9 and np.linalg.det(Cs) > 0
+            for st in steps:
+                assert abs(np.linalg.norm(Cs @ st["t2"] + ps - st["t1"]) - st["d"]) < 1e-7 * st["d"]
+    assert found == runs, "truth in %d of %d" % (found, runs)
+
+
+def test_d6_ground_robots():
+    """Both robots on the ground plane (z = 0 in a common world, yaw only):
+    planar base and platform, where the solutions come in mirror pairs
+    through the plane; the truth is among them."""
+    rng = np.random.default_rng(17)
+    found = 0
+    for _ in range(30):
+        yaw1, yaw2 = rng.uniform(-np.pi, np.pi, (2, 6))
+        W1 = Rotation.from_euler("z", yaw1[:, None]).as_matrix()
+        W2 = Rotation.from_euler("z", yaw2[:, None]).as_matrix()
+        P1 = np.c_[rng.uniform(-3, 3, (6, 2)), np.zeros(6)]
+        P2 = np.c_[rng.uniform(-3, 3, (6, 2)), np.zeros(6)]
+        P2[:, :2] += 1.0
+        steps, C, p = scene(W1, P1, W2, P2, [D] * 6)
+        sols = libsfm.r2r_solve(steps)
+        found += has_truth(sols, C, p)
+    assert found >= 29, "truth in %d of 30" % found

@@ -14,20 +14,20 @@
 #include "sfm_test.h"
 #include "solvers/r2r_internal.h"
 
-static void r2r_sim_mulv(const double *R, const double *x, double *y)
+static inline void r2r_sim_mulv(const double *R, const double *x, double *y)
 {
     for (int r = 0; r < 3; r++)
         y[r] = R[3 * r] * x[0] + R[3 * r + 1] * x[1] + R[3 * r + 2] * x[2];
 }
 
-static void r2r_sim_mulvt(const double *R, const double *x, double *y)
+static inline void r2r_sim_mulvt(const double *R, const double *x, double *y)
 {
     for (int r = 0; r < 3; r++)
         y[r] = R[r] * x[0] + R[3 + r] * x[1] + R[6 + r] * x[2];
 }
 
 /* Measurements of step s under the truth T, for the has-mask s->has. */
-static void r2r_sim_measure(sfm_r2r_step *s, const sfm_r2r_transform *T)
+static inline void r2r_sim_measure(sfm_r2r_step *s, const sfm_r2r_transform *T)
 {
     double r[3], q[3];
     r2r_sim_mulv(T->C.m, s->t2.v, r);
@@ -47,7 +47,7 @@ static void r2r_sim_measure(sfm_r2r_step *s, const sfm_r2r_transform *T)
 
 /* A random scene for the pattern of desc (steps[0] identity ego-motion).
  * Positions within `span` metres of the origin, robot 2 start 1..5 m away. */
-static void r2r_sim_scene(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, double span,
+static inline void r2r_sim_scene(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, double span,
                           sfm_r2r_step *steps, sfm_r2r_transform *truth)
 {
     sfm_test_random_rotation(t, truth->C.m);
@@ -76,7 +76,7 @@ static void r2r_sim_scene(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, dou
 
 /* Largest deviation of a solution from the truth (rotation entries, and
  * position in metres). */
-static double r2r_sim_error(const sfm_r2r_transform *a, const sfm_r2r_transform *b)
+static inline double r2r_sim_error(const sfm_r2r_transform *a, const sfm_r2r_transform *b)
 {
     double e = 0.0;
     for (int i = 0; i < 9; i++)
@@ -88,7 +88,7 @@ static double r2r_sim_error(const sfm_r2r_transform *a, const sfm_r2r_transform 
 
 /* Residual of a returned solution on the measurements it was solved from:
  * the largest of the distance errors (m) and bearing errors (unit vectors). */
-static double r2r_sim_residual(const sfm_r2r_step *steps, int n, const sfm_r2r_transform *T)
+static inline double r2r_sim_residual(const sfm_r2r_step *steps, int n, const sfm_r2r_transform *T)
 {
     double e = 0.0;
     for (int k = 0; k < n; k++) {
@@ -107,7 +107,7 @@ static double r2r_sim_residual(const sfm_r2r_step *steps, int n, const sfm_r2r_t
 }
 
 /* Proper rotation check: |C^T C - I| and det C. */
-static int r2r_sim_is_rotation(const double *C, double tol)
+static inline int r2r_sim_is_rotation(const double *C, double tol)
 {
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
@@ -128,7 +128,7 @@ typedef struct r2r_sim_stats {
 /* Solve `trials` random noise-free instances of desc; count how often the
  * truth is among the solutions (within tol), and check every returned
  * solution is a proper rotation that reproduces the measurements. */
-static r2r_sim_stats r2r_sim_run(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
+static inline r2r_sim_stats r2r_sim_run(sfm_test_ctx *t, const sfmi_r2r_system_desc *desc, int trials,
                                  double tol, double *ws)
 {
     r2r_sim_stats st = {trials, 0, 0, 0, 0, 0.0};
