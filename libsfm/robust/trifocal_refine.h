@@ -13,11 +13,13 @@ typedef struct sfmi_tf_refine_ws {
     int cap;      /* n the buffers hold */
 } sfmi_tf_refine_ws;
 
-/* Per-point blocks: Jp (6x3, along the sfmi_lm_sphere_basis of X), Jc rows
- * (view 2 -> P2's 12 entries, view 3 -> P3's) stored as two 2x12 blocks,
- * residual r (6: views 1, 2, 3). */
+/* Per-point blocks: Jp (6x3, along the tangent basis B = sfmi_lm_sphere_basis
+ * of X, 4x3), residual r (6: views 1, 2, 3), and for views 2 and 3 the
+ * factors (iw, u, v) of the camera Jacobian d r_v / d P_v (2 x 12, P_v's
+ * entries row-major) = iw [X^T 0 -u X^T; 0 X^T -v X^T]
+ * (sfmi_trifocal_residual). */
 typedef struct sfmi_tf_point_blocks {
-    double Jp[18], Jc2[24], Jc3[24], r[6];
+    double Jp[18], r[6], cam[6], B[12];
 } sfmi_tf_point_blocks;
 
 /* The residuals and Jacobians of point p (x1..x3 in xs) at X (unit

@@ -18,7 +18,7 @@
 enum { GN_ITERS = 4 };
 
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
-                          double JX[8], double JP[24])
+                          double JX[8], double cam[3])
 {
     double p[3];
     for (int k = 0; k < 3; k++)
@@ -33,14 +33,10 @@ int sfmi_trifocal_residual(const double P[12], const double X[4], const double x
             JX[c] = (P[c] - u * P[8 + c]) * iw;
             JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
         }
-    if (JP != NULL) {
-        memset(JP, 0, sizeof(double) * 24);
-        for (int c = 0; c < 4; c++) {
-            JP[c] = X[c] * iw;          /* du / dP[0][c] */
-            JP[8 + c] = -u * X[c] * iw; /* du / dP[2][c] */
-            JP[16 + c] = X[c] * iw;     /* dv / dP[1][c] */
-            JP[20 + c] = -v * X[c] * iw;
-        }
+    if (cam != NULL) {
+        cam[0] = iw;
+        cam[1] = u;
+        cam[2] = v;
     }
     return 1;
 }

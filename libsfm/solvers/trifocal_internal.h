@@ -6,10 +6,12 @@
 int sfmi_trifocal_normalize(double *v, int n);
 
 /* Reprojection residual of x under camera P for the homogeneous point X
- * (x_proj - x, pixels), with d r / d X (2x4, may be NULL) and d r / d P
- * (2x12, row-major P entries, may be NULL). 0 when X projects to infinity. */
+ * (x_proj - x, pixels), with d r / d X (2x4, may be NULL) and the factors
+ * cam = (iw, u, v) (may be NULL) of d r / d P (2x12, row-major P entries)
+ * = iw [X^T 0 -u X^T; 0 X^T -v X^T]: iw = 1 / (P X)_3 and (u, v) the
+ * projection. 0 when X projects to infinity. */
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
-                          double JX[8], double JP[24]);
+                          double JX[8], double cam[3]);
 
 /* Orthonormal basis B (4x3, columns) of the complement of the unit 4-vector
  * X, from the Householder reflector mapping X to a multiple of e_a: the
