@@ -22,9 +22,9 @@
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 
-#define SWEEP_ITERS 10  /* bundle adjustment steps per fixed-focal candidate */
+#define SWEEP_ITERS 8  /* bundle adjustment steps per fixed-focal candidate */
 #define FINAL_ITERS 50
-#define GOLDEN_STEPS 8
+#define GOLDEN_STEPS 4
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
 #define NOISE_FLOOR 0.05
 #define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
