@@ -39,6 +39,9 @@ void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w)
     w->Xold = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->U = SFM_ARENA_ARRAY(a, double, NC * NC);
     w->S = SFM_ARENA_ARRAY(a, double, NC * NC);
+    w->nkept = n < SFMI_TF_REFINE_KEPT ? n : SFMI_TF_REFINE_KEPT;
+    w->kept = SFM_ARENA_ARRAY(a, sfmi_tf_point_blocks, w->nkept);
+    w->kept_ok = SFM_ARENA_ARRAY(a, unsigned char, w->nkept);
     w->cap = n;
 }
 
@@ -169,6 +172,9 @@ typedef struct tf_sys {
     double *X, *Xt;
     double *U, *S; /* NC x NC */
     double Udiag[NC], gc[NC], dc[NC];
+    point_blocks *kept; /* the blocks of the first nkept points at the current point */
+    unsigned char *kept_ok;
+    int nkept;
 } tf_sys;
 
 /* The camera block's regularisation beside the damping: the Schur
@@ -190,7 +196,13 @@ static double tf_linearize(void *self, double *gmax)
     for (int q = 0; q < c->n; q++) {
         point_blocks b;
         const double *X = &c->X[4 * q];
-        if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b))
+        int ok = sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b);
+        if (q < c->nkept) {
+            c->kept_ok[q] = (unsigned char)ok;
+            if (ok)
+                c->kept[q] = b;
+        }
+        if (!ok)
             continue;
         for (int w = 0; w < 2; w++) {
             const double iw = b.cam[3 * w], u = b.cam[3 * w + 1], v = b.cam[3 * w + 2];
@@ -222,8 +234,13 @@ static int point_system(const tf_sys *c, int q, double mu, point_blocks *b, doub
                         double Vi[9], double Dp[3])
 {
     double V[9];
-    if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b))
+    if (q < c->nkept) {
+        if (!c->kept_ok[q])
+            return 0;
+        *b = c->kept[q];
+    } else if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b)) {
         return 0;
+    }
     point_products(b, V, gp);
     for (int k = 0; k < 3; k++) {
         Dp[k] = mu * sfmi_lm_clamp_diag(V[k * 4]);
@@ -358,6 +375,9 @@ double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, cons
     c.Xt = w->Xold;
     c.U = w->U;
     c.S = w->S;
+    c.kept = w->kept;
+    c.kept_ok = w->kept_ok;
+    c.nkept = n < w->nkept ? n : w->nkept;
     memcpy(c.A2, P2, sizeof c.A2);
     memcpy(c.A3, P3, sizeof c.A3);
     normalize12(c.A2);

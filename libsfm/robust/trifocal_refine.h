@@ -6,11 +6,22 @@
 
 #include "core/arena.h"
 
+/* Points whose blocks (below) a refinement keeps from its linearisation
+ * for the solves at that point (the LO refits use at most 192 points); the
+ * blocks of the others are recomputed, so the workspace stays at a few
+ * doubles per point. */
+#define SFMI_TF_REFINE_KEPT 256
+
+struct sfmi_tf_point_blocks;
+
 typedef struct sfmi_tf_refine_ws {
     double *X;    /* 4n: current homogeneous points */
     double *Xold; /* 4n: points of the trial step */
     double *U, *S; /* 24 x 24: camera block, reduced system */
+    struct sfmi_tf_point_blocks *kept; /* min(n, SFMI_TF_REFINE_KEPT) */
+    unsigned char *kept_ok;            /* the same count */
     int cap;      /* n the buffers hold */
+    int nkept;
 } sfmi_tf_refine_ws;
 
 /* Per-point blocks: Jp (6x3, along the tangent basis B = sfmi_lm_sphere_basis
