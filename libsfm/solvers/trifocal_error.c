@@ -134,8 +134,15 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
          * no step when it is singular */
         if (!sfmi_mat3_inverse(H, Hi, 0.0))
             break;
-        for (int a = 0; a < 3; a++)
+        double pred = 0;
+        for (int a = 0; a < 3; a++) {
             d[a] = Hi[a * 3] * g[0] + Hi[a * 3 + 1] * g[1] + Hi[a * 3 + 2] * g[2];
+            pred += g[a] * d[a];
+        }
+        /* converged: the step's predicted decrease g^T H^-1 g is below the
+         * tolerance the achieved decrease is held to below */
+        if (!(pred >= 1e-12 * (1.0 + c0)))
+            break;
         double Xn[4], nn = 0;
         for (int k = 0; k < 4; k++) {
             Xn[k] = X[k] - (B[k * 3] * d[0] + B[k * 3 + 1] * d[1] + B[k * 3 + 2] * d[2]);
