@@ -14,8 +14,9 @@
  * inverted, the reduced 24x24 camera system S = U - sum W_j V_j^-1 W_j^T is
  * solved by Cholesky, and each point's step follows by back-substitution.
  * A camera Jacobian is a Kronecker product with the point (point_h), so
- * W_j V_j^-1 W_j^T is a 6x6 matrix times X_j X_j^T and only the lower
- * triangle is formed.
+ * W_j V_j^-1 W_j^T is a 6x6 matrix times X_j X_j^T: the sums over the points
+ * are kept per distinct entry (21 x 10) and unpacked into the lower triangle
+ * once per solve.
  * The per-point Jacobians are recomputed in each solve rather than stored, so
  * the workspace stays at a few doubles per point.
  */
@@ -122,31 +123,41 @@ static void point_products(const point_blocks *b, double V[9], double gp[3])
     }
 }
 
-/* S[a][b] += s K[ka][kb] X[ca] X[cb] over the lower triangle (b <= a) of
- * the rows a = 4 ka + ca, ka < nk (K nk x nk, row-major, lower part read):
- * the Kronecker product K (x) X X^T, folded into the camera block. */
-static void add_kron_lower(double *S, const double *K, int nk, const double X[4], double s)
+/* Sums of Kronecker products K (x) X X^T over the points, K symmetric
+ * (nk x nk, nk <= 6), in packed form: acc[pk][px] += K_pk (X X^T)_px over
+ * the nk (nk + 1) / 2 lower entries pk of K and the 10 lower entries px of
+ * X X^T, so each point costs one product per distinct entry of the sum. */
+enum { KRON_MAX = 21, XX_N = 10 };
+
+static void kron_accumulate(double acc[KRON_MAX][XX_N], const double *K, int nk, const double X[4])
 {
-    double XX[16];
-    for (int c = 0; c < 4; c++)
-        for (int d = 0; d < 4; d++)
-            XX[4 * c + d] = s * X[c] * X[d];
+    double xx[XX_N];
+    for (int c = 0, p = 0; c < 4; c++)
+        for (int d = 0; d <= c; d++)
+            xx[p++] = X[c] * X[d];
+    for (int ka = 0, pk = 0; ka < nk; ka++)
+        for (int kb = 0; kb <= ka; kb++, pk++) {
+            const double k = K[ka * nk + kb];
+            double *a = acc[pk];
+            for (int p = 0; p < XX_N; p++)
+                a[p] += k * xx[p];
+        }
+}
+
+/* S[a][b] += s (sum) over the lower triangle (b <= a) of the rows
+ * a = 4 ka + ca, ka < nk, of the packed sum; S has row stride NC. */
+static void kron_add_lower(double *S, double acc[KRON_MAX][XX_N], int nk, double s)
+{
     for (int ka = 0; ka < nk; ka++)
-        for (int ca = 0; ca < 4; ca++) {
-            double *Srow = S + (size_t)(4 * ka + ca) * NC;
-            const double *xx = &XX[4 * ca];
-            for (int kb = 0; kb < ka; kb++) {
-                const double k = K[ka * nk + kb];
-                double *sr = Srow + 4 * kb;
-                sr[0] += k * xx[0];
-                sr[1] += k * xx[1];
-                sr[2] += k * xx[2];
-                sr[3] += k * xx[3];
+        for (int kb = 0; kb <= ka; kb++) {
+            const double *a = acc[ka * (ka + 1) / 2 + kb];
+            for (int ca = 0; ca < 4; ca++) {
+                double *Srow = S + (size_t)(4 * ka + ca) * NC + 4 * kb;
+                for (int cb = 0; cb < 4 && (kb < ka || cb <= ca); cb++) {
+                    const int hi = ca > cb ? ca : cb, lo = ca > cb ? cb : ca;
+                    Srow[cb] += s * a[hi * (hi + 1) / 2 + lo];
+                }
             }
-            const double k = K[ka * nk + ka];
-            double *sr = Srow + 4 * ka;
-            for (int cb = 0; cb <= ca; cb++)
-                sr[cb] += k * xx[cb];
         }
 }
 
@@ -192,7 +203,8 @@ static double tf_linearize(void *self, double *gmax)
         return HUGE_VAL;
     memset(c->U, 0, sizeof(double) * NC * NC);
     memset(c->gc, 0, sizeof c->gc);
-    double m = 0.0;
+    double m = 0.0, acc[2][KRON_MAX][XX_N];
+    memset(acc, 0, sizeof acc);
     for (int q = 0; q < c->n; q++) {
         point_blocks b;
         const double *X = &c->X[4 * q];
@@ -208,9 +220,10 @@ static double tf_linearize(void *self, double *gmax)
             const double iw = b.cam[3 * w], u = b.cam[3 * w + 1], v = b.cam[3 * w + 2];
             const double *r = &b.r[2 + 2 * w];
             /* iw^2 N^T N and iw N^T r */
-            const double M[9] = {1, 0, -u, 0, 1, -v, -u, -v, u * u + v * v};
+            const double iw2 = iw * iw;
+            const double M[9] = {iw2, 0, -iw2 * u, 0, iw2, -iw2 * v, -iw2 * u, -iw2 * v, iw2 * (u * u + v * v)};
             const double g[3] = {r[0], r[1], -u * r[0] - v * r[1]};
-            add_kron_lower(c->U + (size_t)(12 * w) * NC + 12 * w, M, 3, X, iw * iw);
+            kron_accumulate(acc[w], M, 3, X);
             for (int i = 0; i < 3; i++)
                 for (int k = 0; k < 4; k++)
                     c->gc[12 * w + 4 * i + k] += iw * g[i] * X[k];
@@ -220,6 +233,8 @@ static double tf_linearize(void *self, double *gmax)
         for (int k = 0; k < 3; k++)
             m = fmax(m, fabs(gp[k]));
     }
+    for (int w = 0; w < 2; w++)
+        kron_add_lower(c->U + (size_t)(12 * w) * NC + 12 * w, acc[w], 3, 1.0);
     for (int a = 0; a < NC; a++) {
         c->Udiag[a] = c->U[a * NC + a];
         m = fmax(m, fabs(c->gc[a]));
@@ -261,6 +276,8 @@ static int tf_solve(void *self, double mu, double *step2, double *x2, double *pr
     }
     /* reduced camera system S dc = -(gc - sum W V^-1 gp), with
      * W V^-1 W^T = (H V^-1 H^T) (x) X X^T (point_h) */
+    double acc[KRON_MAX][XX_N];
+    memset(acc, 0, sizeof acc);
     for (int q = 0; q < c->n; q++) {
         point_blocks b;
         double gp[3], Vi[9], Dp[3], H[18], HV[18], K[36], y[6];
@@ -276,11 +293,12 @@ static int tf_solve(void *self, double mu, double *step2, double *x2, double *pr
             y[a] = HV[a * 3] * gp[0] + HV[a * 3 + 1] * gp[1] + HV[a * 3 + 2] * gp[2];
         }
         const double *X = &c->X[4 * q];
-        add_kron_lower(S, K, 6, X, -1.0);
+        kron_accumulate(acc, K, 6, X);
         for (int a = 0; a < 6; a++)
             for (int k = 0; k < 4; k++)
                 rhs[4 * a + k] -= y[a] * X[k];
     }
+    kron_add_lower(S, acc, 6, -1.0);
     for (int a = 0; a < NC; a++)
         c->dc[a] = -rhs[a];
     if (sfm_cholesky_factor(S, NC) != SFM_OK || sfm_cholesky_solve(S, NC, c->dc, 1) != SFM_OK)
