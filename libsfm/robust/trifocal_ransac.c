@@ -16,6 +16,7 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/normalize.h"
+#include "solvers/trifocal_internal.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_trifocal.h"
 
@@ -120,15 +121,14 @@ static int tf_solve(void *vctx, const int *sample, double *models)
         memcpy(&y2[2 * k], &c->x2[2 * sample[k]], 2 * sizeof(double));
         memcpy(&y3[2 * k], &c->x3[2 * sample[k]], 2 * sizeof(double));
     }
-    double T[27];
-    int st = sfm_trifocal_7pt(y1, y2, y3, SAMPLE, T, c->solver_ws, c->solver_size);
+    double T[27], e2[3], e3[3];
+    int st = sfmi_trifocal_7pt_epipoles(y1, y2, y3, SAMPLE, T, e2, e3, c->solver_ws, c->solver_size);
     if (st == SFM_E_SINGULAR || st == SFM_E_NO_CONVERGENCE)
         return 0; /* a degenerate sample */
     if (st < 0)
         return st;
     tf_model *m = (tf_model *)models;
-    if (sfm_trifocal_cameras(T, m->P2, m->P3) != SFM_OK)
-        return 0;
+    sfmi_trifocal_cameras_from(T, e2, e3, m->P2, m->P3);
     memcpy(m->T, T, sizeof T);
     return 1;
 }
