@@ -27,7 +27,7 @@
 #define GOLDEN_STEPS 4
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
 #define NOISE_FLOOR 0.05
-#define SEARCH_POINTS 200 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
+#define SEARCH_POINTS 150 /* inliers the focal search runs on */ /* px: noise standard deviation assumed at least */
 
 void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, sfmi_mu *c)
 {
