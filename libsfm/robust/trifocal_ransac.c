@@ -42,6 +42,7 @@ typedef struct tf_memo {
     double h21, h31;     /* bounds on the norms of the constraints' Hessians */
     double reject;       /* sum of squares over three views beyond every band */
     double *r2;          /* n: residuals, valid where stamp == cur */
+    double *X;           /* 4n: their triangulated points (where r2 is finite) */
     uint32_t *stamp;     /* n */
     uint32_t cur;        /* 0: no model yet */
     int n;
@@ -54,6 +55,7 @@ typedef struct tf_ctx {
     sfmi_tf_refine_ws refine;
     int *thin; /* LO_POINTS */
     int full;  /* refit on every point given (the polish) */
+    double *X0; /* 4n: starting points of a refit */
     tf_memo memo;
 } tf_ctx;
 
@@ -70,7 +72,7 @@ typedef struct tf_support_ws {
 typedef struct tf_layout_out {
     tf_support_ws sup;
     int *thin;
-    double *memo_r2;
+    double *memo_r2, *memo_X, *X0;
     uint32_t *memo_stamp;
     void *ransac_ws;
     size_t ransac_size;
@@ -89,6 +91,8 @@ static void layout(sfmi_arena *a, int n, tf_layout_out *o)
     sfmi_tf_refine_layout(a, n, &o->refine);
     o->thin = SFM_ARENA_ARRAY(a, int, LO_POINTS);
     o->memo_r2 = SFM_ARENA_ARRAY(a, double, n);
+    o->memo_X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
+    o->X0 = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     o->memo_stamp = SFM_ARENA_ARRAY(a, uint32_t, n);
     o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
     o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
@@ -179,7 +183,8 @@ static double tf_epipolar_lower2(const double F[9], double h, const double *p, c
  * - the engine and the final checks ask for the same model's residuals
  *   several times over (the LO band, its inliers, its cost, the support
  *   checks, the mask); the last model's residuals are kept, keyed by its
- *   cameras' bytes. */
+ *   cameras' bytes, with the triangulated points, which start the refit of
+ *   that model (tf_refine). */
 static double tf_residual(void *vctx, const double *model, int i)
 {
     tf_ctx *c = (tf_ctx *)vctx;
@@ -200,7 +205,7 @@ static double tf_residual(void *vctx, const double *model, int i)
     double e = HUGE_VAL;
     if (!(tf_epipolar_lower2(mo->F21, mo->h21, p1, p2) > mo->reject) &&
         !(tf_epipolar_lower2(mo->F31, mo->h31, p1, p3) > mo->reject) &&
-        sfm_trifocal_point_error(P1, m->P2, m->P3, p1, p2, p3, &e, NULL) == SFM_OK)
+        sfm_trifocal_point_error(P1, m->P2, m->P3, p1, p2, p3, &e, &mo->X[4 * (size_t)i]) == SFM_OK)
         e /= 3.0;
     else
         e = HUGE_VAL;
@@ -221,11 +226,21 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
         inliers = c->thin;
         n_inliers = LO_POINTS;
     }
+    /* the points triangulated when this model was scored start the refit */
+    const tf_memo *mo = &c->memo;
+    const int have = mo->cur != 0 && memcmp(mo->key, m->P2, sizeof mo->key) == 0;
+    for (int j = 0; j < n_inliers; j++) {
+        const int i = inliers[j];
+        if (have && mo->stamp[i] == mo->cur && mo->r2[i] < HUGE_VAL)
+            memcpy(&c->X0[4 * (size_t)j], &mo->X[4 * (size_t)i], 4 * sizeof(double));
+        else
+            c->X0[4 * (size_t)j] = NAN;
+    }
     double P2[12], P3[12], T[27];
     memcpy(P2, m->P2, sizeof P2);
     memcpy(P3, m->P3, sizeof P3);
     int st;
-    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, P2, P3, LO_ITERS, &c->refine, &st);
+    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, c->X0, P2, P3, LO_ITERS, &c->refine, &st);
     if (st < 0)
         return st;
     if (sfm_trifocal_from_cameras(P1, P2, P3, T) != SFM_OK)
@@ -434,6 +449,8 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
     ctx.refine = lay.refine;
     ctx.thin = lay.thin;
     ctx.memo.r2 = lay.memo_r2;
+    ctx.memo.X = lay.memo_X;
+    ctx.X0 = lay.X0;
     ctx.memo.stamp = lay.memo_stamp;
     ctx.memo.n = n;
     memset(ctx.memo.stamp, 0, sizeof(uint32_t) * (size_t)n);

@@ -377,7 +377,8 @@ static void tf_accept(void *self)
 }
 
 double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
-                     double P2[12], double P3[12], int max_iters, sfmi_tf_refine_ws *w, int *status)
+                     const double *X0, double P2[12], double P3[12], int max_iters,
+                     sfmi_tf_refine_ws *w, int *status)
 {
     const double *xs[3] = {x1, x2, x3};
     *status = SFM_OK;
@@ -400,10 +401,15 @@ double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, cons
     memcpy(c.A3, P3, sizeof c.A3);
     normalize12(c.A2);
     normalize12(c.A3);
-    /* Initial points: optimal triangulation under the current cameras. */
+    /* Initial points: optimal triangulation under the current cameras,
+     * unless the caller has it. */
     for (int q = 0; q < n; q++) {
         int p = idx[q];
         double e;
+        if (X0 != NULL && !isnan(X0[4 * q])) {
+            memcpy(&c.X[4 * q], &X0[4 * q], 4 * sizeof(double));
+            continue;
+        }
         int st = sfm_trifocal_point_error(P1, c.A2, c.A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &c.X[4 * q]);
         if (st < 0) {
             *status = st;

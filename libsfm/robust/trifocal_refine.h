@@ -48,11 +48,16 @@ void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w);
  * tangent space), with the points eliminated by the Schur complement: the
  * reduced 24x24 camera system is solved by Cholesky. H&Z alg. 16.2's gold
  * standard step, run by the LM driver (core/lm.h: at most max_iters steps,
- * relative cost tolerance 1e-10). P2, P3 are written (unit Frobenius norm;
- * the input when no step lowered the cost). Returns the final cost (sum of
- * squared pixel errors), or INFINITY with *status negative.
+ * relative cost tolerance 1e-10). The points start at X0 (n x 4 in list
+ * order, unit homogeneous, the optimal triangulation under P2, P3 up to
+ * their scale; may be NULL), or where X0 is NULL or an entry starts with a
+ * NaN, at that triangulation (sfm_trifocal_point_error). P2, P3 are written
+ * (unit Frobenius norm; the input when no step lowered the cost). Returns
+ * the final cost (sum of squared pixel errors), or INFINITY with *status
+ * negative.
  */
 double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, const int *idx, int n,
-                     double P2[12], double P3[12], int max_iters, sfmi_tf_refine_ws *w, int *status);
+                     const double *X0, double P2[12], double P3[12], int max_iters,
+                     sfmi_tf_refine_ws *w, int *status);
 
 #endif
