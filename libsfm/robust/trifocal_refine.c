@@ -107,18 +107,18 @@ static void point_h(const point_blocks *b, double H[18])
     }
 }
 
-/* V = Jp^T Jp (3x3), gp = Jp^T r. */
+/* V = Jp^T Jp (3x3, symmetric), gp = Jp^T r. */
 static void point_products(const point_blocks *b, double V[9], double gp[3])
 {
     for (int a = 0; a < 3; a++) {
         gp[a] = 0;
         for (int k = 0; k < 6; k++)
             gp[a] += b->Jp[k * 3 + a] * b->r[k];
-        for (int c = 0; c < 3; c++) {
+        for (int c = 0; c <= a; c++) {
             double s = 0;
             for (int k = 0; k < 6; k++)
                 s += b->Jp[k * 3 + a] * b->Jp[k * 3 + c];
-            V[a * 3 + c] = s;
+            V[a * 3 + c] = V[c * 3 + a] = s;
         }
     }
 }
