@@ -234,7 +234,7 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
         if (have && mo->stamp[i] == mo->cur && mo->r2[i] < HUGE_VAL)
             memcpy(&c->X0[4 * (size_t)j], &mo->X[4 * (size_t)i], 4 * sizeof(double));
         else
-            c->X0[4 * (size_t)j] = NAN;
+            c->X0[4 * (size_t)j] = (double)NAN;
     }
     double P2[12], P3[12], T[27];
     memcpy(P2, m->P2, sizeof P2);
