@@ -55,7 +55,6 @@ typedef struct tf_ctx {
     sfmi_tf_refine_ws refine;
     int *thin; /* LO_POINTS */
     int full;  /* refit on every point given (the polish) */
-    double *X0; /* 4n: starting points of a refit */
     tf_memo memo;
 } tf_ctx;
 
@@ -72,7 +71,7 @@ typedef struct tf_support_ws {
 typedef struct tf_layout_out {
     tf_support_ws sup;
     int *thin;
-    double *memo_r2, *memo_X, *X0;
+    double *memo_r2, *memo_X;
     uint32_t *memo_stamp;
     void *ransac_ws;
     size_t ransac_size;
@@ -92,7 +91,6 @@ static void layout(sfmi_arena *a, int n, tf_layout_out *o)
     o->thin = SFM_ARENA_ARRAY(a, int, LO_POINTS);
     o->memo_r2 = SFM_ARENA_ARRAY(a, double, n);
     o->memo_X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
-    o->X0 = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     o->memo_stamp = SFM_ARENA_ARRAY(a, uint32_t, n);
     o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
     o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
@@ -226,21 +224,18 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
         inliers = c->thin;
         n_inliers = LO_POINTS;
     }
-    /* the points triangulated when this model was scored start the refit */
+    /* the points triangulated when this model was scored start the refit
+     * (the listed points are its inliers, so all of them are known) */
     const tf_memo *mo = &c->memo;
-    const int have = mo->cur != 0 && memcmp(mo->key, m->P2, sizeof mo->key) == 0;
-    for (int j = 0; j < n_inliers; j++) {
-        const int i = inliers[j];
-        if (have && mo->stamp[i] == mo->cur && mo->r2[i] < HUGE_VAL)
-            memcpy(&c->X0[4 * (size_t)j], &mo->X[4 * (size_t)i], 4 * sizeof(double));
-        else
-            c->X0[4 * (size_t)j] = (double)NAN;
-    }
+    int have = mo->cur != 0 && memcmp(mo->key, m->P2, sizeof mo->key) == 0;
+    for (int j = 0; j < n_inliers && have; j++)
+        have = mo->stamp[inliers[j]] == mo->cur && mo->r2[inliers[j]] < HUGE_VAL;
     double P2[12], P3[12], T[27];
     memcpy(P2, m->P2, sizeof P2);
     memcpy(P3, m->P3, sizeof P3);
     int st;
-    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, c->X0, P2, P3, LO_ITERS, &c->refine, &st);
+    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, have ? mo->X : NULL, P2, P3, LO_ITERS,
+                   &c->refine, &st);
     if (st < 0)
         return st;
     if (sfm_trifocal_from_cameras(P1, P2, P3, T) != SFM_OK)
@@ -450,7 +445,6 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
     ctx.thin = lay.thin;
     ctx.memo.r2 = lay.memo_r2;
     ctx.memo.X = lay.memo_X;
-    ctx.X0 = lay.X0;
     ctx.memo.stamp = lay.memo_stamp;
     ctx.memo.n = n;
     memset(ctx.memo.stamp, 0, sizeof(uint32_t) * (size_t)n);

@@ -40,9 +40,6 @@ void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w)
     w->Xold = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
     w->U = SFM_ARENA_ARRAY(a, double, NC * NC);
     w->S = SFM_ARENA_ARRAY(a, double, NC * NC);
-    w->nkept = n < SFMI_TF_REFINE_KEPT ? n : SFMI_TF_REFINE_KEPT;
-    w->kept = SFM_ARENA_ARRAY(a, sfmi_tf_point_blocks, w->nkept);
-    w->kept_ok = SFM_ARENA_ARRAY(a, unsigned char, w->nkept);
     w->cap = n;
 }
 
@@ -183,9 +180,6 @@ typedef struct tf_sys {
     double *X, *Xt;
     double *U, *S; /* NC x NC */
     double Udiag[NC], gc[NC], dc[NC];
-    point_blocks *kept; /* the blocks of the first nkept points at the current point */
-    unsigned char *kept_ok;
-    int nkept;
 } tf_sys;
 
 /* The camera block's regularisation beside the damping: the Schur
@@ -208,13 +202,7 @@ static double tf_linearize(void *self, double *gmax)
     for (int q = 0; q < c->n; q++) {
         point_blocks b;
         const double *X = &c->X[4 * q];
-        int ok = sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b);
-        if (q < c->nkept) {
-            c->kept_ok[q] = (unsigned char)ok;
-            if (ok)
-                c->kept[q] = b;
-        }
-        if (!ok)
+        if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b))
             continue;
         for (int w = 0; w < 2; w++) {
             const double iw = b.cam[3 * w], u = b.cam[3 * w + 1], v = b.cam[3 * w + 2];
@@ -249,13 +237,8 @@ static int point_system(const tf_sys *c, int q, double mu, point_blocks *b, doub
                         double Vi[9], double Dp[3])
 {
     double V[9];
-    if (q < c->nkept) {
-        if (!c->kept_ok[q])
-            return 0;
-        *b = c->kept[q];
-    } else if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b)) {
+    if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, &c->X[4 * q], b))
         return 0;
-    }
     point_products(b, V, gp);
     for (int k = 0; k < 3; k++) {
         Dp[k] = mu * sfmi_lm_clamp_diag(V[k * 4]);
@@ -394,9 +377,6 @@ double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, cons
     c.Xt = w->Xold;
     c.U = w->U;
     c.S = w->S;
-    c.kept = w->kept;
-    c.kept_ok = w->kept_ok;
-    c.nkept = n < w->nkept ? n : w->nkept;
     memcpy(c.A2, P2, sizeof c.A2);
     memcpy(c.A3, P3, sizeof c.A3);
     normalize12(c.A2);
@@ -406,8 +386,8 @@ double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, cons
     for (int q = 0; q < n; q++) {
         int p = idx[q];
         double e;
-        if (X0 != NULL && !isnan(X0[4 * q])) {
-            memcpy(&c.X[4 * q], &X0[4 * q], 4 * sizeof(double));
+        if (X0 != NULL) {
+            memcpy(&c.X[4 * q], &X0[4 * (size_t)p], 4 * sizeof(double));
             continue;
         }
         int st = sfm_trifocal_point_error(P1, c.A2, c.A3, &x1[2 * p], &x2[2 * p], &x3[2 * p], &e, &c.X[4 * q]);

@@ -6,22 +6,11 @@
 
 #include "core/arena.h"
 
-/* Points whose blocks (below) a refinement keeps from its linearisation
- * for the solves at that point (the LO refits use at most 192 points); the
- * blocks of the others are recomputed, so the workspace stays at a few
- * doubles per point. */
-#define SFMI_TF_REFINE_KEPT 256
-
-struct sfmi_tf_point_blocks;
-
 typedef struct sfmi_tf_refine_ws {
     double *X;    /* 4n: current homogeneous points */
     double *Xold; /* 4n: points of the trial step */
     double *U, *S; /* 24 x 24: camera block, reduced system */
-    struct sfmi_tf_point_blocks *kept; /* min(n, SFMI_TF_REFINE_KEPT) */
-    unsigned char *kept_ok;            /* the same count */
     int cap;      /* n the buffers hold */
-    int nkept;
 } sfmi_tf_refine_ws;
 
 /* Per-point blocks: Jp (6x3, along the tangent basis B = sfmi_lm_sphere_basis
@@ -48,10 +37,10 @@ void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w);
  * tangent space), with the points eliminated by the Schur complement: the
  * reduced 24x24 camera system is solved by Cholesky. H&Z alg. 16.2's gold
  * standard step, run by the LM driver (core/lm.h: at most max_iters steps,
- * relative cost tolerance 1e-10). The points start at X0 (n x 4 in list
- * order, unit homogeneous, the optimal triangulation under P2, P3 up to
- * their scale; may be NULL), or where X0 is NULL or an entry starts with a
- * NaN, at that triangulation (sfm_trifocal_point_error). P2, P3 are written
+ * relative cost tolerance 1e-10). The points start at X0[4 p] for the
+ * listed triplets p (unit homogeneous, the optimal triangulation under P2,
+ * P3 up to their scale), or at that triangulation (sfm_trifocal_point_error)
+ * when X0 is NULL. P2, P3 are written
  * (unit Frobenius norm; the input when no step lowered the cost). Returns
  * the final cost (sum of squared pixel errors), or INFINITY with *status
  * negative.
