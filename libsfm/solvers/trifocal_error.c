@@ -126,10 +126,13 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
                 jb[c] = j[0] * B[c] + j[1] * B[3 + c] + j[2] * B[6 + c] + j[3] * B[9 + c];
             for (int a = 0; a < 3; a++) {
                 g[a] += jb[a] * r[h];
-                for (int b = 0; b < 3; b++)
+                for (int b = 0; b <= a; b++)
                     H[a * 3 + b] += jb[a] * jb[b];
             }
         }
+        H[1] = H[3];
+        H[2] = H[6];
+        H[5] = H[7];
         /* H is symmetric positive semi-definite: closed-form inverse, and
          * no step when it is singular */
         if (!sfmi_mat3_inverse(H, Hi, 0.0))
