@@ -216,10 +216,12 @@ static double tf_linearize(void *self, double *gmax)
                 for (int k = 0; k < 4; k++)
                     c->gc[12 * w + 4 * i + k] += iw * g[i] * X[k];
         }
-        double V[9], gp[3];
-        point_products(&b, V, gp);
-        for (int k = 0; k < 3; k++)
-            m = fmax(m, fabs(gp[k]));
+        for (int a = 0; a < 3; a++) { /* gp = Jp^T r, for the gradient bound */
+            double gp = 0;
+            for (int k = 0; k < 6; k++)
+                gp += b.Jp[k * 3 + a] * b.r[k];
+            m = fmax(m, fabs(gp));
+        }
     }
     for (int w = 0; w < 2; w++)
         kron_add_lower(c->U + (size_t)(12 * w) * NC + 12 * w, acc[w], 3, 1.0);
