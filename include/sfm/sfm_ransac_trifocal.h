@@ -5,7 +5,10 @@
  * Samples of 7 triplets are fitted by sfm_trifocal_7pt; each triplet is
  * scored by its three-view reprojection error after optimal triangulation
  * (sfm_trifocal_point_error), as the mean over the three views of the squared
- * pixel error, so opt->threshold is a per-view pixel distance. Local
+ * pixel error, so opt->threshold is a per-view pixel distance (a triplet
+ * whose distance to the epipolar geometry of views 1-2 or 1-3 already puts
+ * that error beyond every band is not triangulated: the scores are the
+ * same). Local
  * optimisation is the gold-standard refinement of P2, P3 and the points on
  * the inliers (Levenberg-Marquardt with the points eliminated by the Schur
  * complement). Pixels are n x 2 row-major; cameras 3x4, P1 = [I | 0].

@@ -22,12 +22,12 @@
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 
-#define SWEEP_ITERS 10  /* bundle adjustment steps per fixed-focal candidate */
+#define SWEEP_ITERS 8  /* bundle adjustment steps per fixed-focal candidate */
 #define FINAL_ITERS 50
-#define GOLDEN_STEPS 8
+#define GOLDEN_STEPS 4
 #define FAR_FACTOR 1.5  /* "far" focal lengths of the observability test */
 #define NOISE_FLOOR 0.05 /* px: noise standard deviation assumed at least */
-#define SEARCH_POINTS 200 /* inliers the focal search runs on */
+#define SEARCH_POINTS 150 /* inliers the focal search runs on */
 #define RADIAL_MIN_RISE 9.0 /* a radial term is kept when holding it at 0
                                raises the cost by more than this many noise
                                variances (a likelihood ratio test, 1 degree

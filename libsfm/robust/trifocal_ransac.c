@@ -16,6 +16,7 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/normalize.h"
+#include "solvers/trifocal_internal.h"
 #include "sfm/sfm_ransac_trifocal.h"
 #include "sfm/sfm_trifocal.h"
 
@@ -34,6 +35,19 @@ typedef struct tf_model {
 } tf_model;
 _Static_assert(sizeof(tf_model) == MODEL * sizeof(double), "tf_model is the engine's model size");
 
+/* The residuals of the last model asked about (see tf_residual). */
+typedef struct tf_memo {
+    double key[24];      /* its P2, P3 */
+    double F21[9], F31[9]; /* x2^T F21 x1 = 0, x3^T F31 x1 = 0 */
+    double h21, h31;     /* bounds on the norms of the constraints' Hessians */
+    double reject;       /* sum of squares over three views beyond every band */
+    double *r2;          /* n: residuals, valid where stamp == cur */
+    double *X;           /* 4n: their triangulated points (where r2 is finite) */
+    uint32_t *stamp;     /* n */
+    uint32_t cur;        /* 0: no model yet */
+    int n;
+} tf_memo;
+
 typedef struct tf_ctx {
     const double *x1, *x2, *x3;
     void *solver_ws;
@@ -41,6 +55,7 @@ typedef struct tf_ctx {
     sfmi_tf_refine_ws refine;
     int *thin; /* LO_POINTS */
     int full;  /* refit on every point given (the polish) */
+    tf_memo memo;
 } tf_ctx;
 
 /* Scratch of the final support checks. */
@@ -56,6 +71,8 @@ typedef struct tf_support_ws {
 typedef struct tf_layout_out {
     tf_support_ws sup;
     int *thin;
+    double *memo_r2, *memo_X;
+    uint32_t *memo_stamp;
     void *ransac_ws;
     size_t ransac_size;
     void *solver_ws;
@@ -72,6 +89,9 @@ static void layout(sfmi_arena *a, int n, tf_layout_out *o)
     o->solver_ws = sfmi_arena_alloc(a, o->solver_size);
     sfmi_tf_refine_layout(a, n, &o->refine);
     o->thin = SFM_ARENA_ARRAY(a, int, LO_POINTS);
+    o->memo_r2 = SFM_ARENA_ARRAY(a, double, n);
+    o->memo_X = SFM_ARENA_ARRAY(a, double, 4 * (size_t)n);
+    o->memo_stamp = SFM_ARENA_ARRAY(a, uint32_t, n);
     o->sup.idx = SFM_ARENA_ARRAY(a, int, n);
     o->sup.g = SFM_ARENA_ARRAY(a, double, 6 * (size_t)n);
     o->sup.AtA = SFM_ARENA_ARRAY(a, double, 27 * 27);
@@ -103,28 +123,93 @@ static int tf_solve(void *vctx, const int *sample, double *models)
         memcpy(&y2[2 * k], &c->x2[2 * sample[k]], 2 * sizeof(double));
         memcpy(&y3[2 * k], &c->x3[2 * sample[k]], 2 * sizeof(double));
     }
-    double T[27];
-    int st = sfm_trifocal_7pt(y1, y2, y3, SAMPLE, T, c->solver_ws, c->solver_size);
+    double T[27], e2[3], e3[3];
+    int st = sfmi_trifocal_7pt_epipoles(y1, y2, y3, SAMPLE, T, e2, e3, c->solver_ws, c->solver_size);
     if (st == SFM_E_SINGULAR || st == SFM_E_NO_CONVERGENCE)
         return 0; /* a degenerate sample */
     if (st < 0)
         return st;
     tf_model *m = (tf_model *)models;
-    if (sfm_trifocal_cameras(T, m->P2, m->P3) != SFM_OK)
-        return 0;
+    sfmi_trifocal_cameras_from(T, e2, e3, m->P2, m->P3);
     memcpy(m->T, T, sizeof T);
     return 1;
 }
 
+/* F = [a]x A for P1 = [I | 0] and P = [A | a] (x^T F x1 = 0), and the
+ * Frobenius norm of its upper-left 2x2 block. */
+static double tf_fundamental(const double P[12], double F[9])
+{
+    for (int c = 0; c < 3; c++) {
+        F[c] = P[7] * P[8 + c] - P[11] * P[4 + c];
+        F[3 + c] = P[11] * P[c] - P[3] * P[8 + c];
+        F[6 + c] = P[3] * P[4 + c] - P[7] * P[c];
+    }
+    return sqrt(F[0] * F[0] + F[1] * F[1] + F[3] * F[3] + F[4] * F[4]);
+}
+
+/* A lower bound on the squared distance in R^4 from the pixel pair (p, q)
+ * to the epipolar variety q^T F p = 0, hence on the summed squared
+ * reprojection error in those two views of any point X (its projections lie
+ * on the variety). The constraint c is quadratic in (p, q), with gradient g
+ * at the data and a constant Hessian of spectral norm at most h (the
+ * Frobenius norm of F's upper-left 2x2 block), so at distance d
+ * |c| <= |g| d + h d^2 / 2, which solved for d gives the bound: the Sampson
+ * distance when h = 0, never above the true distance. */
+static double tf_epipolar_lower2(const double F[9], double h, const double *p, const double *q)
+{
+    double l0 = F[0] * p[0] + F[1] * p[1] + F[2];
+    double l1 = F[3] * p[0] + F[4] * p[1] + F[5];
+    double l2 = F[6] * p[0] + F[7] * p[1] + F[8];
+    double m0 = F[0] * q[0] + F[3] * q[1] + F[6];
+    double m1 = F[1] * q[0] + F[4] * q[1] + F[7];
+    double c = fabs(q[0] * l0 + q[1] * l1 + l2);
+    double g = sqrt(l0 * l0 + l1 * l1 + m0 * m0 + m1 * m1);
+    double d = 2.0 * c / (g + sqrt(g * g + 2.0 * h * c));
+    return d * d;
+}
+
+/* The squared residual of triplet i under model: the three-view
+ * reprojection error after triangulation (sfm_trifocal_point_error), as a
+ * mean over the views. Two exact shortcuts:
+ * - a triplet whose epipolar lower bound (tf_epipolar_lower2) in views 1-2
+ *   or 1-3 already exceeds every band the engine and the checks below use
+ *   (wide_mult thresholds) gets HUGE_VAL without the triangulation: beyond
+ *   the bands its value is never read (MSAC counts tau^2 for it), so every
+ *   score, inlier set and band is the same as with the full error. Most
+ *   triplets are outliers of most hypotheses, and the bound costs a
+ *   hundredth of the triangulation.
+ * - the engine and the final checks ask for the same model's residuals
+ *   several times over (the LO band, its inliers, its cost, the support
+ *   checks, the mask); the last model's residuals are kept, keyed by its
+ *   cameras' bytes, with the triangulated points, which start the refit of
+ *   that model (tf_refine). */
 static double tf_residual(void *vctx, const double *model, int i)
 {
     tf_ctx *c = (tf_ctx *)vctx;
+    tf_memo *mo = &c->memo;
     const tf_model *m = (const tf_model *)model;
-    double e;
-    if (sfm_trifocal_point_error(P1, m->P2, m->P3, &c->x1[2 * i], &c->x2[2 * i],
-                                 &c->x3[2 * i], &e, NULL) != SFM_OK)
-        return HUGE_VAL;
-    return e / 3.0;
+    if (mo->cur == 0 || memcmp(mo->key, m->P2, sizeof mo->key) != 0) {
+        memcpy(mo->key, m->P2, sizeof mo->key);
+        mo->h21 = tf_fundamental(m->P2, mo->F21);
+        mo->h31 = tf_fundamental(m->P3, mo->F31);
+        if (++mo->cur == 0) { /* the stamps wrapped: forget them all */
+            memset(mo->stamp, 0, sizeof(uint32_t) * (size_t)mo->n);
+            mo->cur = 1;
+        }
+    } else if (mo->stamp[i] == mo->cur) {
+        return mo->r2[i];
+    }
+    const double *p1 = &c->x1[2 * i], *p2 = &c->x2[2 * i], *p3 = &c->x3[2 * i];
+    double e = HUGE_VAL;
+    if (!(tf_epipolar_lower2(mo->F21, mo->h21, p1, p2) > mo->reject) &&
+        !(tf_epipolar_lower2(mo->F31, mo->h31, p1, p3) > mo->reject) &&
+        sfm_trifocal_point_error(P1, m->P2, m->P3, p1, p2, p3, &e, &mo->X[4 * (size_t)i]) == SFM_OK)
+        e /= 3.0;
+    else
+        e = HUGE_VAL;
+    mo->r2[i] = e;
+    mo->stamp[i] = mo->cur;
+    return e;
 }
 
 static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *model)
@@ -139,11 +224,18 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
         inliers = c->thin;
         n_inliers = LO_POINTS;
     }
+    /* the points triangulated when this model was scored start the refit
+     * (the listed points are its inliers, so all of them are known) */
+    const tf_memo *mo = &c->memo;
+    int have = mo->cur != 0 && memcmp(mo->key, m->P2, sizeof mo->key) == 0;
+    for (int j = 0; j < n_inliers && have; j++)
+        have = mo->stamp[inliers[j]] == mo->cur && mo->r2[inliers[j]] < HUGE_VAL;
     double P2[12], P3[12], T[27];
     memcpy(P2, m->P2, sizeof P2);
     memcpy(P3, m->P3, sizeof P3);
     int st;
-    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, P2, P3, LO_ITERS, &c->refine, &st);
+    sfmi_tf_refine(c->x1, c->x2, c->x3, inliers, n_inliers, have ? mo->X : NULL, P2, P3, LO_ITERS,
+                   &c->refine, &st);
     if (st < 0)
         return st;
     if (sfm_trifocal_from_cameras(P1, P2, P3, T) != SFM_OK)
@@ -342,7 +434,26 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
     layout(&a, n, &lay);
     if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
-    tf_ctx ctx = {x1, x2, x3, lay.solver_ws, lay.solver_size, lay.refine, lay.thin, 0};
+    tf_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.x1 = x1;
+    ctx.x2 = x2;
+    ctx.x3 = x3;
+    ctx.solver_ws = lay.solver_ws;
+    ctx.solver_size = lay.solver_size;
+    ctx.refine = lay.refine;
+    ctx.thin = lay.thin;
+    ctx.memo.r2 = lay.memo_r2;
+    ctx.memo.X = lay.memo_X;
+    ctx.memo.stamp = lay.memo_stamp;
+    ctx.memo.n = n;
+    memset(ctx.memo.stamp, 0, sizeof(uint32_t) * (size_t)n);
+    /* the widest band: wide_mult thresholds (read as 1 below 1, as the
+     * engine does), as a sum over three views, with room for rounding */
+    {
+        const double wide = o.threshold * (o.wide_mult > 1.0 ? o.wide_mult : 1.0);
+        ctx.memo.reject = 3.0 * wide * wide * (1.0 + 1e-6);
+    }
     sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL};
     tf_model model;
     sfm_ransac_stats rs;

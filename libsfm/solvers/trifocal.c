@@ -179,8 +179,8 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
 }
 
 /* Cameras from T and its epipoles (both unit norm). */
-static void cameras_from(const double T[27], const double e2[3], const double e3[3], double P2[12],
-                         double P3[12])
+void sfmi_trifocal_cameras_from(const double T[27], const double e2[3], const double e3[3],
+                                double P2[12], double P3[12])
 {
     for (int i = 0; i < 3; i++) {
         const double *Ti = &T[i * 9];
@@ -209,7 +209,7 @@ int sfm_trifocal_cameras(const double T[27], double P2[12], double P3[12])
     int st = sfm_trifocal_epipoles(T, e2, e3);
     if (st < 0)
         return st;
-    cameras_from(T, e2, e3, A, B);
+    sfmi_trifocal_cameras_from(T, e2, e3, A, B);
     memcpy(P2, A, sizeof A);
     memcpy(P3, B, sizeof B);
     return SFM_OK;
@@ -243,7 +243,7 @@ int sfm_trifocal_fundamentals(const double T[27], sfm_mat3 *F21_out, sfm_mat3 *F
         return SFM_E_SINGULAR;
     if (F32 != NULL) {
         double P2[12], P3[12];
-        cameras_from(T, e2, e3, P2, P3);
+        sfmi_trifocal_cameras_from(T, e2, e3, P2, P3);
         st = sfm_fundamental_from_projections(P2, P3, &c);
         if (st < 0)
             return st;

@@ -140,10 +140,10 @@ static void complete_basis(const double e[3], double p[3], double q[3])
  * e' (x) p'', e' (x) q'' (the two 3-dimensional spans meet in e' (x) e'',
  * so E has rank 5 per i and 15 in all for any nonzero epipoles). The
  * problem becomes the smallest right singular vector of R U (27 x 15), U
- * that basis, with t = U y. */
-static int algebraic_step(tf_ws *w, double t[NU])
+ * that basis, with t = U y. e2, e3 receive the epipoles held, which are
+ * those of the new t. */
+static int algebraic_step(tf_ws *w, double t[NU], double e2[3], double e3[3])
 {
-    double e2[3], e3[3];
     int st = sfm_trifocal_epipoles(t, e2, e3);
     if (st < 0)
         return st;
@@ -236,8 +236,34 @@ static int degenerate_points(const double *x1, const double *x2, const double *x
     return 1;
 }
 
+/* Unit epipole of the denormalised tensor from the normalised one: points
+ * map back by H^-1; the sign as sfm_trifocal_epipoles gives it. */
+static int denormalize_epipole(const double H[9], const double eh[3], double e[3])
+{
+    e[0] = (eh[0] - H[2] * eh[2]) / H[0];
+    e[1] = (eh[1] - H[5] * eh[2]) / H[4];
+    e[2] = eh[2];
+    if (sfmi_trifocal_normalize(e, 3) != SFM_OK)
+        return SFM_E_SINGULAR;
+    int m = 0;
+    for (int k = 1; k < 3; k++)
+        if (fabs(e[k]) > fabs(e[m]))
+            m = k;
+    if (e[m] < 0)
+        for (int k = 0; k < 3; k++)
+            e[k] = -e[k];
+    return SFM_OK;
+}
+
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
                      void *ws, size_t ws_size)
+{
+    double e2[3], e3[3];
+    return sfmi_trifocal_7pt_epipoles(x1, x2, x3, n, T, e2, e3, ws, ws_size);
+}
+
+int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double *x3, int n,
+                               double T[27], double e2[3], double e3[3], void *ws, size_t ws_size)
 {
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL ||
         n < SFM_TRIFOCAL_MIN_POINTS)
@@ -288,10 +314,11 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
     int st = smallest_right_tri(&w, w.R, NU, t);
     if (st < 0)
         return st;
+    double eh2[3], eh3[3];
     for (int it = 0; it < ALG_ITERS; it++) {
         double prev[NU];
         memcpy(prev, t, sizeof t);
-        st = algebraic_step(&w, t);
+        st = algebraic_step(&w, t, eh2, eh3);
         if (st < 0)
             return st;
         double dp = 0, dm = 0;
@@ -333,6 +360,11 @@ int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n
             }
     if (sfmi_trifocal_normalize(out, NU) != SFM_OK || !sfmi_la_all_finite(out, NU))
         return SFM_E_SINGULAR;
+    double f2[3], f3[3];
+    if (denormalize_epipole(H2, eh2, f2) != SFM_OK || denormalize_epipole(H3, eh3, f3) != SFM_OK)
+        return SFM_E_SINGULAR;
+    memcpy(e2, f2, sizeof f2);
+    memcpy(e3, f3, sizeof f3);
     int m = 0;
     for (int k = 1; k < NU; k++)
         if (fabs(out[k]) > fabs(out[m]))

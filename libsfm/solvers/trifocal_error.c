@@ -10,7 +10,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "sfm/sfm_linalg.h"
+#include "core/linalg_util.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
@@ -18,7 +18,7 @@
 enum { GN_ITERS = 4 };
 
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
-                          double JX[8], double JP[24])
+                          double JX[8], double cam[3])
 {
     double p[3];
     for (int k = 0; k < 3; k++)
@@ -33,28 +33,24 @@ int sfmi_trifocal_residual(const double P[12], const double X[4], const double x
             JX[c] = (P[c] - u * P[8 + c]) * iw;
             JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
         }
-    if (JP != NULL) {
-        memset(JP, 0, sizeof(double) * 24);
-        for (int c = 0; c < 4; c++) {
-            JP[c] = X[c] * iw;          /* du / dP[0][c] */
-            JP[8 + c] = -u * X[c] * iw; /* du / dP[2][c] */
-            JP[16 + c] = X[c] * iw;     /* dv / dP[1][c] */
-            JP[20 + c] = -v * X[c] * iw;
-        }
+    if (cam != NULL) {
+        cam[0] = iw;
+        cam[1] = u;
+        cam[2] = v;
     }
     return 1;
 }
 
-static double cost(const double *P[3], const double *x[3], const double X[4], int *ok)
+/* Summed squared residual of the three views at X, with the rows of
+ * d r / d X (6x4) in J; HUGE_VAL when a view cannot project X. */
+static double cost_jac(const double *P[3], const double *x[3], const double X[4], double r[6],
+                       double J[24])
 {
-    double c = 0, r[2];
-    *ok = 1;
+    double c = 0;
     for (int v = 0; v < 3; v++) {
-        if (!sfmi_trifocal_residual(P[v], X, x[v], r, NULL, NULL)) {
-            *ok = 0;
+        if (!sfmi_trifocal_residual(P[v], X, x[v], &r[2 * v], &J[8 * v], NULL))
             return HUGE_VAL;
-        }
-        c += r[0] * r[0] + r[1] * r[1];
+        c += r[2 * v] * r[2 * v] + r[2 * v + 1] * r[2 * v + 1];
     }
     return c;
 }
@@ -114,44 +110,57 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
     for (int k = 0; k < 3; k++)
         X[k] = X3[k] / nrm;
     X[3] = w / nrm;
-    int ok;
-    double c0 = cost(P, x, X, &ok);
-    if (!ok)
+    /* Gauss-Newton; each trial point's cost comes with its Jacobian, which
+     * the next step uses when the trial is kept */
+    double r[6], J[24], rn[6], Jn[24];
+    double c0 = cost_jac(P, x, X, r, J);
+    if (!(c0 < HUGE_VAL))
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
-        double B[12], H[9] = {0}, g[3] = {0};
+        double B[12], H[9] = {0}, Hi[9], g[3] = {0}, d[3];
         sfmi_trifocal_tangent_basis(X, B);
-        for (int v = 0; v < 3; v++) {
-            double r[2], J[8], Jb[6];
-            sfmi_trifocal_residual(P[v], X, x[v], r, J, NULL);
-            for (int h = 0; h < 2; h++)
-                for (int c = 0; c < 3; c++)
-                    Jb[h * 3 + c] = J[h * 4] * B[c] + J[h * 4 + 1] * B[3 + c] +
-                                    J[h * 4 + 2] * B[6 + c] + J[h * 4 + 3] * B[9 + c];
+        for (int h = 0; h < 6; h++) {
+            const double *j = &J[4 * h];
+            double jb[3];
+            for (int c = 0; c < 3; c++)
+                jb[c] = j[0] * B[c] + j[1] * B[3 + c] + j[2] * B[6 + c] + j[3] * B[9 + c];
             for (int a = 0; a < 3; a++) {
-                g[a] += Jb[a] * r[0] + Jb[3 + a] * r[1];
-                for (int b = 0; b < 3; b++)
-                    H[a * 3 + b] += Jb[a] * Jb[b] + Jb[3 + a] * Jb[3 + b];
+                g[a] += jb[a] * r[h];
+                for (int b = 0; b <= a; b++)
+                    H[a * 3 + b] += jb[a] * jb[b];
             }
         }
-        int piv[3];
-        if (sfm_lu_factor(H, 3, piv) != SFM_OK)
+        H[1] = H[3];
+        H[2] = H[6];
+        H[5] = H[7];
+        /* H is symmetric positive semi-definite: closed-form inverse, and
+         * no step when it is singular */
+        if (!sfmi_mat3_inverse(H, Hi, 0.0))
             break;
-        if (sfm_lu_solve(H, piv, 3, g, 1) != SFM_OK)
+        double pred = 0;
+        for (int a = 0; a < 3; a++) {
+            d[a] = Hi[a * 3] * g[0] + Hi[a * 3 + 1] * g[1] + Hi[a * 3 + 2] * g[2];
+            pred += g[a] * d[a];
+        }
+        /* converged: the step's predicted decrease g^T H^-1 g is below the
+         * tolerance the achieved decrease is held to below */
+        if (!(pred >= 1e-12 * (1.0 + c0)))
             break;
         double Xn[4], nn = 0;
-        for (int r = 0; r < 4; r++) {
-            Xn[r] = X[r] - (B[r * 3] * g[0] + B[r * 3 + 1] * g[1] + B[r * 3 + 2] * g[2]);
-            nn += Xn[r] * Xn[r];
+        for (int k = 0; k < 4; k++) {
+            Xn[k] = X[k] - (B[k * 3] * d[0] + B[k * 3 + 1] * d[1] + B[k * 3 + 2] * d[2]);
+            nn += Xn[k] * Xn[k];
         }
         nn = sqrt(nn);
-        for (int r = 0; r < 4; r++)
-            Xn[r] /= nn;
-        double c1 = cost(P, x, Xn, &ok);
-        if (!ok || !(c1 < c0))
+        for (int k = 0; k < 4; k++)
+            Xn[k] /= nn;
+        double c1 = cost_jac(P, x, Xn, rn, Jn);
+        if (!(c1 < c0))
             break;
         int done = c0 - c1 < 1e-12 * (1.0 + c0);
         memcpy(X, Xn, sizeof X);
+        memcpy(r, rn, sizeof r);
+        memcpy(J, Jn, sizeof J);
         c0 = c1;
         if (done)
             break;

@@ -249,11 +249,15 @@ SFM_TEST(refiner_jacobian_trifocal_point_and_cameras)
         enum { NC = 27 };
         double J[6 * NC];
         memset(J, 0, sizeof J);
-        for (int h = 0; h < 2; h++)
-            for (int k = 0; k < 12; k++) {
-                J[(2 + h) * NC + k] = b.Jc2[h * 12 + k];
-                J[(4 + h) * NC + 12 + k] = b.Jc3[h * 12 + k];
-            }
+        /* the camera blocks from their factors: iw [X^T 0 -u X^T; 0 X^T -v X^T] */
+        for (int w = 0; w < 2; w++) {
+            const double iw = b.cam[3 * w], uv[2] = {b.cam[3 * w + 1], b.cam[3 * w + 2]};
+            for (int h = 0; h < 2; h++)
+                for (int k = 0; k < 4; k++) {
+                    J[(2 + 2 * w + h) * NC + 12 * w + 4 * h + k] = iw * q.X[k];
+                    J[(2 + 2 * w + h) * NC + 12 * w + 8 + k] = -iw * uv[h] * q.X[k];
+                }
+        }
         for (int r = 0; r < 6; r++)
             for (int c = 0; c < 3; c++)
                 J[r * NC + 24 + c] = b.Jp[r * 3 + c];
