@@ -298,4 +298,21 @@ static inline void sfmi_r2r_emit(const sfm_r2r_step *steps, int n_steps, const d
     (*n)++;
 }
 
+/* 1 when T is already in out[0..n): every entry of C and of p / scale within
+ * tol of a kept solution (two close roots polished onto one answer). */
+static inline int sfmi_r2r_is_duplicate(const sfm_r2r_transform *out, int n,
+                                        const sfm_r2r_transform *T, double scale, double tol)
+{
+    for (int j = 0; j < n; j++) {
+        double d = 0.0;
+        for (int i = 0; i < 9; i++)
+            d = sfmi_r2r_max(d, fabs(out[j].C.m[i] - T->C.m[i]));
+        for (int i = 0; i < 3; i++)
+            d = sfmi_r2r_max(d, fabs(out[j].p.v[i] - T->p.v[i]) / scale);
+        if (d < tol)
+            return 1;
+    }
+    return 0;
+}
+
 #endif

@@ -302,15 +302,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
                                    FR[3 * r + 2] * g.G[3 * q + 2];
         for (int i = 0; i < 3; i++)
             T.p.v[i] = lam * g.u0[i] / nu0;
-        int dup = 0; /* two close roots polished onto one solution */
-        for (int j = 0; j < n_out && !dup; j++) {
-            double e = 0.0;
-            for (int i = 0; i < 9; i++)
-                e = sfmi_r2r_max(e, fabs(out[j].C.m[i] - T.C.m[i]));
-            dup = e < 1e-9 && fabs(out[j].p.v[0] - T.p.v[0]) + fabs(out[j].p.v[1] - T.p.v[1]) +
-                                      fabs(out[j].p.v[2] - T.p.v[2]) < 1e-9 * (1.0 + lam);
-        }
-        if (!dup)
+        if (!sfmi_r2r_is_duplicate(out, n_out, &T, 1.0 + lam, 1e-9))
             out[n_out++] = T;
     }
     return n_out;

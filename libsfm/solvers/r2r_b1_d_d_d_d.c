@@ -470,16 +470,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
                 continue;
             for (int i = 0; i < 3; i++)
                 T.p.v[i] = l * g.u0[i];
-            int dup = 0;
-            for (int j = 0; j < n_out && !dup; j++) {
-                double d = 0.0;
-                for (int i = 0; i < 9; i++)
-                    d = sfmi_r2r_max(d, fabs(out[j].C.m[i] - T.C.m[i]));
-                for (int i = 0; i < 3; i++)
-                    d = sfmi_r2r_max(d, fabs(out[j].p.v[i] - T.p.v[i]) / (1.0 + l));
-                dup = d < 1e-8;
-            }
-            if (!dup && n_out < 28)
+            if (n_out < 28 && !sfmi_r2r_is_duplicate(out, n_out, &T, 1.0 + l, 1e-8))
                 out[n_out++] = T;
         }
     }

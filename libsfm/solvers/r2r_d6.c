@@ -65,6 +65,7 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/generated/r2r_d6_start.h"
+#include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 #include "solvers/r2r_solve_internal.h"
 #include "solvers/small_math.h"
@@ -485,16 +486,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
         memcpy(T.C.m, C, sizeof C);
         for (int i = 0; i < 3; i++)
             T.p.v[i] = p[i] * L;
-        int dup = 0;
-        for (int q = 0; q < n_out && !dup; q++) {
-            double dd = 0.0;
-            for (int i = 0; i < 9; i++)
-                dd = fmax(dd, fabs(out[q].C.m[i] - T.C.m[i]));
-            for (int i = 0; i < 3; i++)
-                dd = fmax(dd, fabs(out[q].p.v[i] - T.p.v[i]) / L);
-            dup = dd < DUP_TOL;
-        }
-        if (!dup)
+        if (!sfmi_r2r_is_duplicate(out, n_out, &T, L, DUP_TOL))
             out[n_out++] = T;
     }
     return n_out;
