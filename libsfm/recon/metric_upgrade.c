@@ -737,10 +737,9 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
  * only when neither rise reaches RADIAL_MIN_RISE, so 1 here (a term
  * significant, or a fit failing) sends the solve to the radial sweep.
  * Leaves c as it found it (pinhole, the answer's points). */
-static int radial_needed(sfmi_mu *c, const sfm_pose poses[3], double f, int radial, double k_fit[2],
-                         sfm_uncal_report *rep)
+static int radial_needed(sfmi_mu *c, const sfm_pose poses[3], double f, int radial, sfm_pose pp[3],
+                         double *ff_fit, double k_fit[2], sfm_uncal_report *rep)
 {
-    sfm_pose pp[3];
     double ff = f, cost_prev = c->cost;
     int need = 0;
     memcpy(pp, poses, (size_t)c->nv * sizeof(sfm_pose));
@@ -754,6 +753,7 @@ static int radial_needed(sfmi_mu *c, const sfm_pose poses[3], double f, int radi
         need = !(ast == SFM_OK && ff > 0 && rise < RADIAL_MIN_RISE);
         cost_prev = cost;
     }
+    *ff_fit = ff;
     k_fit[0] = c->kr[0];
     k_fit[1] = c->kr[1];
     c->radial = 0;
@@ -779,14 +779,13 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
     memcpy(c->idx0, c->idx, sizeof(int) * (size_t)m0);
     int st = solve_once(c, xall, n, f_linear, diag, o, 0, poses, f_out, rep);
     if (st == SFM_OK) {
-        double k_fit[2];
-        if (!radial_needed(c, poses, f_out[0], radial, k_fit, rep))
+        sfm_pose p0[3];
+        double f0, k_fit[2];
+        if (!radial_needed(c, poses, f_out[0], radial, p0, &f0, k_fit, rep))
             return SFM_OK;
         /* a term significant: the checked answer with the terms free from
-         * the pinhole one (its basin of f), the radial sweep when refused */
-        sfm_pose p0[3];
-        memcpy(p0, poses, sizeof p0);
-        const double f0 = f_out[0];
+         * the last fit of the test (the pinhole answer's basin of f), the
+         * radial sweep when refused */
         c->radial = radial;
         st = validate(c, xall, n, o, p0, f0, k_fit, poses, f_out, rep);
         if (st == SFM_OK || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE))
