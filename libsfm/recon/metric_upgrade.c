@@ -735,8 +735,9 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
  * each fit from the previous one. The same likelihood-ratio rule as the
  * backward test of validate_once(): the pinhole model is the answer there
  * only when neither rise reaches RADIAL_MIN_RISE, so 1 here (a term
- * significant, or a fit failing) sends the solve to the radial sweep.
- * Leaves c as it found it (pinhole, the answer's points). */
+ * significant, or a fit failing) sends the solve to the radial model.
+ * pp, *ff_fit, k_fit: the last fit (its start). Leaves c pinhole with the
+ * answer's points. */
 static int radial_needed(sfmi_mu *c, const sfm_pose poses[3], double f, int radial, sfm_pose pp[3],
                          double *ff_fit, double k_fit[2], sfm_uncal_report *rep)
 {
