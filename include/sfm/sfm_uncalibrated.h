@@ -33,7 +33,12 @@
  *     raises the cost by less than 9 noise variances is dropped and the
  *     smaller fit is the answer (report.k1, k2 = 0). A distortion under
  *     which an inlier lies outside the region where the map is invertible
- *     fails step 6;
+ *     fails step 6. Steps 3-6 run first with the pinhole model; from its
+ *     accepted answer k1, then k1 and k2, are fitted with the same rule,
+ *     and the pinhole answer stands when neither term is significant;
+ *     otherwise the answer is refitted and checked with the terms free,
+ *     and steps 3-6 run with the terms free (as above) when that or the
+ *     pinhole answer is refused (per_view_focal: always);
  *  5. the observability of f: the sweep's cost at focal lengths more than a
  *     factor 1.5 away must exceed the best by options.min_profile times the
  *     noise variance; otherwise (pure translation, parallel optical axes,

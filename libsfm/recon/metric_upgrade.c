@@ -50,6 +50,7 @@ void sfmi_mu_layout(sfmi_arena *a, int nv, int nmax, int radial, sfmi_mu *c)
     c->obs_xy = SFM_ARENA_ARRAY(a, double, 2 * (size_t)nv * nmax);
     for (int v = 0; v < 3; v++)
         c->xu[v] = v < nv && radial > 0 ? SFM_ARENA_ARRAY(a, double, 2 * (size_t)nmax) : NULL;
+    c->idx0 = radial > 0 ? SFM_ARENA_ARRAY(a, int, nmax) : NULL;
     /* the largest of the adjustments run: shared focal and the radial
      * terms, one focal length per view */
     const int kmask = radial >= 2 ? SFM_BA_REFINE_RADIAL : radial == 1 ? SFM_BA_REFINE_K1 : 0;
@@ -484,6 +485,7 @@ static int validate_once(sfmi_mu *c, const double *const xall[3], int n, const s
         sigma2f = noise_variance(c, cost);
     }
     const double k_ans[2] = {c->kr[0], c->kr[1]};
+    c->cost = cost;
     /* local curvature of the profile likelihood: the fixed-focal optimum at
      * f e^{+-d}, started from the answer (its cameras and points), against
      * the free optimum, on the final inliers; the chi-square rise
@@ -595,13 +597,15 @@ static int validate(sfmi_mu *c, const double *const xall[3], int n, const sfm_un
     return st;
 }
 
-int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
-                  const sfm_uncal_options *o, sfm_pose poses[3], double *f_out, sfm_uncal_report *rep)
+/* Sweep, starts and checks with the first `radial` radial terms free. */
+static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
+                      const sfm_uncal_options *o, int radial, sfm_pose poses[3], double *f_out,
+                      sfm_uncal_report *rep)
 {
     const int nv = c->nv;
     sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
-    c->radial = nv == 3 ? (o->radial < c->radial_max ? o->radial : c->radial_max) : 0;
+    c->radial = radial;
     c->kr[0] = c->kr[1] = 0;
     const int K = o->sweep_steps;
     const double u0 = sfmi_log(o->focal_min * diag), u1 = sfmi_log(o->focal_max * diag);
@@ -724,6 +728,84 @@ int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linea
             return st;
     }
     return st;
+}
+
+/* The radial terms tested forward from an accepted pinhole answer (poses,
+ * focal f, c->X and c->cost of validate_once()): k1 free, then k1 and k2,
+ * each fit from the previous one. The same likelihood-ratio rule as the
+ * backward test of validate_once(): the pinhole model is the answer there
+ * only when neither rise reaches RADIAL_MIN_RISE, so 1 here (a term
+ * significant, or a fit failing) sends the solve to the radial model.
+ * pp, *ff_fit, k_fit: the last fit (its start). Leaves c pinhole with the
+ * answer's points. */
+static int radial_needed(sfmi_mu *c, const sfm_pose poses[3], double f, int radial, sfm_pose pp[3],
+                         double *ff_fit, double k_fit[2], sfm_uncal_report *rep)
+{
+    double ff = f, cost_prev = c->cost;
+    int need = 0;
+    memcpy(pp, poses, (size_t)c->nv * sizeof(sfm_pose));
+    memcpy(c->Xkeep, c->X, sizeof(double) * 3 * (size_t)c->np);
+    for (int e = 1; e <= radial && !need; e++) {
+        double cost = HUGE_VAL;
+        c->radial = e;
+        int ast = adjust(c, pp, &ff, 1, FINAL_ITERS, &cost);
+        double rise = ast == SFM_OK ? 2 * (cost_prev - cost) / noise_variance(c, cost) : (double)INFINITY;
+        rep->radial_rise[e - 1] = rise;
+        need = !(ast == SFM_OK && ff > 0 && rise < RADIAL_MIN_RISE);
+        cost_prev = cost;
+    }
+    *ff_fit = ff;
+    k_fit[0] = c->kr[0];
+    k_fit[1] = c->kr[1];
+    c->radial = 0;
+    c->kr[0] = c->kr[1] = 0;
+    memcpy(c->X, c->Xkeep, sizeof(double) * 3 * (size_t)c->np);
+    return need;
+}
+
+/* A cascade: the pinhole stage first (the model chosen on undistorted
+ * lenses), the radial terms tested from its answer, and the stage with the
+ * terms free in the sweep (as the focal sigma on a distorted lens must
+ * account for them) only when one is significant or the pinhole answer is
+ * refused. per_view_focal answers take the radial stage directly. */
+int sfmi_mu_solve(sfmi_mu *c, const double *const xall[3], int n, double f_linear, double diag,
+                  const sfm_uncal_options *o, sfm_pose poses[3], double *f_out, sfm_uncal_report *rep)
+{
+    const int nv = c->nv;
+    const int radial = nv == 3 ? (o->radial < c->radial_max ? o->radial : c->radial_max) : 0;
+    if (radial == 0 || o->per_view_focal)
+        return solve_once(c, xall, n, f_linear, diag, o, radial, poses, f_out, rep);
+    const sfm_uncal_report rep0 = *rep;
+    const int m0 = c->m;
+    memcpy(c->idx0, c->idx, sizeof(int) * (size_t)m0);
+    int st = solve_once(c, xall, n, f_linear, diag, o, 0, poses, f_out, rep);
+    if (st == SFM_OK) {
+        sfm_pose p0[3];
+        double f0, k_fit[2];
+        if (!radial_needed(c, poses, f_out[0], radial, p0, &f0, k_fit, rep))
+            return SFM_OK;
+        /* a term significant: the checked answer with the terms free from
+         * the last fit of the test (the pinhole answer's basin of f), the
+         * radial sweep when refused */
+        c->radial = radial;
+        st = validate(c, xall, n, o, p0, f0, k_fit, poses, f_out, rep);
+        if (st == SFM_OK || (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE))
+            return st;
+    } else if (st != SFM_E_SINGULAR && st != SFM_E_NO_CONVERGENCE) {
+        return st;
+    }
+    /* the inliers the stage started from, the report as it was */
+    *rep = rep0;
+    c->m = m0;
+    for (int j = 0; j < m0; j++) {
+        const int i = c->idx0[j];
+        c->idx[j] = i;
+        for (int v = 0; v < nv; v++) {
+            c->x[v][2 * j] = xall[v][2 * i];
+            c->x[v][2 * j + 1] = xall[v][2 * i + 1];
+        }
+    }
+    return solve_once(c, xall, n, f_linear, diag, o, radial, poses, f_out, rep);
 }
 
 void sfmi_mu_outputs(const sfmi_mu *c, int n, const double *f, double cx, double cy, double *K, double *X,

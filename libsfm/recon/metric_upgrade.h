@@ -36,6 +36,8 @@ typedef struct sfmi_mu {
     double kr[2];     /* Brown k1, k2 of the working candidate (normalized
                          coordinates about the centre); 0, 0: pinhole */
     double *xu[3];    /* nmax x 2 scratch: undistorted centred pixels */
+    int *idx0;        /* nmax: the inliers the solve started from (radial > 0) */
+    double cost;      /* final free-focal cost of the last validated answer */
 } sfmi_mu;
 
 /* Carves the stage for up to `radial` radial terms (0..2; the solve then
