@@ -329,6 +329,25 @@ size_t sfmi_lm_dense_workspace_size(int n_values, int n_tangent, int residual_si
     return sfmi_arena_required(&a);
 }
 
+/* H += rho1 J^T J (lower triangle) and g += rho1 J^T r for one residual row
+ * J (nt entries), which is left zero: rows of H from the last, row a the
+ * last reader of J_a (each entry of H and g takes one term per row, so the
+ * order of a leaves the sums as they are). Called with nt a constant for
+ * the common sizes, so the loops unroll fully. */
+static inline void accumulate_row(double *H, double *g, double *J, double r, double rho1, int nt)
+{
+#pragma GCC unroll 8
+    for (int a = nt - 1; a >= 0; a--) {
+        const double wj = rho1 * J[a];
+        g[a] += wj * r;
+        double *Hrow = H + (size_t)a * nt;
+#pragma GCC unroll 8
+        for (int b = 0; b <= a; b++)
+            Hrow[b] += wj * J[b];
+        J[a] = 0.0;
+    }
+}
+
 /* Cost at the values v (+Inf when undefined); with lin, also H and g.
  * known: the cost at v is c->trial_cost (v the accepted trial, evaluated
  * by the same callbacks), so only the loss weights are computed. */
@@ -370,21 +389,13 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
             memset(w->J, 0, sizeof(double) * jn);
             continue;
         }
-        /* rows of H from the last: row a is the last reader of J_ka (each
-         * entry of H and g takes one term per k, so the order of a leaves
-         * the sums as they were) */
-        for (int k = 0; k < rs; k++) {
-            double *Jk = w->J + (size_t)k * nt;
-            const double rk = w->r[k];
-            for (int a = nt - 1; a >= 0; a--) {
-                const double wj = rho1 * Jk[a];
-                w->g[a] += wj * rk;
-                double *Hrow = w->H + (size_t)a * nt;
-                for (int b = 0; b <= a; b++)
-                    Hrow[b] += wj * Jk[b];
-                Jk[a] = 0.0;
-            }
-        }
+        if (rs == 1 && nt == 5) /* the Sampson refits: free, upright */
+            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 5);
+        else if (rs == 1 && nt == 3)
+            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 3);
+        else
+            for (int k = 0; k < rs; k++)
+                accumulate_row(w->H, w->g, w->J + (size_t)k * nt, w->r[k], rho1, nt);
     }
     if (lin) {
         double m = 0.0;
