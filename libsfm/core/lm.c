@@ -45,37 +45,40 @@ double sfmi_lm_clamp_diag(double d)
     return d < MIN_DIAG ? MIN_DIAG : (d > MAX_DIAG ? MAX_DIAG : d);
 }
 
-void sfmi_lm_loss_eval(sfmi_lm_loss loss, double a2, double s, double *rho, double *rho1)
+/* rho(s) and rho'(s) apart: the trial needs the cost alone, a
+ * linearisation at an accepted trial's point only the weights. */
+static double loss_rho(sfmi_lm_loss loss, double a2, double s)
 {
     switch (loss) {
     case SFMI_LM_LOSS_HUBER:
-        if (s <= a2) {
-            *rho = s;
-            *rho1 = 1.0;
-        } else {
-            double r = sqrt(s), a = sqrt(a2);
-            *rho = 2.0 * a * r - a2;
-            *rho1 = a / r;
-        }
-        break;
+        return s <= a2 ? s : 2.0 * sqrt(a2) * sqrt(s) - a2;
     case SFMI_LM_LOSS_CAUCHY:
-        *rho = a2 * sfmi_log1p(s / a2);
-        *rho1 = 1.0 / (1.0 + s / a2);
-        break;
+        return a2 * sfmi_log1p(s / a2);
     case SFMI_LM_LOSS_TRUNCATED:
-        if (s <= a2) {
-            *rho = s;
-            *rho1 = 1.0;
-        } else {
-            *rho = a2;
-            *rho1 = 0.0;
-        }
-        break;
+        return s <= a2 ? s : a2;
     default:
-        *rho = s;
-        *rho1 = 1.0;
-        break;
+        return s;
     }
+}
+
+static double loss_rho1(sfmi_lm_loss loss, double a2, double s)
+{
+    switch (loss) {
+    case SFMI_LM_LOSS_HUBER:
+        return s <= a2 ? 1.0 : sqrt(a2) / sqrt(s);
+    case SFMI_LM_LOSS_CAUCHY:
+        return 1.0 / (1.0 + s / a2);
+    case SFMI_LM_LOSS_TRUNCATED:
+        return s <= a2 ? 1.0 : 0.0;
+    default:
+        return 1.0;
+    }
+}
+
+void sfmi_lm_loss_eval(sfmi_lm_loss loss, double a2, double s, double *rho, double *rho1)
+{
+    *rho = loss_rho(loss, a2, s);
+    *rho1 = loss_rho1(loss, a2, s);
 }
 
 static int options_valid(const sfmi_lm_options *o)
@@ -290,6 +293,14 @@ typedef struct dense_ctx {
     dense_ws w;
     int nv, nt;
     double a2;
+    /* the trial's cost, the current point's once accepted (known: the
+     * linearisation there needs only the weights) */
+    double trial_cost;
+    int cost_known;
+    /* lazy: H and g at an accepted point are formed by the next solve, so
+     * a run that stops right after the step forms none (sfmi_lm_refine:
+     * no gradient test, no covariance) */
+    int lazy, stale;
     int voff[SFMI_LM_DENSE_MAX_BLOCKS], toff[SFMI_LM_DENSE_MAX_BLOCKS];
 } dense_ctx;
 
@@ -318,8 +329,29 @@ size_t sfmi_lm_dense_workspace_size(int n_values, int n_tangent, int residual_si
     return sfmi_arena_required(&a);
 }
 
-/* Cost at the values v (+Inf when undefined); with lin, also H and g. */
-static double dense_eval(dense_ctx *c, const double *v, int lin, double *gmax)
+/* H += rho1 J^T J (lower triangle) and g += rho1 J^T r for one residual row
+ * J (nt entries), which is left zero: rows of H from the last, row a the
+ * last reader of J_a (each entry of H and g takes one term per row, so the
+ * order of a leaves the sums as they are). Called with nt a constant for
+ * the common sizes, so the loops unroll fully. */
+static inline void accumulate_row(double *H, double *g, double *J, double r, double rho1, int nt)
+{
+#pragma GCC unroll 8
+    for (int a = nt - 1; a >= 0; a--) {
+        const double wj = rho1 * J[a];
+        g[a] += wj * r;
+        double *Hrow = H + (size_t)a * nt;
+#pragma GCC unroll 8
+        for (int b = 0; b <= a; b++)
+            Hrow[b] += wj * J[b];
+        J[a] = 0.0;
+    }
+}
+
+/* Cost at the values v (+Inf when undefined); with lin, also H and g.
+ * known: the cost at v is c->trial_cost (v the accepted trial, evaluated
+ * by the same callbacks), so only the loss weights are computed. */
+static double dense_eval(dense_ctx *c, const double *v, int lin, int known, double *gmax)
 {
     const sfmi_lm_problem *p = c->p;
     dense_ws *w = &c->w;
@@ -327,53 +359,68 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, double *gmax)
     const double *xp[SFMI_LM_DENSE_MAX_BLOCKS];
     for (int b = 0; b < p->n_blocks; b++)
         xp[b] = v + c->voff[b];
+    /* J is zero before every callback: zeroed here, and again by the
+     * accumulation below as it reads each entry for the last time */
+    const size_t jn = (size_t)rs * nt;
     if (lin) {
         memset(w->H, 0, sizeof(double) * (size_t)nt * nt);
         memset(w->g, 0, sizeof(double) * (size_t)nt);
+        memset(w->J, 0, sizeof(double) * jn);
     }
     double cost = 0.0;
     for (int i = 0; i < p->n_residuals; i++) {
-        if (lin)
-            memset(w->J, 0, sizeof(double) * (size_t)rs * nt);
         int ok = p->residual(p->user, xp, i, w->r, lin ? w->J : NULL);
         if (ok < 0)
             return HUGE_VAL;
-        if (ok == 0)
+        if (ok == 0) {
+            if (lin)
+                memset(w->J, 0, sizeof(double) * jn);
             continue;
+        }
         double s = 0.0;
         for (int k = 0; k < rs; k++)
             s += w->r[k] * w->r[k];
-        double rho, rho1;
-        sfmi_lm_loss_eval(p->loss, c->a2, s, &rho, &rho1);
-        cost += rho;
-        if (!lin || rho1 == 0.0)
+        if (!known)
+            cost += loss_rho(p->loss, c->a2, s);
+        if (!lin)
             continue;
-        for (int k = 0; k < rs; k++) {
-            const double *Jk = w->J + (size_t)k * nt;
-            const double rk = w->r[k];
-            for (int a = 0; a < nt; a++) {
-                const double wj = rho1 * Jk[a];
-                w->g[a] += wj * rk;
-                double *Hrow = w->H + (size_t)a * nt;
-                for (int b = 0; b <= a; b++)
-                    Hrow[b] += wj * Jk[b];
-            }
+        const double rho1 = loss_rho1(p->loss, c->a2, s);
+        if (rho1 == 0.0) {
+            memset(w->J, 0, sizeof(double) * jn);
+            continue;
         }
+        if (rs == 1 && nt == 5) /* the Sampson refits: free, upright */
+            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 5);
+        else if (rs == 1 && nt == 3)
+            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 3);
+        else
+            for (int k = 0; k < rs; k++)
+                accumulate_row(w->H, w->g, w->J + (size_t)k * nt, w->r[k], rho1, nt);
     }
-    cost *= 0.5;
     if (lin) {
         double m = 0.0;
         for (int a = 0; a < nt; a++)
             m = fmax(m, fabs(w->g[a]));
         *gmax = m;
     }
+    if (known)
+        return c->trial_cost;
+    cost *= 0.5;
     return isfinite(cost) ? cost : HUGE_VAL;
 }
 
 static double dense_linearize(void *self, double *gmax)
 {
     dense_ctx *c = self;
-    return dense_eval(c, c->w.cur, 1, gmax);
+    const int known = c->cost_known;
+    c->cost_known = 0;
+    if (known && c->lazy) {
+        /* no gradient test: any value above 0 lets the loop go on */
+        c->stale = 1;
+        *gmax = HUGE_VAL;
+        return c->trial_cost;
+    }
+    return dense_eval(c, c->w.cur, 1, known, gmax);
 }
 
 static int dense_solve(void *self, double mu, double *step2, double *x2, double *pred)
@@ -381,6 +428,12 @@ static int dense_solve(void *self, double mu, double *step2, double *x2, double 
     dense_ctx *c = self;
     dense_ws *w = &c->w;
     const int nt = c->nt;
+    if (c->stale) {
+        double gmax;
+        if (!isfinite(dense_eval(c, w->cur, 1, 1, &gmax)))
+            return 0;
+        c->stale = 0;
+    }
     for (int a = 0; a < nt; a++) {
         for (int b = 0; b <= a; b++)
             w->A[(size_t)a * nt + b] = w->H[(size_t)a * nt + b];
@@ -420,17 +473,19 @@ static double dense_trial(void *self)
         if (!sfmi_lm_block_plus(&p->blocks[b], w->cur + c->voff[b], w->h + c->toff[b], w->trial + c->voff[b]))
             return HUGE_VAL;
     }
-    return dense_eval(c, w->trial, 0, NULL);
+    c->trial_cost = dense_eval(c, w->trial, 0, 0, NULL);
+    return c->trial_cost;
 }
 
 static void dense_accept(void *self)
 {
     dense_ctx *c = self;
     memcpy(c->w.cur, c->w.trial, sizeof(double) * (size_t)c->nv);
+    c->cost_known = 1;
 }
 
-int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt, void *ws,
-                        size_t ws_size, sfmi_lm_summary *summary, double *cov)
+static int dense_run(const sfmi_lm_problem *prob, const sfmi_lm_options *opt, void *ws,
+                     size_t ws_size, sfmi_lm_summary *summary, double *cov, int lazy)
 {
     if (prob == NULL || opt == NULL || summary == NULL || prob->residual == NULL ||
         prob->n_residuals < 0 || prob->residual_size < 1 ||
@@ -450,6 +505,7 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
     memset(&c, 0, sizeof c);
     c.p = prob;
     c.nt = nt;
+    c.lazy = lazy && !opt->want_covariance && opt->gradient_tolerance == 0.0;
     for (int b = 0, vo = 0, to = 0; b < prob->n_blocks; b++) {
         c.voff[b] = vo;
         c.toff[b] = to;
@@ -512,6 +568,12 @@ int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt,
     return SFM_OK;
 }
 
+int sfmi_lm_dense_solve(const sfmi_lm_problem *prob, const sfmi_lm_options *opt, void *ws,
+                        size_t ws_size, sfmi_lm_summary *summary, double *cov)
+{
+    return dense_run(prob, opt, ws, ws_size, summary, cov, 0);
+}
+
 int sfmi_lm_refine(const sfmi_lm_problem *prob, int max_iterations, double function_tolerance,
                    void *ws, size_t ws_size)
 {
@@ -521,7 +583,10 @@ int sfmi_lm_refine(const sfmi_lm_problem *prob, int max_iterations, double funct
     opt.function_tolerance = function_tolerance;
     opt.gradient_tolerance = 0.0;
     sfmi_lm_summary sum;
-    if (sfmi_lm_dense_solve(prob, &opt, ws, ws_size, &sum, NULL) != SFM_OK)
+    /* only whether a step was taken is reported: no linearisation after
+     * the last one (the summary's stop may say MAX_ITERATIONS where the
+     * gradient was exactly 0, no result differs) */
+    if (dense_run(prob, &opt, ws, ws_size, &sum, NULL, 1) != SFM_OK)
         return -1;
     return sum.successful_steps > 0 ? 0 : 1;
 }
