@@ -81,9 +81,14 @@ SFMI_INLINE double sfmi_la_jacobi_angle(double zeta, double *c, double *s)
  * and y[k inc]. */
 SFMI_INLINE void sfmi_la_rotate(double *x, double *y, int n, size_t inc, double c, double s)
 {
+    /* c a + (-s) b: the same bits as c a - s b, but GCC 12's vectorizer
+     * turns the pair (c a - s b, s a + c b) into a fused
+     * multiply-add-subtract on x86-64-v3 even with -ffp-contract=off
+     * (mk/check-fma.mk) */
+    const double ns = -s;
     for (int k = 0; k < n; k++) {
         double a = x[(size_t)k * inc], b = y[(size_t)k * inc];
-        x[(size_t)k * inc] = c * a - s * b;
+        x[(size_t)k * inc] = c * a + ns * b;
         y[(size_t)k * inc] = s * a + c * b;
     }
 }

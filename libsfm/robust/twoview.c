@@ -279,7 +279,7 @@ static int finish(const twoview_call *call, const twoview_ctx *c, twoview_ws *w,
     }
     double H[9];
     int n_plane = 0;
-    int flags = sfmi_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, tau, est->seed, w->p1,
+    int flags = sfmi_robust_twoview_degeneracy(c->b1, c->b2, w->idx, m, R, t, tau, est->seed, w->p1,
                                               w->p2, w->sel, H, &n_plane);
     sfm_pose twin;
     int has_twin = (flags & SFM_RANSAC_FLAG_PLANAR) && !upright &&

@@ -105,8 +105,9 @@ static int planar(const double *H, int c, double *H_out, int *n_plane)
 }
 
 int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
-                                  const double *R_pose, double tau, uint64_t seed, double *p1,
-                                  double *p2, int *sel, double *H_out, int *n_plane)
+                                  const double *R_pose, const double *t_pose, double tau,
+                                  uint64_t seed, double *p1, double *p2, int *sel, double *H_out,
+                                  int *n_plane)
 {
     if (n < 5)
         return 0;
@@ -121,6 +122,19 @@ int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int
     if (c >= 3 && fit_rotation(b1, b2, sel, c, R) == 0 &&
         rotation_count(b1, b2, idx, n, R, tol, sel) >= need)
         return SFM_RANSAC_FLAG_PURE_ROTATION;
+    /* without parallax cheirality cannot tell R from its twisted pair
+     * (R turned 180 degrees about t), and the twisted one explains none of
+     * the points: try the other, (2 t t^T / t.t - I) R */
+    const double tt = t_pose != NULL ? sfmi_dot3(t_pose, t_pose) : 0.0;
+    if (c < 3 && tt > 0.0) {
+        double Q[9];
+        for (int r = 0; r < 3; r++)
+            for (int k = 0; k < 3; k++)
+                Q[3 * r + k] = 2.0 * t_pose[r] * t_pose[k] / tt - (r == k ? 1.0 : 0.0);
+        sfmi_matmul3(Q, R_pose, R);
+        if (rotation_count(b1, b2, idx, n, R, tol, sel) >= need)
+            return SFM_RANSAC_FLAG_PURE_ROTATION;
+    }
     /* plane: a few 4-point homographies on the z = 1 plane (the inliers of a
      * relative pose may hold a few outliers, which would pull a plain
      * least-squares fit), then a DLT refit on the best one's support */

@@ -18,8 +18,8 @@
 #define SFM_DEGENERACY_H_TRIALS 16
 
 /*
- * b1, b2: unit bearings; idx[0..n): inliers of the relative pose; R_pose:
- * its rotation; tau: the angular inlier threshold; seed: for the homography
+ * b1, b2: unit bearings; idx[0..n): inliers of the relative pose; R_pose,
+ * t_pose: its rotation and translation (t_pose may be NULL); tau: the angular inlier threshold; seed: for the homography
  * samples. p1, p2: scratch of 2 n doubles each, sel: n ints.
  * Returns SFM_RANSAC_FLAG_* bits (PURE_ROTATION, PLANAR) or 0. With PLANAR,
  * H (9 doubles, may be NULL) gets the plane's homography on the z = 1
@@ -27,7 +27,8 @@
  * plane's first: sel[0..*n_plane) indexes them (n_plane may be NULL).
  */
 int sfmi_robust_twoview_degeneracy(const double *b1, const double *b2, const int *idx, int n,
-                                  const double *R_pose, double tau, uint64_t seed, double *p1,
-                                  double *p2, int *sel, double *H, int *n_plane);
+                                  const double *R_pose, const double *t_pose, double tau,
+                                  uint64_t seed, double *p1, double *p2, int *sel, double *H,
+                                  int *n_plane);
 
 #endif
