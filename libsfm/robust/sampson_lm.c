@@ -78,19 +78,17 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     }
     if (dat->blocks[1].manifold == SFMI_LM_CONSTANT)
         return 1; /* t held: J has the rotation's columns only */
-    /* t on the unit sphere, along the driver's tangent basis: one t for
-     * every residual of an evaluation, so the basis is kept (sp is never
-     * const; the callback's view of it is) */
-    sfmi_sampson_problem *memo = (sfmi_sampson_problem *)dat;
-    /* == suffices: t values equal up to the sign of a zero give the same
-     * basis bits (0 - (+-0) = +0), a NaN never matches */
-    if (!memo->basis_valid || memo->basis_t[0] != t[0] || memo->basis_t[1] != t[1] ||
-        memo->basis_t[2] != t[2]) {
-        sfmi_lm_sphere_basis(t, 3, memo->basis);
-        memcpy(memo->basis_t, t, sizeof memo->basis_t);
-        memo->basis_valid = 1;
+    /* t on the unit sphere, along the driver's tangent basis, kept for the
+     * evaluation's other residuals. == suffices: t values equal up to the
+     * sign of a zero give the same basis bits (0 - (+-0) = +0), a NaN never
+     * matches */
+    struct sfmi_sampson_basis *memo = dat->memo;
+    if (!memo->valid || memo->t[0] != t[0] || memo->t[1] != t[1] || memo->t[2] != t[2]) {
+        sfmi_lm_sphere_basis(t, 3, memo->B);
+        memcpy(memo->t, t, sizeof memo->t);
+        memo->valid = 1;
     }
-    const double *B = memo->basis;
+    const double *B = memo->B;
     for (int c = 0; c < 2; c++) {
         const double e[3] = {B[c], B[2 + c], B[4 + c]};
         J[nr + c] = ia * sfmi_dot3(e, gCt) - ib * sfmi_dot3(e, gDt);
@@ -106,7 +104,8 @@ void sfmi_sampson_lm_problem(const double *b1, const double *b2, const int *idx,
     sp->b2 = b2;
     sp->axis = axis;
     sp->idx = idx;
-    sp->basis_valid = 0;
+    sp->memo = &sp->memo_store;
+    sp->memo->valid = 0;
     const sfmi_lm_block rb = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
     const sfmi_lm_block ub = {R, 9, SFMI_LM_CUSTOM, 1, upright_plus, axis};
     const sfmi_lm_block tb = {t, 3, SFMI_LM_SPHERE, 0, NULL, NULL};

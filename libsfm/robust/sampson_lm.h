@@ -27,9 +27,13 @@ typedef struct sfmi_sampson_problem {
     const int *idx;
     sfmi_lm_block blocks[2];
     sfmi_lm_problem prob;
-    /* the tangent basis of blocks[1] at basis_t (the residual's memo) */
-    double basis_t[3], basis[6];
-    int basis_valid;
+    /* the tangent basis of blocks[1] at t, one for every residual of an
+     * evaluation: the residual callback sees the problem as const and keeps
+     * the basis through this pointer (to memo_store) */
+    struct sfmi_sampson_basis {
+        double t[3], B[6];
+        int valid;
+    } *memo, memo_store;
 } sfmi_sampson_problem;
 
 void sfmi_sampson_lm_problem(const double *b1, const double *b2, const int *idx, int n,
