@@ -363,13 +363,12 @@ static inline double peval_d(const double *p, int d, double x, double *dp)
     return y;
 }
 
-/* Root of p in (a, b) where p(a), p(b) differ in sign: Newton's method
- * safeguarded by bisection (a bisection step whenever Newton would leave the
- * bracket or not halve the previous step, as "rtsafe" in Numerical Recipes
- * 9.4), started from the false-position point. */
-static inline double polish(const double *p, int d, double a, double b, double fa, double fb)
+/* Root of p in (a, b) where p(a), p(b) differ in sign: a few bisections
+ * (the isolating interval can be wide), then Newton's method from the
+ * false-position point, kept inside the shrinking bracket (a bisection step
+ * whenever Newton would leave it). */
+static double polish(const double *p, int d, double a, double b, double fa, double fb)
 {
-    /* a few plain bisections first: the isolating interval can be wide */
     for (int k = 0; k < PRE_BISECT; k++) {
         double m = 0.5 * (a + b), fm = peval(p, d, m);
         if (fm == 0.0)
@@ -382,24 +381,19 @@ static inline double polish(const double *p, int d, double a, double b, double f
             fb = fm;
         }
     }
-    double x = (a * fb - b * fa) / (fb - fa), dxold = b - a, dx = dxold;
+    const int pos = fa > 0.0;
+    double x = (a * fb - b * fa) / (fb - fa);
     for (int it = 0; it < 100; it++) {
         double df, f = peval_d(p, d, x, &df);
         if (f == 0.0)
             return x;
-        if ((f > 0.0) == (fa > 0.0))
+        if ((f > 0.0) == pos)
             a = x;
         else
             b = x;
-        double xn;
-        if (df == 0.0 || fabs(2.0 * f) > fabs(dxold * df) || !((xn = x - f / df) > a && xn < b)) {
-            dxold = dx;
-            dx = 0.5 * (b - a);
-            xn = a + dx;
-        } else {
-            dxold = dx;
-            dx = f / df;
-        }
+        double xn = df != 0.0 ? x - f / df : a;
+        if (!(xn > a && xn < b))
+            xn = 0.5 * (a + b);
         /* Newton converges quadratically at a simple root: after a step of
          * 1e-8 (relative) the error is at rounding level. Close roots
          * converge more slowly; the Gauss-Newton polish on the original
@@ -417,20 +411,27 @@ static int sturm_roots(const double *c, int d, double *roots)
     sturm_seq S;
     sturm_build(c, d, &S);
     /* Fujiwara's bound, max_i |a_i|^(1/i) times 2 (a_d halved), rounded up
-     * to a power of two by doubling: no roots or logarithms needed. */
-    double B = 1.0 / 64.0;
+     * to a power of two: B = 2^(k + 1), k the largest over i of the least
+     * integer with 2^(k i) >= |a_i| (and at least -6), read off the exponent
+     * bits of a_i: for |a_i| = 1.f 2^L, k i >= L when f = 0, k i > L else.
+     * 2520 (divisible by 1..10) keeps the integer divisions on positive
+     * numerators, so that they round down. Values below 2^-1022 never
+     * raise k. */
+    int kmax = -6;
     for (int i = 1; i <= d; i++) {
-        double ai = fabs(S.s[0][i]) * (i == d ? 0.5 : 1.0), bp;
-        for (;;) {
-            bp = B;
-            for (int k = 1; k < i; k++)
-                bp *= B;
-            if (bp >= ai)
-                break;
-            B *= 2.0;
-        }
+        const uint64_t u = dbits(S.s[0][i]);
+        const int eb = (int)((u >> 52) & 0x7ff);
+        if (eb == 0)
+            continue;
+        const int L = eb - 1023 - (i == d), f0 = (u & 0xfffffffffffffULL) == 0;
+        const int k = (L + 2520 + i - f0) / i - 2520 / i;
+        kmax = k > kmax ? k : kmax;
     }
-    B *= 2.0;
+    double B;
+    {
+        const uint64_t ub = (uint64_t)(kmax + 1 + 1023) << 52;
+        memcpy(&B, &ub, sizeof B);
+    }
     double st_a[2 * STURM_MAX + 2], st_b[2 * STURM_MAX + 2];
     int st_va[2 * STURM_MAX + 2], st_vb[2 * STURM_MAX + 2];
     int sp = 0, nr = 0;
@@ -508,76 +509,61 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #ifndef REFINE_ITERS
 #define REFINE_ITERS 3
 #endif
-#ifndef REFINE_TOL
-#define REFINE_TOL 1e-11
-#endif
-/* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
- * largest coefficient), given transposed: M0T[k][r] is the coefficient of
- * monomial k in constraint r, so that the products below run over the ten
- * constraints in contiguous memory (each sum still adds its terms in
- * monomial order). Returns 1 when the residual is already at rounding level
- * (no step taken), else 0. */
-/* f = M0T^T v: f[r] = sum over k, in order, of M0T[k][r] v[k]. Written as
- * pairs of adjacent rows so that the compiler can use two-lane arithmetic. */
-static inline void axpy10(double M0T[20][10], const double *v, double *f)
+/* One Gauss-Newton step in (x, y, z) on the ten constraints evaluated on
+ * E = x X + y Y + z Z + W itself: det(E) and (E E^T - tr(E E^T)/2 I) E,
+ * the same polynomials as the rows of the 10x20 matrix (up to the rows'
+ * scaling, which does not move a zero-residual root). The derivative along
+ * D (one of X, Y, Z) is tr(adj(E) D) for the determinant and
+ * (P + P^T - tr(P) I) E + A D, P = D E^T, A = E E^T - tr(E E^T)/2 I, for the
+ * trace constraint. The caller runs it only when E is above rounding level.
+ * Returns 1 when no step was taken (singular normal equations), else 0. */
+static int refine(const double e[9][4], const double *E, double *px, double *py, double *pz)
 {
-    double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0, f6 = 0.0, f7 = 0.0,
-           f8 = 0.0, f9 = 0.0;
-    for (int k = 0; k < 20; k++) {
-        const double *c = M0T[k], w = v[k];
-        f0 += c[0] * w; f1 += c[1] * w;
-        f2 += c[2] * w; f3 += c[3] * w;
-        f4 += c[4] * w; f5 += c[5] * w;
-        f6 += c[6] * w; f7 += c[7] * w;
-        f8 += c[8] * w; f9 += c[9] * w;
+    double A[9], f[10], J[3][10];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            A[3 * i + j] = E[3 * i] * E[3 * j] + E[3 * i + 1] * E[3 * j + 1] + E[3 * i + 2] * E[3 * j + 2];
+    const double h = 0.5 * (A[0] + A[4] + A[8]);
+    A[0] -= h;
+    A[4] -= h;
+    A[8] -= h;
+    /* cofactors of E: det(E) = sum E .* C, d det = sum D .* C */
+    const double C[9] = {E[4] * E[8] - E[5] * E[7], E[5] * E[6] - E[3] * E[8], E[3] * E[7] - E[4] * E[6],
+                         E[2] * E[7] - E[1] * E[8], E[0] * E[8] - E[2] * E[6], E[1] * E[6] - E[0] * E[7],
+                         E[1] * E[5] - E[2] * E[4], E[2] * E[3] - E[0] * E[5], E[0] * E[4] - E[1] * E[3]};
+    f[0] = E[0] * C[0] + E[1] * C[1] + E[2] * C[2];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            f[1 + 3 * i + j] = A[3 * i] * E[j] + A[3 * i + 1] * E[3 + j] + A[3 * i + 2] * E[6 + j];
+    for (int v = 0; v < 3; v++) {
+        double D[9], P[9], S[9];
+        for (int k = 0; k < 9; k++)
+            D[k] = e[k][v];
+        double dd = 0.0;
+        for (int k = 0; k < 9; k++)
+            dd += D[k] * C[k];
+        J[v][0] = dd;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                P[3 * i + j] = D[3 * i] * E[3 * j] + D[3 * i + 1] * E[3 * j + 1] + D[3 * i + 2] * E[3 * j + 2];
+        const double tp = P[0] + P[4] + P[8];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                S[3 * i + j] = P[3 * i + j] + P[3 * j + i];
+        S[0] -= tp;
+        S[4] -= tp;
+        S[8] -= tp;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                J[v][1 + 3 * i + j] = (S[3 * i] * E[j] + S[3 * i + 1] * E[3 + j] + S[3 * i + 2] * E[6 + j]) +
+                                      (A[3 * i] * D[j] + A[3 * i + 1] * D[3 + j] + A[3 * i + 2] * D[6 + j]);
     }
-    f[0] = f0; f[1] = f1; f[2] = f2; f[3] = f3; f[4] = f4;
-    f[5] = f5; f[6] = f6; f[7] = f7; f[8] = f8; f[9] = f9;
-}
-
-static int refine(double M0T[20][10], double *px, double *py, double *pz)
-{
-    double x = *px, y = *py, z = *pz;
-    double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
-                    x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
-    /* The largest monomial magnitude: max(1, |x|, |y|, |z|)^3. */
-    double mm = 1.0, ax = fabs(x), ay = fabs(y), az = fabs(z);
-    mm = ax > mm ? ax : mm;
-    mm = ay > mm ? ay : mm;
-    mm = az > mm ? az : mm;
-    const double mmax = mm * mm * mm;
-    double fr[10];
-    axpy10(M0T, m, fr);
-    double fmax_ = 0.0;
-    for (int r = 0; r < 10; r++) {
-        double af = fabs(fr[r]);
-        fmax_ = af > fmax_ ? af : fmax_;
-    }
-    if (fmax_ <= REFINE_TOL * mmax)
-        return 1;
-    /* Jacobian columns over the monomials whose derivative is nonzero */
-    const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
-    const double xx3 = 3.0 * xx, yy3 = 3.0 * yy, zz3 = 3.0 * zz, xy2 = 2.0 * xy, xz2 = 2.0 * xz,
-                 yz2 = 2.0 * yz, x2 = 2.0 * x, y2 = 2.0 * y, z2 = 2.0 * z;
-    double ja[10], jb[10], jc[10];
-    for (int r = 0; r < 10; r++)
-        ja[r] = xx3 * M0T[0][r] + xy2 * M0T[2][r] + yy * M0T[3][r] + xz2 * M0T[4][r] +
-                x2 * M0T[5][r] + yz * M0T[8][r] + y * M0T[9][r] + zz * M0T[10][r] +
-                z * M0T[11][r] + M0T[12][r];
-    for (int r = 0; r < 10; r++)
-        jb[r] = yy3 * M0T[1][r] + xx * M0T[2][r] + xy2 * M0T[3][r] + yz2 * M0T[6][r] +
-                y2 * M0T[7][r] + xz * M0T[8][r] + x * M0T[9][r] + zz * M0T[13][r] +
-                z * M0T[14][r] + M0T[15][r];
-    for (int r = 0; r < 10; r++)
-        jc[r] = xx * M0T[4][r] + yy * M0T[6][r] + xy * M0T[8][r] + xz2 * M0T[10][r] +
-                x * M0T[11][r] + yz2 * M0T[13][r] + y * M0T[14][r] + zz3 * M0T[16][r] +
-                z2 * M0T[17][r] + M0T[18][r];
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
-        double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
+        double fr = f[r], a = J[0][r], b = J[1][r], c = J[2][r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
-        Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
+        Jtf[0] += a * fr; Jtf[1] += b * fr; Jtf[2] += c * fr;
     }
     /* Solve the 3x3 symmetric system by Cramer's rule. */
     double A00 = JtJ[0], A01 = JtJ[1], A02 = JtJ[2], A11 = JtJ[3], A12 = JtJ[4], A22 = JtJ[5];
@@ -591,7 +577,7 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     double dz = (c02 * Jtf[0] + c12 * Jtf[1] + c22 * Jtf[2]) / det;
     if (!isfinite(dx) || !isfinite(dy) || !isfinite(dz))
         return 1;
-    *px = x - dx; *py = y - dy; *pz = z - dz;
+    *px -= dx; *py -= dy; *pz -= dz;
     return 0;
 }
 
@@ -665,11 +651,10 @@ static inline void row_axpy10(double *restrict r, const double *restrict p, doub
 }
 
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
- * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
- * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
- * magnitude (rows scaled to unit max norm), 0 when singular. */
-static double build_reduce(const double *N, int perm, double e[9][4], double M0T[20][10],
-                           double Bred[6][10])
+ * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]) and
+ * reduces it by Gauss-Jordan. Returns the smallest pivot magnitude (relative
+ * to the largest entry of its row before the elimination), 0 when singular. */
+static double build_reduce(const double *N, int perm, double e[9][4], double Bred[6][10])
 {
     double M[10][20];
     const double *n0 = N + 9 * (perm & 3), *n1 = N + 9 * ((perm + 1) & 3),
@@ -708,11 +693,12 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         for (int j = 0; j < 3; j++)
             cubic3(M[1 + 3 * i + j], EEt[i][0], e[j], EEt[i][1], e[3 + j], EEt[i][2], e[6 + j]);
 
-    /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
-     * first scaled to unit largest entry (M0T keeps the scaled, unreduced
-     * rows, transposed, for the polish). */
+    /* 3. Gauss elimination of the left 10x10 block, partial pivoting on the
+     * entries relative to their row's largest (implicit row scaling: the
+     * rows are not multiplied, which would not change the reduced rows). */
+    double rs[10]; /* reciprocal largest magnitude of row R[r] */
     for (int r = 0; r < 10; r++) {
-        double *row = M[r];
+        const double *row = M[r];
         double m0 = fabs(row[0]), m1 = fabs(row[1]); /* two lanes of the maximum */
 #define MX_PAIR(k)                                                             \
     do {                                                                       \
@@ -731,12 +717,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         double mx = m1 > m0 ? m1 : m0;
         if (!(mx > 0.0))
             return 0.0;
-        mx = 1.0 / mx;
-        for (int c = 0; c < 20; c++) {
-            double v = row[c] * mx;
-            row[c] = v;
-            M0T[c][r] = v;
-        }
+        rs[r] = 1.0 / mx;
     }
     /* Rows are swapped through the pointers R. */
     double *R[10];
@@ -745,9 +726,9 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     double minpiv = HUGE_VAL, ipiv[10];
     for (int c = 0; c < 10; c++) {
         int piv = c;
-        double pmax = fabs(R[c][c]);
+        double pmax = fabs(R[c][c]) * rs[c];
         for (int r = c + 1; r < 10; r++) {
-            double a = fabs(R[r][c]);
+            double a = fabs(R[r][c]) * rs[r];
             if (a > pmax) {
                 pmax = a;
                 piv = r;
@@ -760,6 +741,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         double *rc = R[piv];
         R[piv] = R[c];
         R[c] = rc;
+        rs[piv] = rs[c];
         /* The pivot row stays unscaled (its reciprocal pivot is kept for the
          * back substitution). Columns left of c are never read again; the
          * updates start at the even column at or before c. */
@@ -789,7 +771,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
 
 /* Steps 3 (end) and 4 for one reduced system: solutions written to out as
  * unit-norm 9-vectors; returns their number. */
-static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
+static int solve_reduced(double e[9][4], double Bred[6][10],
                          double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
@@ -887,7 +869,7 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
             E_ENTRY(5); E_ENTRY(6); E_ENTRY(7); E_ENTRY(8);
 #endif
 #undef E_ENTRY
-            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(M0T, &x, &y, &z))
+            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(e, o, &x, &y, &z))
                 break;
         }
         if (sfmi_normalize9(o))
@@ -941,16 +923,16 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
      * that the first polynomial's rounding turned into a complex pair is
      * found by the second). This takes the ground-truth-found rate from
      * about 99% to above 99.9% on near-planar and distant scenes. */
-    double e[9][4], M0T[20][10], Bred[6][10];
+    double e[9][4], Bred[6][10];
     double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
-    double piv = build_reduce(N, 0, e, M0T, Bred);
-    int ns = piv > 0.0 ? solve_reduced(e, M0T, Bred, out) : 0;
+    double piv = build_reduce(N, 0, e, Bred);
+    int ns = piv > 0.0 ? solve_reduced(e, Bred, out) : 0;
     if (piv < PERM_RETRY_PIVOT) {
         double p2 = 0.0;
         int best = 0;
         int last = 0;
         for (int perm = 1; perm < 4; perm++) {
-            double pp = build_reduce(N, perm, e, M0T, Bred);
+            double pp = build_reduce(N, perm, e, Bred);
             last = perm;
             if (pp > p2) {
                 p2 = pp;
@@ -962,8 +944,8 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         if (best > 0) {
             double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
             if (best != last)
-                (void)build_reduce(N, best, e, M0T, Bred);
-            int n2 = solve_reduced(e, M0T, Bred, more);
+                (void)build_reduce(N, best, e, Bred);
+            int n2 = solve_reduced(e, Bred, more);
             for (int k = 0; k < n2; k++) {
                 int dup = 0;
                 for (int j = 0; j < ns && !dup; j++) {
