@@ -50,6 +50,10 @@
 #else
 #define RP5_WRITTEN_OUT 0
 #endif
+/* The quadratics Q[k][.][i] of the constraint rows are stored with a
+ * stride of 4 (QS): Q[k][q][i], i = 0..3, so that two rows' coefficients of
+ * one monomial are adjacent (two lanes). */
+#define QS 4
 #if !RP5_WRITTEN_OUT
 /* Quadratic monomial m = x_i x_j (x_3 = 1), i <= j. */
 static const unsigned char QUAD_IJ[10][2] = {{0, 0}, {0, 1}, {1, 1}, {0, 2}, {1, 2},
@@ -61,30 +65,35 @@ static const unsigned char CUBIC_QL[20][4] = {
     {2, 11, 29}, {3, 6, 13, 16}, {3, 7, 25, 28}, {2, 14, 20}, {3, 15, 26, 32}, {2, 27, 36},
     {2, 18, 21}, {3, 19, 30, 33}, {2, 31, 37}, {1, 22}, {2, 23, 34}, {2, 35, 38}, {1, 39}};
 
+/* q = a b - c d for linear a, b, c, d (quadratic q, stride QS). */
 static void quad_cross(const double *a, const double *b, const double *c, const double *d, double *q)
 {
     for (int m = 0; m < 10; m++) {
         int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
-        q[m] = i == j ? a[i] * b[i] - c[i] * d[i]
-                      : (a[i] * b[j] + a[j] * b[i]) - (c[i] * d[j] + c[j] * d[i]);
+        q[QS * m] = i == j ? a[i] * b[i] - c[i] * d[i]
+                           : (a[i] * b[j] + a[j] * b[i]) - (c[i] * d[j] + c[j] * d[i]);
     }
 }
 
+/* q = a b + c d + e f for linear a..f (quadratic q, stride QS). */
 static void quad3(double *q, const double *a, const double *b, const double *c, const double *d,
                   const double *e, const double *f)
 {
 #define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
     for (int m = 0; m < 10; m++) {
         int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
-        q[m] = i == j ? P(i, i) : P(i, j) + P(j, i);
+        q[QS * m] = i == j ? P(i, i) : P(i, j) + P(j, i);
     }
 #undef P
 }
 
+/* c = qa la + qb lb + qc lc for quadratics q (stride QS) and linears l. */
 static void cubic3(double *c, const double *qa, const double *la, const double *qb,
                    const double *lb, const double *qc, const double *lc)
 {
-#define T(t) (qa[(t) >> 2] * la[(t) & 3] + qb[(t) >> 2] * lb[(t) & 3] + qc[(t) >> 2] * lc[(t) & 3])
+#define T(t)                                                                   \
+    (qa[QS * ((t) >> 2)] * la[(t) & 3] + qb[QS * ((t) >> 2)] * lb[(t) & 3] +   \
+     qc[QS * ((t) >> 2)] * lc[(t) & 3])
     for (int m = 0; m < 20; m++) {
         const unsigned char *t = CUBIC_QL[m];
         double acc = T(t[1]);
@@ -95,66 +104,79 @@ static void cubic3(double *c, const double *qa, const double *la, const double *
 #undef T
 }
 #else
-/* q = a b - c d for linear a, b, c, d (quadratic q). */
+/* Two doubles, one per constraint row (GCC and Clang vector extension;
+ * lane-wise IEEE operations, the same bits as two scalar ones). */
+typedef double rp5_v2 __attribute__((vector_size(16)));
+
+/* q = a b - c d for linear a, b, c, d (quadratic q, stride QS). */
 static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
                               double *q)
 {
     q[0] = a[0] * b[0] - c[0] * d[0];
-    q[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
-    q[2] = a[1] * b[1] - c[1] * d[1];
-    q[3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
-    q[4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
-    q[5] = a[2] * b[2] - c[2] * d[2];
-    q[6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
-    q[7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
-    q[8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
-    q[9] = a[3] * b[3] - c[3] * d[3];
+    q[QS] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    q[QS * 2] = a[1] * b[1] - c[1] * d[1];
+    q[QS * 3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
+    q[QS * 4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
+    q[QS * 5] = a[2] * b[2] - c[2] * d[2];
+    q[QS * 6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
+    q[QS * 7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
+    q[QS * 8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    q[QS * 9] = a[3] * b[3] - c[3] * d[3];
 }
 
-/* c = a b + c d + e f for linear a..f (quadratic c). */
+/* q = a b + c d + e f for linear a..f (quadratic q, stride QS). */
 static inline void quad3(double *q, const double *a, const double *b, const double *c,
                          const double *d, const double *e, const double *f)
 {
 #define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
     q[0] = P(0, 0);
-    q[1] = P(0, 1) + P(1, 0);
-    q[2] = P(1, 1);
-    q[3] = P(0, 2) + P(2, 0);
-    q[4] = P(1, 2) + P(2, 1);
-    q[5] = P(2, 2);
-    q[6] = P(0, 3) + P(3, 0);
-    q[7] = P(1, 3) + P(3, 1);
-    q[8] = P(2, 3) + P(3, 2);
-    q[9] = P(3, 3);
+    q[QS] = P(0, 1) + P(1, 0);
+    q[QS * 2] = P(1, 1);
+    q[QS * 3] = P(0, 2) + P(2, 0);
+    q[QS * 4] = P(1, 2) + P(2, 1);
+    q[QS * 5] = P(2, 2);
+    q[QS * 6] = P(0, 3) + P(3, 0);
+    q[QS * 7] = P(1, 3) + P(3, 1);
+    q[QS * 8] = P(2, 3) + P(3, 2);
+    q[QS * 9] = P(3, 3);
 #undef P
 }
 
-/* c = qa la + qb lb + qc lc for quadratics q and linears l, written out per
- * cubic monomial of the order above. */
-static inline void cubic3(double *c, const double *qa, const double *la, const double *qb,
-                          const double *lb, const double *qc, const double *lc)
+/* c = qa la + qb lb + qc lc for two rows at once, lane 0 written to r0 and
+ * lane 1 to r1: quadratics q (two lanes, stride QS / 2 vectors), linears l
+ * broadcast to both lanes; written out per cubic monomial of the order
+ * above. */
+static inline void cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v2 *la,
+                           const rp5_v2 *qb, const rp5_v2 *lb, const rp5_v2 *qc, const rp5_v2 *lc)
 {
-#define T(i, j) (qa[i] * la[j] + qb[i] * lb[j] + qc[i] * lc[j])
-    c[0] = T(0, 0);
-    c[1] = T(2, 1);
-    c[2] = T(0, 1) + T(1, 0);
-    c[3] = T(1, 1) + T(2, 0);
-    c[4] = T(0, 2) + T(3, 0);
-    c[5] = T(0, 3) + T(6, 0);
-    c[6] = T(2, 2) + T(4, 1);
-    c[7] = T(2, 3) + T(7, 1);
-    c[8] = T(1, 2) + T(3, 1) + T(4, 0);
-    c[9] = T(1, 3) + T(6, 1) + T(7, 0);
-    c[10] = T(3, 2) + T(5, 0);
-    c[11] = T(3, 3) + T(6, 2) + T(8, 0);
-    c[12] = T(6, 3) + T(9, 0);
-    c[13] = T(4, 2) + T(5, 1);
-    c[14] = T(4, 3) + T(7, 2) + T(8, 1);
-    c[15] = T(7, 3) + T(9, 1);
-    c[16] = T(5, 2);
-    c[17] = T(5, 3) + T(8, 2);
-    c[18] = T(8, 3) + T(9, 2);
-    c[19] = T(9, 3);
+#define T(i, j) (qa[(QS / 2) * (i)] * la[j] + qb[(QS / 2) * (i)] * lb[j] + qc[(QS / 2) * (i)] * lc[j])
+#define C(m, v)                                                                \
+    do {                                                                       \
+        rp5_v2 c_ = v;                                                         \
+        r0[m] = c_[0];                                                         \
+        r1[m] = c_[1];                                                         \
+    } while (0)
+    C(0, T(0, 0));
+    C(1, T(2, 1));
+    C(2, T(0, 1) + T(1, 0));
+    C(3, T(1, 1) + T(2, 0));
+    C(4, T(0, 2) + T(3, 0));
+    C(5, T(0, 3) + T(6, 0));
+    C(6, T(2, 2) + T(4, 1));
+    C(7, T(2, 3) + T(7, 1));
+    C(8, T(1, 2) + T(3, 1) + T(4, 0));
+    C(9, T(1, 3) + T(6, 1) + T(7, 0));
+    C(10, T(3, 2) + T(5, 0));
+    C(11, T(3, 3) + T(6, 2) + T(8, 0));
+    C(12, T(6, 3) + T(9, 0));
+    C(13, T(4, 2) + T(5, 1));
+    C(14, T(4, 3) + T(7, 2) + T(8, 1));
+    C(15, T(7, 3) + T(9, 1));
+    C(16, T(5, 2));
+    C(17, T(5, 3) + T(8, 2));
+    C(18, T(8, 3) + T(9, 2));
+    C(19, T(9, 3));
+#undef C
 #undef T
 }
 #endif
@@ -666,32 +688,54 @@ static double build_reduce(const double *N, int perm, double e[9][4], double Bre
         e[k][3] = n3[k];
     }
 
-    /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
-     * then (E E^T - tr(E E^T)/2 I) E. */
-    {
-        double c0[10], c1[10], c2[10];
-        quad_cross(e[4], e[8], e[5], e[7], c0);
-        quad_cross(e[5], e[6], e[3], e[8], c1);
-        quad_cross(e[3], e[7], e[4], e[6], c2);
-        cubic3(M[0], c0, e[0], c1, e[1], c2, e[2]);
-    }
-    double EEt[3][3][10];
+    /* 2. The 10x20 constraint matrix: row 1 + 3 i + j is entry (i, j) of
+     * A E, A = E E^T - tr(E E^T)/2 I, the sum over k of A_ik E_kj; row 0 is
+     * det(E) by the cofactors of the first column, the sum over k of
+     * C_k0 E_k0. Q[k][.][i] holds A_ik (i < 3) and C_k0 (i = 3): each row is
+     * a sum over k of Q[k][.][i] times entry (k, j) of E. */
+    union {
+        double d[3][10][QS];
+#if RP5_WRITTEN_OUT
+        rp5_v2 v[3][10][QS / 2];
+#endif
+    } Q;
+    quad_cross(e[4], e[8], e[5], e[7], &Q.d[0][0][3]);
+    quad_cross(e[2], e[7], e[1], e[8], &Q.d[1][0][3]);
+    quad_cross(e[1], e[5], e[2], e[4], &Q.d[2][0][3]);
     for (int i = 0; i < 3; i++)
-        for (int j = i; j < 3; j++) {
-            quad3(EEt[i][j], e[3 * i], e[3 * j], e[3 * i + 1], e[3 * j + 1], e[3 * i + 2],
-                  e[3 * j + 2]);
-            if (j != i)
-                memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
+        for (int k = i; k < 3; k++) {
+            quad3(&Q.d[k][0][i], e[3 * i], e[3 * k], e[3 * i + 1], e[3 * k + 1], e[3 * i + 2],
+                  e[3 * k + 2]);
+            if (k != i)
+                for (int q = 0; q < 10; q++)
+                    Q.d[i][q][k] = Q.d[k][q][i];
         }
-    for (int k = 0; k < 10; k++) {
-        double half_tr = 0.5 * (EEt[0][0][k] + EEt[1][1][k] + EEt[2][2][k]);
-        EEt[0][0][k] -= half_tr;
-        EEt[1][1][k] -= half_tr;
-        EEt[2][2][k] -= half_tr;
+    for (int q = 0; q < 10; q++) {
+        double half_tr = 0.5 * (Q.d[0][q][0] + Q.d[1][q][1] + Q.d[2][q][2]);
+        Q.d[0][q][0] -= half_tr;
+        Q.d[1][q][1] -= half_tr;
+        Q.d[2][q][2] -= half_tr;
     }
+#if !RP5_WRITTEN_OUT
+    cubic3(M[0], &Q.d[0][0][3], e[0], &Q.d[1][0][3], e[3], &Q.d[2][0][3], e[6]);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            cubic3(M[1 + 3 * i + j], EEt[i][0], e[j], EEt[i][1], e[3 + j], EEt[i][2], e[6 + j]);
+            cubic3(M[1 + 3 * i + j], &Q.d[0][0][i], e[j], &Q.d[1][0][i], e[3 + j], &Q.d[2][0][i],
+                   e[6 + j]);
+#else
+    /* rows (0, j) and (1, j) in the lanes of the first pair, (2, j) and
+     * (for j = 0) the determinant in those of the second */
+    double spare[20]; /* lane 1 of the second pair for j = 1, 2: not used */
+    for (int j = 0; j < 3; j++) {
+        rp5_v2 L[3][4];
+        for (int k = 0; k < 3; k++)
+            for (int l = 0; l < 4; l++)
+                L[k][l] = (rp5_v2){e[3 * k + j][l], e[3 * k + j][l]};
+        cubic3v(M[1 + j], M[4 + j], &Q.v[0][0][0], L[0], &Q.v[1][0][0], L[1], &Q.v[2][0][0], L[2]);
+        cubic3v(M[7 + j], j == 0 ? M[0] : spare, &Q.v[0][0][1], L[0], &Q.v[1][0][1], L[1],
+                &Q.v[2][0][1], L[2]);
+    }
+#endif
 
     /* 3. Gauss elimination of the left 10x10 block, partial pivoting on the
      * entries relative to their row's largest (implicit row scaling: the
