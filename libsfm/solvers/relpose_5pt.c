@@ -47,6 +47,11 @@
  * gives the same bits; the golden outputs of every target compare the two. */
 #if (defined(__SSE2__) || defined(__ARM_NEON)) && !defined(__OPTIMIZE_SIZE__)
 #define RP5_WRITTEN_OUT 1
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#else
+#include <arm_neon.h>
+#endif
 #else
 #define RP5_WRITTEN_OUT 0
 #endif
@@ -108,6 +113,16 @@ static void cubic3(double *c, const double *qa, const double *la, const double *
  * lane-wise IEEE operations, the same bits as two scalar ones). */
 typedef double rp5_v2 __attribute__((vector_size(16)));
 
+/* Lane-wise max(m, |c|) (exact, as the scalar comparisons it replaces). */
+static inline rp5_v2 vmax_abs(rp5_v2 m, rp5_v2 c)
+{
+#if defined(__SSE2__)
+    return (rp5_v2)_mm_max_pd((__m128d)m, _mm_andnot_pd(_mm_set1_pd(-0.0), (__m128d)c));
+#else
+    return vmaxq_f64(m, vabsq_f64(c));
+#endif
+}
+
 /* q = a b - c d for linear a, b, c, d (quadratic q, stride QS). */
 static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
                               double *q)
@@ -145,8 +160,8 @@ static inline void quad3(double *q, const double *a, const double *b, const doub
 /* c = qa la + qb lb + qc lc for two rows at once, lane 0 written to r0 and
  * lane 1 to r1: quadratics q (two lanes, stride QS / 2 vectors), linears l
  * broadcast to both lanes; written out per cubic monomial of the order
- * above. */
-static inline void cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v2 *la,
+ * above. Returns the largest magnitude of each row. */
+static inline rp5_v2 cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v2 *la,
                            const rp5_v2 *qb, const rp5_v2 *lb, const rp5_v2 *qc, const rp5_v2 *lc)
 {
 #define T(i, j) (qa[(QS / 2) * (i)] * la[j] + qb[(QS / 2) * (i)] * lb[j] + qc[(QS / 2) * (i)] * lc[j])
@@ -155,7 +170,9 @@ static inline void cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v
         rp5_v2 c_ = v;                                                         \
         r0[m] = c_[0];                                                         \
         r1[m] = c_[1];                                                         \
+        mx = vmax_abs(mx, c_);                                                 \
     } while (0)
+    rp5_v2 mx = {0.0, 0.0};
     C(0, T(0, 0));
     C(1, T(2, 1));
     C(2, T(0, 1) + T(1, 0));
@@ -178,6 +195,7 @@ static inline void cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v
     C(19, T(9, 3));
 #undef C
 #undef T
+    return mx;
 }
 #endif
 
@@ -632,9 +650,13 @@ static inline void row_axpy(double *restrict r, const double *restrict p, double
 #ifndef ESSENTIAL_TOL
 #define ESSENTIAL_TOL 1e-12
 #endif
-/* 1 when det(E) and (E E^T - tr(E E^T)/2 I) E, cubic in E, are all below
- * ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level. */
-static int essential_at_rounding(const double *E)
+/* 1 when the entries of (E E^T - tr(E E^T)/2 I) E, cubic in E, are all
+ * below ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level.
+ * (That constraint alone implies det(E) = 0: on the singular values it
+ * reads s_i (s_i^2 - (s_1^2 + s_2^2 + s_3^2)/2) = 0, whose only solutions
+ * with a nonzero s are two equal values and a zero; near it, the smallest
+ * singular value is bounded by the residual.) *n2 = |E|^2 (Frobenius). */
+static int essential_at_rounding(const double *E, double *n2_out)
 {
     double a00 = E[0] * E[0] + E[1] * E[1] + E[2] * E[2];
     double a01 = E[0] * E[3] + E[1] * E[4] + E[2] * E[5];
@@ -643,11 +665,11 @@ static int essential_at_rounding(const double *E)
     double a12 = E[3] * E[6] + E[4] * E[7] + E[5] * E[8];
     double a22 = E[6] * E[6] + E[7] * E[7] + E[8] * E[8];
     double n2 = a00 + a11 + a22, h = 0.5 * n2;
+    *n2_out = n2;
     a00 -= h;
     a11 -= h;
     a22 -= h;
-    double c = fabs(E[0] * (E[4] * E[8] - E[5] * E[7]) - E[1] * (E[3] * E[8] - E[5] * E[6]) +
-                    E[2] * (E[3] * E[7] - E[4] * E[6]));
+    double c = 0.0;
     for (int j = 0; j < 3; j++) {
         double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
         double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
@@ -726,14 +748,21 @@ static double build_reduce(const double *N, int perm, double e[9][4], double Bre
     /* rows (0, j) and (1, j) in the lanes of the first pair, (2, j) and
      * (for j = 0) the determinant in those of the second */
     double spare[20]; /* lane 1 of the second pair for j = 1, 2: not used */
+    double rmax[10]; /* largest magnitude of each row */
     for (int j = 0; j < 3; j++) {
         rp5_v2 L[3][4];
         for (int k = 0; k < 3; k++)
             for (int l = 0; l < 4; l++)
                 L[k][l] = (rp5_v2){e[3 * k + j][l], e[3 * k + j][l]};
-        cubic3v(M[1 + j], M[4 + j], &Q.v[0][0][0], L[0], &Q.v[1][0][0], L[1], &Q.v[2][0][0], L[2]);
-        cubic3v(M[7 + j], j == 0 ? M[0] : spare, &Q.v[0][0][1], L[0], &Q.v[1][0][1], L[1],
-                &Q.v[2][0][1], L[2]);
+        rp5_v2 m01 = cubic3v(M[1 + j], M[4 + j], &Q.v[0][0][0], L[0], &Q.v[1][0][0], L[1],
+                             &Q.v[2][0][0], L[2]);
+        rp5_v2 m23 = cubic3v(M[7 + j], j == 0 ? M[0] : spare, &Q.v[0][0][1], L[0], &Q.v[1][0][1],
+                             L[1], &Q.v[2][0][1], L[2]);
+        rmax[1 + j] = m01[0];
+        rmax[4 + j] = m01[1];
+        rmax[7 + j] = m23[0];
+        if (j == 0)
+            rmax[0] = m23[1];
     }
 #endif
 
@@ -741,27 +770,22 @@ static double build_reduce(const double *N, int perm, double e[9][4], double Bre
      * entries relative to their row's largest (implicit row scaling: the
      * rows are not multiplied, which would not change the reduced rows). */
     double rs[10]; /* reciprocal largest magnitude of row R[r] */
+#if !RP5_WRITTEN_OUT
+    double rmax[10];
     for (int r = 0; r < 10; r++) {
         const double *row = M[r];
-        double m0 = fabs(row[0]), m1 = fabs(row[1]); /* two lanes of the maximum */
-#define MX_PAIR(k)                                                             \
-    do {                                                                       \
-        double a0 = fabs(row[k]), a1 = fabs(row[k + 1]);                       \
-        m0 = a0 > m0 ? a0 : m0;                                                \
-        m1 = a1 > m1 ? a1 : m1;                                                \
-    } while (0)
-#if !RP5_WRITTEN_OUT
-        for (int k = 2; k < 20; k += 2)
-            MX_PAIR(k);
-#else
-        MX_PAIR(2); MX_PAIR(4); MX_PAIR(6); MX_PAIR(8); MX_PAIR(10);
-        MX_PAIR(12); MX_PAIR(14); MX_PAIR(16); MX_PAIR(18);
+        double mx = 0.0;
+        for (int k = 0; k < 20; k++) {
+            double a = fabs(row[k]);
+            mx = a > mx ? a : mx;
+        }
+        rmax[r] = mx;
+    }
 #endif
-#undef MX_PAIR
-        double mx = m1 > m0 ? m1 : m0;
-        if (!(mx > 0.0))
+    for (int r = 0; r < 10; r++) {
+        if (!(rmax[r] > 0.0))
             return 0.0;
-        rs[r] = 1.0 / mx;
+        rs[r] = 1.0 / rmax[r];
     }
     /* Rows are swapped through the pointers R. */
     double *R[10];
@@ -902,7 +926,7 @@ static int solve_reduced(double e[9][4], double Bred[6][10],
         double x = best[0] / best[2], y = best[1] / best[2];
         /* The Gauss-Newton polish runs only when the cheaper test on E
          * itself finds the constraints above rounding level. */
-        double *o = out[ns];
+        double *o = out[ns], n2;
         for (int iter = 0;; iter++) {
 #define E_ENTRY(k) o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3]
 #if !RP5_WRITTEN_OUT
@@ -913,11 +937,15 @@ static int solve_reduced(double e[9][4], double Bred[6][10],
             E_ENTRY(5); E_ENTRY(6); E_ENTRY(7); E_ENTRY(8);
 #endif
 #undef E_ENTRY
-            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(e, o, &x, &y, &z))
+            if (essential_at_rounding(o, &n2) || iter == REFINE_ITERS || refine(e, o, &x, &y, &z))
                 break;
         }
-        if (sfmi_normalize9(o))
+        /* unit Frobenius norm, from the |E|^2 of the test */
+        if (!(n2 > 0.0) || !isfinite(n2))
             continue;
+        const double sc = 1.0 / sqrt(n2);
+        for (int k = 0; k < 9; k++)
+            o[k] *= sc;
         ns++;
     }
     return ns;
