@@ -549,57 +549,60 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #ifndef REFINE_ITERS
 #define REFINE_ITERS 3
 #endif
-/* One Gauss-Newton step in (x, y, z) on the ten constraints evaluated on
- * E = x X + y Y + z Z + W itself: det(E) and (E E^T - tr(E E^T)/2 I) E,
- * the same polynomials as the rows of the 10x20 matrix (up to the rows'
- * scaling, which does not move a zero-residual root). The derivative along
- * D (one of X, Y, Z) is tr(adj(E) D) for the determinant and
- * (P + P^T - tr(P) I) E + A D, P = D E^T, A = E E^T - tr(E E^T)/2 I, for the
- * trace constraint. The caller runs it only when E is above rounding level.
- * Returns 1 when no step was taken (singular normal equations), else 0. */
-static int refine(const double e[9][4], const double *E, double *px, double *py, double *pz)
+/* One Gauss-Newton step in (x, y, z) on the nine entries of
+ * (E E^T - tr(E E^T)/2 I) E evaluated on E = x X + y Y + z Z + W itself
+ * (they imply det(E) = 0, see essential_at_rounding): the same polynomials
+ * as rows of the 10x20 matrix. The derivative along D (one of X, Y, Z) is
+ * (P + P^T - tr(P) I) E + A D, P = D E^T, A = E E^T - tr(E E^T)/2 I. The
+ * caller runs it only when E is above rounding level. Returns 1 when no
+ * step was taken (singular normal equations), else 0. */
+#define MM3(X, Y, i, j) (X[3 * (i)] * Y[j] + X[3 * (i) + 1] * Y[3 + (j)] + X[3 * (i) + 2] * Y[6 + (j)])
+#define MMT3(X, Y, i, j)                                                        \
+    (X[3 * (i)] * Y[3 * (j)] + X[3 * (i) + 1] * Y[3 * (j) + 1] + X[3 * (i) + 2] * Y[3 * (j) + 2])
+#if RP5_WRITTEN_OUT
+#define FOR_IJ(F) F(0, 0) F(0, 1) F(0, 2) F(1, 0) F(1, 1) F(1, 2) F(2, 0) F(2, 1) F(2, 2)
+#else
+#define FOR_IJ(F)                                                              \
+    for (int i_ = 0; i_ < 3; i_++)                                             \
+        for (int j_ = 0; j_ < 3; j_++) {                                       \
+            F(i_, j_)                                                          \
+        }
+#endif
+static int refine(double e[9][4], const double *E, double *px, double *py, double *pz)
 {
-    double A[9], f[10], J[3][10];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            A[3 * i + j] = E[3 * i] * E[3 * j] + E[3 * i + 1] * E[3 * j + 1] + E[3 * i + 2] * E[3 * j + 2];
+    double A[9], f[9], J[3][9];
+#define A_ENTRY(i, j) A[3 * (i) + (j)] = MMT3(E, E, i, j);
+    FOR_IJ(A_ENTRY)
+#undef A_ENTRY
     const double h = 0.5 * (A[0] + A[4] + A[8]);
     A[0] -= h;
     A[4] -= h;
     A[8] -= h;
-    /* cofactors of E: det(E) = sum E .* C, d det = sum D .* C */
-    const double C[9] = {E[4] * E[8] - E[5] * E[7], E[5] * E[6] - E[3] * E[8], E[3] * E[7] - E[4] * E[6],
-                         E[2] * E[7] - E[1] * E[8], E[0] * E[8] - E[2] * E[6], E[1] * E[6] - E[0] * E[7],
-                         E[1] * E[5] - E[2] * E[4], E[2] * E[3] - E[0] * E[5], E[0] * E[4] - E[1] * E[3]};
-    f[0] = E[0] * C[0] + E[1] * C[1] + E[2] * C[2];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            f[1 + 3 * i + j] = A[3 * i] * E[j] + A[3 * i + 1] * E[3 + j] + A[3 * i + 2] * E[6 + j];
+#define F_ENTRY(i, j) f[3 * (i) + (j)] = MM3(A, E, i, j);
+    FOR_IJ(F_ENTRY)
+#undef F_ENTRY
     for (int v = 0; v < 3; v++) {
-        double D[9], P[9], S[9];
+        double D[9], P[9];
         for (int k = 0; k < 9; k++)
             D[k] = e[k][v];
-        double dd = 0.0;
-        for (int k = 0; k < 9; k++)
-            dd += D[k] * C[k];
-        J[v][0] = dd;
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                P[3 * i + j] = D[3 * i] * E[3 * j] + D[3 * i + 1] * E[3 * j + 1] + D[3 * i + 2] * E[3 * j + 2];
+#define P_ENTRY(i, j) P[3 * (i) + (j)] = MMT3(D, E, i, j);
+        FOR_IJ(P_ENTRY)
+#undef P_ENTRY
         const double tp = P[0] + P[4] + P[8];
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                S[3 * i + j] = P[3 * i + j] + P[3 * j + i];
+        double S[9];
+#define S_ENTRY(i, j) S[3 * (i) + (j)] = P[3 * (i) + (j)] + P[3 * (j) + (i)];
+        FOR_IJ(S_ENTRY)
+#undef S_ENTRY
         S[0] -= tp;
         S[4] -= tp;
         S[8] -= tp;
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                J[v][1 + 3 * i + j] = (S[3 * i] * E[j] + S[3 * i + 1] * E[3 + j] + S[3 * i + 2] * E[6 + j]) +
-                                      (A[3 * i] * D[j] + A[3 * i + 1] * D[3 + j] + A[3 * i + 2] * D[6 + j]);
+        double *Jv = J[v];
+#define J_ENTRY(i, j) Jv[3 * (i) + (j)] = MM3(S, E, i, j) + MM3(A, D, i, j);
+        FOR_IJ(J_ENTRY)
+#undef J_ENTRY
     }
     double JtJ[6] = {0}, Jtf[3] = {0};
-    for (int r = 0; r < 10; r++) {
+    for (int r = 0; r < 9; r++) {
         double fr = f[r], a = J[0][r], b = J[1][r], c = J[2][r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
@@ -620,6 +623,9 @@ static int refine(const double e[9][4], const double *E, double *px, double *py,
     *px -= dx; *py -= dy; *pz -= dz;
     return 0;
 }
+#undef FOR_IJ
+#undef MMT3
+#undef MM3
 
 /* r[k] -= f p[k] for k = k0..19 (k0 even), written out in pairs of
  * columns entered at the pair of k0: no loop counter, and each pair is one
