@@ -407,7 +407,13 @@ static inline double peval_d(const double *p, int d, double x, double *dp)
  * (the isolating interval can be wide), then Newton's method from the
  * false-position point, kept inside the shrinking bracket (a bisection step
  * whenever Newton would leave it). */
-static double polish(const double *p, int d, double a, double b, double fa, double fb)
+#if RP5_WRITTEN_OUT
+/* inlined at both calls: the degree-10 one then has its Horner steps fixed */
+#define RP5_POLISH_INLINE static inline __attribute__((always_inline))
+#else
+#define RP5_POLISH_INLINE static
+#endif
+RP5_POLISH_INLINE double polish(const double *p, int d, double a, double b, double fa, double fb)
 {
     for (int k = 0; k < PRE_BISECT; k++) {
         double m = 0.5 * (a + b), fm = peval(p, d, m);
