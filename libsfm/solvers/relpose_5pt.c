@@ -553,7 +553,7 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #define PERM_RETRY_PIVOT 1e-2
 #endif
 #ifndef REFINE_ITERS
-#define REFINE_ITERS 3
+#define REFINE_ITERS 5
 #endif
 /* One Gauss-Newton step in (x, y, z) on the nine entries of
  * (E E^T - tr(E E^T)/2 I) E evaluated on E = x X + y Y + z Z + W itself
@@ -576,7 +576,7 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #endif
 static int refine(double e[9][4], const double *E, double *px, double *py, double *pz)
 {
-    double A[9], f[9], J[3][9];
+    double A[9], f[10], J[3][10];
 #define A_ENTRY(i, j) A[3 * (i) + (j)] = MMT3(E, E, i, j);
     FOR_IJ(A_ENTRY)
 #undef A_ENTRY
@@ -587,6 +587,11 @@ static int refine(double e[9][4], const double *E, double *px, double *py, doubl
 #define F_ENTRY(i, j) f[3 * (i) + (j)] = MM3(A, E, i, j);
     FOR_IJ(F_ENTRY)
 #undef F_ENTRY
+    /* cofactors of E: det(E) = sum E .* C, its derivative along D sum D .* C */
+    const double C[9] = {E[4] * E[8] - E[5] * E[7], E[5] * E[6] - E[3] * E[8], E[3] * E[7] - E[4] * E[6],
+                         E[2] * E[7] - E[1] * E[8], E[0] * E[8] - E[2] * E[6], E[1] * E[6] - E[0] * E[7],
+                         E[1] * E[5] - E[2] * E[4], E[2] * E[3] - E[0] * E[5], E[0] * E[4] - E[1] * E[3]};
+    f[9] = E[0] * C[0] + E[1] * C[1] + E[2] * C[2];
     for (int v = 0; v < 3; v++) {
         double D[9], P[9];
         for (int k = 0; k < 9; k++)
@@ -606,9 +611,11 @@ static int refine(double e[9][4], const double *E, double *px, double *py, doubl
 #define J_ENTRY(i, j) Jv[3 * (i) + (j)] = MM3(S, E, i, j) + MM3(A, D, i, j);
         FOR_IJ(J_ENTRY)
 #undef J_ENTRY
+        Jv[9] = ((D[0] * C[0] + D[1] * C[1] + D[2] * C[2]) + (D[3] * C[3] + D[4] * C[4] + D[5] * C[5])) +
+                (D[6] * C[6] + D[7] * C[7] + D[8] * C[8]);
     }
     double JtJ[6] = {0}, Jtf[3] = {0};
-    for (int r = 0; r < 9; r++) {
+    for (int r = 0; r < 10; r++) {
         double fr = f[r], a = J[0][r], b = J[1][r], c = J[2][r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
