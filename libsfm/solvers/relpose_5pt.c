@@ -438,13 +438,18 @@ RP5_POLISH_INLINE double polish(const double *p, int d, double a, double b, doub
         else
             b = x;
         double xn = df != 0.0 ? x - f / df : a;
-        if (!(xn > a && xn < b))
-            xn = 0.5 * (a + b);
         /* Newton converges quadratically at a simple root: after a step of
          * 1e-8 (relative) the error is at rounding level. Close roots
          * converge more slowly; the Gauss-Newton polish on the original
-         * constraints below takes care of them. */
-        if (fabs(xn - x) <= 1e-8 * (fabs(x) + 1e-10) || !(b - a > 4e-16 * (fabs(a) + fabs(b))))
+         * constraints below takes care of them. A Newton step inside a
+         * bracket collapsed to rounding is below that size too, so the
+         * bracket's width needs testing only after a bisection step. */
+        if (!(xn > a && xn < b)) {
+            xn = 0.5 * (a + b);
+            if (!(b - a > 4e-16 * (fabs(a) + fabs(b))))
+                return xn;
+        }
+        if (fabs(xn - x) <= 1e-8 * (fabs(x) + 1e-10))
             return xn;
         x = xn;
     }
@@ -963,8 +968,13 @@ static int solve_reduced(double e[9][4], double Bred[6][10],
         if (!(n2 > 0.0) || !isfinite(n2))
             continue;
         const double sc = 1.0 / sqrt(n2);
+#if !RP5_WRITTEN_OUT
         for (int k = 0; k < 9; k++)
             o[k] *= sc;
+#else
+        o[0] *= sc; o[1] *= sc; o[2] *= sc; o[3] *= sc; o[4] *= sc;
+        o[5] *= sc; o[6] *= sc; o[7] *= sc; o[8] *= sc;
+#endif
         ns++;
     }
     return ns;
