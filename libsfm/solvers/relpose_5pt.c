@@ -11,14 +11,16 @@
  * 2. det(E) = 0 and 2 E E^T E - tr(E E^T) E = 0 give 10 cubics in (x, y, z),
  *    a 10x20 coefficient matrix over the monomials ordered as in the paper:
  *    x^3 y^3 x^2y xy^2 x^2z x^2 y^2z y^2 xyz xy | xz^2 xz x yz^2 yz y z^3 z^2 z 1.
- * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block
- *    (back substitution only for the six rows needed).
+ * 3. Gauss-Jordan elimination of the left 10x10 block, partial pivoting on
+ *    entries relative to their row's largest (back substitution only for
+ *    the six rows needed).
  *    Rows e-z*f, g-z*h, i-z*j of the reduced system are three equations
  *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
  *    tenth-degree polynomial, solved by Sturm bisection (below).
  * 4. For each real root, [x y 1] is the null vector of B(z): the largest
- *    cross product of two of its rows; Gauss-Newton on the 10 cubics only
- *    when det(E) and the trace constraint of that E are above rounding.
+ *    cross product of two of its rows; Gauss-Newton on the 10 cubics,
+ *    evaluated on E itself, only when the trace constraint of that E is
+ *    above rounding.
  * Instructions per call, and what each change bought: bench/README.md.
  * Solutions with a vanishing W coefficient (x, y or z infinite) are not
  * representable in this parametrization; they have measure zero.
@@ -29,7 +31,6 @@
 
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
-#include "solvers/normalize.h"
 #include "solvers/small_math.h"
 
 #ifndef PRE_BISECT
@@ -560,11 +561,12 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #ifndef REFINE_ITERS
 #define REFINE_ITERS 5
 #endif
-/* One Gauss-Newton step in (x, y, z) on the nine entries of
- * (E E^T - tr(E E^T)/2 I) E evaluated on E = x X + y Y + z Z + W itself
- * (they imply det(E) = 0, see essential_at_rounding): the same polynomials
- * as rows of the 10x20 matrix. The derivative along D (one of X, Y, Z) is
- * (P + P^T - tr(P) I) E + A D, P = D E^T, A = E E^T - tr(E E^T)/2 I. The
+/* One Gauss-Newton step in (x, y, z) on the ten constraints evaluated on
+ * E = x X + y Y + z Z + W itself (nv: X, Y, Z, W): the nine entries of
+ * (E E^T - tr(E E^T)/2 I) E and det(E), the same polynomials as the rows of
+ * the 10x20 matrix (up to the rows' scaling, which does not move a root).
+ * Along D (one of X, Y, Z) the derivatives are (P + P^T - tr(P) I) E + A D,
+ * P = D E^T, A = E E^T - tr(E E^T)/2 I, and the sum of D .* cof(E). The
  * caller runs it only when E is above rounding level. Returns 1 when no
  * step was taken (singular normal equations), else 0. */
 #define MM3(X, Y, i, j) (X[3 * (i)] * Y[j] + X[3 * (i) + 1] * Y[3 + (j)] + X[3 * (i) + 2] * Y[6 + (j)])
