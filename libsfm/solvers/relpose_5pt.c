@@ -695,7 +695,23 @@ static int essential_at_rounding(const double *E, double *n2_out)
     a11 -= h;
     a22 -= h;
     double c = 0.0;
-    for (int j = 0; j < 3; j++) {
+    int j = 0;
+#if RP5_WRITTEN_OUT
+    {
+        /* columns 0 and 1 in two lanes (the same operations per lane) */
+        rp5_v2 e0, e1, e2;
+        memcpy(&e0, E, sizeof e0);
+        memcpy(&e1, E + 3, sizeof e1);
+        memcpy(&e2, E + 6, sizeof e2);
+        const rp5_v2 r0 = (rp5_v2){a00, a00} * e0 + (rp5_v2){a01, a01} * e1 + (rp5_v2){a02, a02} * e2;
+        const rp5_v2 r1 = (rp5_v2){a01, a01} * e0 + (rp5_v2){a11, a11} * e1 + (rp5_v2){a12, a12} * e2;
+        const rp5_v2 r2 = (rp5_v2){a02, a02} * e0 + (rp5_v2){a12, a12} * e1 + (rp5_v2){a22, a22} * e2;
+        const rp5_v2 m = vmax_abs(vmax_abs(vmax_abs((rp5_v2){0.0, 0.0}, r0), r1), r2);
+        c = m[1] > m[0] ? m[1] : m[0];
+        j = 2;
+    }
+#endif
+    for (; j < 3; j++) {
         double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
         double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
         double r2 = fabs(a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j]);
