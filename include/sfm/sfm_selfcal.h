@@ -115,9 +115,12 @@ SFM_API int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, 
  *     profile is flat: pure translation, rotation about the optical axis
  *     only, a critical motion) or focal_sigma above options.max_focal_sigma
  *     is SFM_E_SINGULAR;
- *  5. per_view_focal: one more adjustment with a focal length per view
- *     (and with 2 a principal point per view), kept when it passes the
- *     checks below (report.per_view says so; K then carries them);
+ *  5. the larger models, each adjustment kept when it passes the checks
+ *     below: options.principal SHARED, the principal point free (one for
+ *     every view, which must then share the image size); per_view_focal,
+ *     a focal length per view (report.per_view); principal PER_VIEW, a
+ *     focal length and a principal point per view (report.principal says
+ *     which principal point model was kept; K carries the answer);
  *  6. the physical checks: every f > 0, at least options.min_front of the
  *     points seen twice or more in front of every camera that sees them,
  *     RMS reprojection error (per observation, both axes) at most
@@ -138,6 +141,11 @@ SFM_API int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, 
 #define SFM_SELFCAL_SWEEP_WHEN_NEEDED 0 /* only when the linear solution is unusable */
 #define SFM_SELFCAL_SWEEP_ALWAYS 1      /* also as a second start (default) */
 
+/* options.principal, report.principal */
+#define SFM_SELFCAL_PRINCIPAL_CENTRE 0   /* held at ((width - 1) / 2, (height - 1) / 2) */
+#define SFM_SELFCAL_PRINCIPAL_SHARED 1   /* one free for every view */
+#define SFM_SELFCAL_PRINCIPAL_PER_VIEW 2 /* one free per view, with a focal length per view */
+
 /* report.path */
 #define SFM_SELFCAL_PATH_NONE 0
 #define SFM_SELFCAL_PATH_LINEAR 1
@@ -148,8 +156,8 @@ typedef struct sfm_selfcal_options {
     int sweep_steps;        /* 3..SFM_SELFCAL_MAX_SWEEP, default 17 */
     double focal_min;       /* multiples of (width + height) / 2, default 0.25 */
     double focal_max;       /* default 4 */
-    int per_view_focal;     /* default 0; 1 a focal length per view; 2 also a
-                               principal point per view (step 5) */
+    int per_view_focal;     /* default 0; 1 a focal length per view (step 5) */
+    int principal;          /* SFM_SELFCAL_PRINCIPAL_*, default CENTRE (step 5) */
     double loss_scale;      /* Huber scale in px, default 2 */
     double max_rms;         /* px, default 1 */
     double min_front;       /* default 0.95 */
@@ -164,9 +172,11 @@ typedef struct sfm_selfcal_report {
     int linear_flags;       /* its SFM_SELFCAL_FLAG_* */
     double focal_linear;    /* px, mean of its focal lengths, 0 when unusable */
     double focal_sweep;     /* px, best fixed-focal candidate after the search, 0 without */
-    double focal;           /* px, the shared answer */
+    double focal;           /* px, the shared answer (with the shared principal
+                               point when that was kept) */
     double focal_view[SFM_SELFCAL_MAX_VIEWS]; /* px, per view (= focal unless per_view) */
     int per_view;           /* 1 when the per-view answer was kept */
+    int principal;          /* SFM_SELFCAL_PRINCIPAL_* of the answer */
     double focal_sigma;     /* relative standard deviation of f from the profile */
     double profile_rise;    /* far rise in noise variances */
     double noise_sigma;     /* px per axis, from the final cost */

@@ -63,6 +63,7 @@ int sfm_selfcal_default_options(sfm_selfcal_options *o)
     o->focal_min = 0.25;
     o->focal_max = 4;
     o->per_view_focal = 0;
+    o->principal = SFM_SELFCAL_PRINCIPAL_CENTRE;
     o->loss_scale = 2;
     o->max_rms = 1;
     o->min_front = 0.95;
@@ -74,7 +75,7 @@ int sfm_selfcal_default_options(sfm_selfcal_options *o)
 
 static int options_ok(const sfm_selfcal_options *o)
 {
-    return (o->per_view_focal >= 0 && o->per_view_focal <= 2) &&
+    return (o->per_view_focal == 0 || o->per_view_focal == 1) && o->principal >= 0 && o->principal <= 2 &&
            (o->sweep == SFM_SELFCAL_SWEEP_ALWAYS || o->sweep == SFM_SELFCAL_SWEEP_WHEN_NEEDED) &&
            o->sweep_steps >= 3 && o->sweep_steps <= SFM_SELFCAL_MAX_SWEEP && o->focal_min > 0 &&
            o->focal_max > o->focal_min && isfinite(o->focal_max) && o->loss_scale > 0 &&
@@ -103,7 +104,7 @@ static void layout(sfmi_arena *a, int m, int n, int nobs, ctx *c)
     const sfm_ba_intrinsics modes[3] = {SFM_BA_INTRINSICS_FIXED, SFM_BA_INTRINSICS_SHARED,
                                         SFM_BA_INTRINSICS_PER_CAMERA};
     for (int k = 0; k < 3; k++) {
-        sfm_ba_dims d = {m, n, nobs, modes[k], k == 0 ? 0 : k == 1 ? SFM_BA_REFINE_FOCAL : SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_PRINCIPAL};
+        sfm_ba_dims d = {m, n, nobs, modes[k], k ? SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_PRINCIPAL : 0};
         size_t s = sfm_ba_workspace_size(&d);
         if (s == 0)
             a->failed = 1;
@@ -369,8 +370,9 @@ static int start_from_h(ctx *c, const double Hin[16], const double *fv)
 
 /* Metric BA of the current state with focal lengths fv (mode 0 held, 1 one
  * shared free, 2 one per view free, 3 one per view and the principal
- * points free); fv (and c->pp in mode 3) updated; *cost with the penalty of
- * the dropped observations. */
+ * points free, 4 one shared focal length and principal point free); fv
+ * (and c->pp in modes 3 and 4) updated; *cost with the penalty of the
+ * dropped observations. */
 static int adjust(ctx *c, double *fv, int mode, int max_it, double *cost)
 {
     const int m = c->m;
@@ -393,8 +395,8 @@ static int adjust(ctx *c, double *fv, int mode, int max_it, double *cost)
     o.scale_distance = 1.0;
     o.max_iterations = max_it;
     if (mode) {
-        o.intrinsics = mode == 1 ? SFM_BA_INTRINSICS_SHARED : SFM_BA_INTRINSICS_PER_CAMERA;
-        o.refine_intrinsics = SFM_BA_REFINE_FOCAL | (mode == 3 ? SFM_BA_REFINE_PRINCIPAL : 0);
+        o.intrinsics = mode == 1 || mode == 4 ? SFM_BA_INTRINSICS_SHARED : SFM_BA_INTRINSICS_PER_CAMERA;
+        o.refine_intrinsics = SFM_BA_REFINE_FOCAL | (mode >= 3 ? SFM_BA_REFINE_PRINCIPAL : 0);
     }
     sfm_ba_result res;
     int st = sfm_ba_solve(&p, &o, &res, NULL, 0, c->ba_ws, c->ba_size);
@@ -403,6 +405,12 @@ static int adjust(ctx *c, double *fv, int mode, int max_it, double *cost)
     if (mode == 1)
         for (int i = 0; i < m; i++)
             fv[i] = c->cams[0].fx;
+    else if (mode == 4)
+        for (int i = 0; i < m; i++) {
+            fv[i] = c->cams[0].fx;
+            c->pp[2 * i] = c->cams[0].cx;
+            c->pp[2 * i + 1] = c->cams[0].cy;
+        }
     else if (mode >= 2)
         for (int i = 0; i < m; i++) {
             fv[i] = c->cams[i].fx;
@@ -488,6 +496,37 @@ static void quality(ctx *c, const double *fv, double *rms, double *front)
     *front = seen2 > 0 ? (double)infront / seen2 : 0.0;
 }
 
+/* One adjustment in a larger model (mode of adjust) from the current
+ * state, kept (state, fv, c->pp, report figures) when every f > 0 and the
+ * front and RMS checks pass; 1 when kept. */
+static int larger_model(ctx *c, const sfm_selfcal_options *o, int mode, double *fv, sfm_selfcal_report *rep)
+{
+    const int m = c->m;
+    double fp[SFM_SELFCAL_MAX_VIEWS], ppk[2 * SFM_SELFCAL_MAX_VIEWS], cost, rms, front;
+    memcpy(fp, fv, sizeof(double) * (size_t)m);
+    memcpy(ppk, c->pp, sizeof ppk);
+    save(c);
+    int ok = adjust(c, fp, mode, o->max_iterations, &cost) == SFM_OK;
+    for (int i = 0; i < m && ok; i++)
+        ok = fp[i] > 0;
+    if (ok) {
+        quality(c, fp, &rms, &front);
+        ok = front >= o->min_front && rms <= o->max_rms;
+    }
+    if (!ok) {
+        restore(c);
+        memcpy(c->pp, ppk, sizeof ppk);
+        return 0;
+    }
+    memcpy(fv, fp, sizeof(double) * (size_t)m);
+    rep->rms = rms, rep->front_fraction = front;
+    for (int i = 0; i < m; i++)
+        rep->focal_view[i] = fv[i];
+    if (mode == 4)
+        rep->focal = fv[0];
+    return 1;
+}
+
 /* Free parameters of the adjusted model (poses less the 7 of the gauge,
  * points, nf focal lengths). */
 static double noise_variance(const ctx *c, double cost, int nf)
@@ -513,7 +552,8 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     if (!options_ok(&o))
         return SFM_E_ARGUMENT;
     for (int i = 0; i < m; i++)
-        if (!(wh[2 * i] > 0) || !(wh[2 * i + 1] > 0))
+        if (!(wh[2 * i] > 0) || !(wh[2 * i + 1] > 0) ||
+            (o.principal == SFM_SELFCAL_PRINCIPAL_SHARED && (wh[2 * i] != wh[0] || wh[2 * i + 1] != wh[1])))
             return SFM_E_ARGUMENT;
     for (int k = 0; k < n_obs; k++)
         if (obs_camera[k] < 0 || obs_camera[k] >= m || obs_point[k] < 0 || obs_point[k] >= n)
@@ -690,28 +730,15 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
         return SFM_E_NO_CONVERGENCE;
     }
 
-    /* 5. per view, kept when it passes the same checks */
-    if (o.per_view_focal) {
-        double fp[SFM_SELFCAL_MAX_VIEWS], cpv, rms, front;
-        memcpy(fp, fv, sizeof(double) * (size_t)m);
-        save(&c);
-        double ppk[2 * SFM_SELFCAL_MAX_VIEWS];
-        memcpy(ppk, c.pp, sizeof ppk);
-        int ok = adjust(&c, fp, o.per_view_focal == 2 ? 3 : 2, o.max_iterations, &cpv) == SFM_OK;
-        for (int i = 0; i < m && ok; i++)
-            ok = fp[i] > 0;
-        if (ok) {
-            quality(&c, fp, &rms, &front);
-            ok = front >= o.min_front && rms <= o.max_rms;
-        }
-        if (ok) {
-            memcpy(fv, fp, sizeof(double) * (size_t)m);
-            rep.per_view = 1, rep.rms = rms, rep.front_fraction = front;
-            for (int i = 0; i < m; i++)
-                rep.focal_view[i] = fv[i];
-        } else {
-            restore(&c);
-            memcpy(c.pp, ppk, sizeof ppk);
+    /* 5. the larger models, each kept when it passes the same checks */
+    if (o.principal == SFM_SELFCAL_PRINCIPAL_SHARED && larger_model(&c, &o, 4, fv, &rep))
+        rep.principal = SFM_SELFCAL_PRINCIPAL_SHARED;
+    if (o.per_view_focal || o.principal == SFM_SELFCAL_PRINCIPAL_PER_VIEW) {
+        int per_pp = o.principal == SFM_SELFCAL_PRINCIPAL_PER_VIEW;
+        if (larger_model(&c, &o, per_pp ? 3 : 2, fv, &rep)) {
+            rep.per_view = 1;
+            if (per_pp)
+                rep.principal = SFM_SELFCAL_PRINCIPAL_PER_VIEW;
         }
     }
 

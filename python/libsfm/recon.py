@@ -9,6 +9,7 @@ import numpy as np
 from ._ffi import as_array, check, dptr, ffi, lib, workspace
 
 PATHS = {0: "none", 1: "linear", 2: "sweep"}
+PRINCIPAL = {"centre": 0, "shared": 1, "per_view": 2}
 STAGES = {1: "ransac", 2: "selfcal", 3: "sweep", 4: "ba", 5: "validate", 6: "done"}
 
 
@@ -59,13 +60,14 @@ def _selfcal_report(r, m):
     return dict(path=PATHS.get(r.path, r.path), linear_status=r.linear_status, linear_flags=r.linear_flags,
                 focal_linear=r.focal_linear, focal_sweep=r.focal_sweep, focal=r.focal,
                 focal_view=np.array([r.focal_view[i] for i in range(m)]), per_view=bool(r.per_view),
+                principal={v: k for k, v in PRINCIPAL.items()}.get(r.principal, r.principal),
                 focal_sigma=r.focal_sigma, profile_rise=r.profile_rise, noise_sigma=r.noise_sigma,
                 evaluations=r.evaluations, sweep_focal=np.array([r.sweep_focal[k] for k in range(n)]),
                 sweep_cost=np.array([r.sweep_cost[k] for k in range(n)]), points=r.points,
                 observations=r.observations, rms=r.rms, front_fraction=r.front_fraction)
 
 
-def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, sweep="always",
+def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, principal="centre", sweep="always",
                    sweep_steps=None, focal_range=None, max_rms=None, loss_scale=None, max_focal_sigma=None,
                    min_profile=None):
     """Self-calibration of m >= 3 projective cameras P (m,3,4) in pixels;
@@ -84,12 +86,15 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, sw
     start, then a search over one shared focal length (sweep="always", or
     "when_needed": only when the linear solution is unusable), each
     candidate scored by a metric bundle adjustment with f held; the better
-    start refined with f free (one per view too with per_view_focal=True,
-    and a principal point per view with per_view_focal="principal"; kept
-    when it passes the checks). Returns dict(K (m,3,3), H (4,4), R (m,3,3),
+    start refined with f free; then, each kept when it passes the checks,
+    principal="shared" frees one principal point for all views,
+    per_view_focal=True a focal length per view, principal="per_view" a
+    focal length and a principal point per view ("centre": held at the
+    image centre). Returns dict(K (m,3,3), H (4,4), R (m,3,3),
     t (m,3) with x_cam = R X + t (view 1 the identity, farthest centre at
     distance 1), X (n,3) metric points (zero where not adjusted), path
-    "linear" or "sweep", focal, focal_view (m,), focal_sigma (relative
+    "linear" or "sweep", focal, focal_view (m,), per_view, principal (the
+    model kept), focal_sigma (relative
     standard deviation of f from the profile), profile_rise, sweep_focal,
     sweep_cost, rms, front_fraction, ...). Raises SfmError when f is not
     determined (a flat profile: SFM_E_SINGULAR) or the answer fails a
@@ -126,7 +131,10 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, sw
         if sweep not in ("always", "when_needed"):
             raise ValueError("sweep must be 'always' or 'when_needed', got %r" % (sweep,))
         o.sweep = lib.SFM_SELFCAL_SWEEP_ALWAYS if sweep == "always" else lib.SFM_SELFCAL_SWEEP_WHEN_NEEDED
-        o.per_view_focal = 2 if per_view_focal == "principal" else 1 if per_view_focal else 0
+        o.per_view_focal = 1 if per_view_focal else 0
+        if principal not in PRINCIPAL:
+            raise ValueError("principal must be one of %s, got %r" % (sorted(PRINCIPAL), principal))
+        o.principal = PRINCIPAL[principal]
         if sweep_steps is not None:
             o.sweep_steps = int(sweep_steps)
         if focal_range is not None:
