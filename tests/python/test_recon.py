@@ -100,9 +100,10 @@ def test_factorize_oxford_house_at_or_below_ground_truth_rms():
 
 @pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
 def test_self_calibrate_oxford_house_gives_no_wrong_focal():
-    """The house sequence moves forward with little rotation, near-critical
-    for the linear dual-quadric method (and its focal length changes from
-    view to view): the linear method must refuse or be right."""
+    """The house's cameras turn about one axis and their intrinsics break
+    the linear method's priors (principal point up to 96 px off-centre,
+    skew, a focal length changing from view to view): the linear method
+    must refuse or be right."""
     x, P, _ = load_house()
     r = libsfm.factorize_projective(x)
     try:
