@@ -37,8 +37,13 @@
  * the mean of the diagonal of w*_i), H (4x4) such that P_i H ~ K_i [R_i | t_i]
  * (metric cameras) and X_metric ~ H^{-1} X.
  *
- * Memory: no workspace; a bounded stack of about 6 KiB (two 4x4 and one
- * 10x10 symmetric eigensolve, the conditioned cameras).
+ * Memory: no workspace; a bounded stack of about 10 KiB (two 4x4 and one
+ * 10x10 symmetric eigensolve, the conditioned cameras; 9.5 KiB measured by
+ * gcc -fstack-usage at -O2 on x86-64). A turntable (rotation about one
+ * axis with the optical axes through a point on it) is not refused and
+ * answers a wrong focal length (-30 % measured over 69 deg, 8 views): the
+ * per-view focal lengths trade against that motion; sfm_selfcal_solve
+ * below checks its answer against the data.
  */
 #ifndef SFM_SELFCAL_H
 #define SFM_SELFCAL_H
@@ -134,6 +139,18 @@ SFM_API int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, 
  * (n x 3 metric points; zero for points not adjusted, also given in
  * report.points). The report is written on SFM_OK, SFM_E_SINGULAR and
  * SFM_E_NO_CONVERGENCE (with the refused candidate's figures).
+ *
+ * Memory: sfm_selfcal_workspace_size(m, n, n_obs) bytes (the bundle
+ * adjustment's workspace and the observations compacted per candidate:
+ * 1.6 MiB for the Oxford house, 10 views, 672 points, 2846 observations);
+ * a bounded stack of about 17 KiB besides sfm_ba_solve's (gcc
+ * -fstack-usage, -O2, x86-64). Deterministic: no random numbers.
+ *
+ * Measured (bench/README): Oxford house, f 726 px shared, sigma 0.3 %,
+ * the linear method refusing; the ground truth's intrinsics break the
+ * priors (principal point up to 96 px off-centre, skew), so the shared
+ * answer is 9-22 % above its fx; principal = PER_VIEW brings it within
+ * 3.5 % of its fy.
  */
 #define SFM_SELFCAL_MAX_SWEEP 64
 
