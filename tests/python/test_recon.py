@@ -201,6 +201,10 @@ def test_self_calibrate_oxford_house_metric_against_ground_truth():
         # measured: points 0.73-0.77 % of the radius; rotations 11.5 deg, centres 0.21 radius
         assert pts < 0.012 and rot.max() < 15 and cen.max() < 0.3
     s, rot, cen, efx, efy, pts = rows["shared f"]
+    print("  the profile (fixed-focal cost, Huber, over f; inf: no metric cameras for that f):")
+    print("   ", " ".join("%.0f:%.0f" % fc for fc in zip(s["sweep_focal"], s["sweep_cost"])))
+    again = libsfm.self_calibrate(r["P"], (768, 576), r["X"], tracks=x)
+    assert np.array_equal(again["K"], s["K"]) and np.array_equal(again["R"], s["R"])  # deterministic
     assert np.all(np.abs(efx) < 0.3) and np.all(efx > 0)  # measured +9 .. +22 %: the priors' bias
     s, rot, cen, efx, efy, pts = rows["pp per view"]
     assert s["per_view"] and s["principal"] == "per_view" and np.all(np.abs(efy) < 0.06)  # measured -1.0 .. +3.5 %
