@@ -108,7 +108,9 @@ SFM_API int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, 
  *     at infinity (dropped). Then a golden-section search on log f between
  *     the neighbours of the best candidate;
  *  3. bundle adjustment with the focal length free (one shared) from each
- *     start; the lower cost wins and names the path (report.path);
+ *     start; the lower cost wins and names the path (report.path; a tie,
+ *     both reaching one minimum, is "linear": report.focal_linear keeps
+ *     what the linear method itself said, which may be far off);
  *  4. the observability of f: the profile of the fixed-focal cost over
  *     log f near the answer (f e^{+-0.05}, warm starts) gives the noise
  *     variance's count of the curvature, hence report.focal_sigma (the

@@ -595,7 +595,7 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     memset(&lr, 0, sizeof lr);
     rep.linear_status = sfm_selfcal_linear(m, P, wh, n, X, Klin, Hlin, &lr);
     rep.linear_flags = lr.flags;
-    double best_cost = HUGE_VAL, best_f = 0, best_H[16];
+    double best_cost = HUGE_VAL, best_H[16];
     int path = SFM_SELFCAL_PATH_NONE;
     if (rep.linear_status == SFM_OK) {
         double fv[SFM_SELFCAL_MAX_VIEWS], fm = 0, cost;
@@ -607,7 +607,7 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
             for (int i = 0; i < m; i++)
                 fv[i] = fm;
             if (adjust(&c, fv, 1, o.max_iterations, &cost) == SFM_OK && fv[0] > 0) {
-                best_cost = cost, best_f = fv[0], path = SFM_SELFCAL_PATH_LINEAR;
+                best_cost = cost, path = SFM_SELFCAL_PATH_LINEAR;
             }
         }
     }
@@ -659,7 +659,7 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
                 memcpy(Hkeep, c.H, sizeof Hkeep);
                 if (adjust(&c, fv, 1, o.max_iterations, &cost) == SFM_OK && fv[0] > 0 &&
                     !(path == SFM_SELFCAL_PATH_LINEAR && best_cost <= cost * (1 + 1e-9))) {
-                    best_cost = cost, best_f = fv[0], path = SFM_SELFCAL_PATH_SWEEP;
+                    best_cost = cost, path = SFM_SELFCAL_PATH_SWEEP;
                     memcpy(best_H, Hkeep, sizeof best_H);
                 }
             }
@@ -670,31 +670,25 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
         *report = rep;
         return SFM_E_SINGULAR;
     }
-    /* the winner's state again (the last start may be the other one) */
+    /* the winner's start again (the last one run may be the other): best_H
+     * is in the frame of start_from_h, P_i H ~ K(f_i) [R_i | t_i] with the
+     * start's focal lengths f_i */
     double fv[SFM_SELFCAL_MAX_VIEWS], cost;
-    {
-        double Hw[16], Kinv_f[SFM_SELFCAL_MAX_VIEWS];
-        memcpy(Hw, best_H, sizeof Hw);
-        /* best_H is in the normalized frame: P_i H ~ K(f_start) [R | t];
-         * the start's focal lengths only scale K^{-1}, the rotations are
-         * re-fitted by the adjustment */
-        for (int i = 0; i < m; i++)
-            Kinv_f[i] = path == SFM_SELFCAL_PATH_LINEAR ? lr.focal[i] : rep.focal_sweep;
-        int st = start_from_h(&c, Hw, Kinv_f);
-        if (st != SFM_OK) {
-            *report = rep;
-            return SFM_E_SINGULAR;
-        }
-        memcpy(best_H, c.H, sizeof best_H);
-        for (int i = 0; i < m; i++)
-            fv[i] = path == SFM_SELFCAL_PATH_LINEAR ? rep.focal_linear : rep.focal_sweep;
-        st = adjust(&c, fv, 1, o.max_iterations, &cost);
-        if (st != SFM_OK) {
-            *report = rep;
-            return st == SFM_E_WORKSPACE ? st : SFM_E_SINGULAR;
-        }
+    for (int i = 0; i < m; i++)
+        fv[i] = path == SFM_SELFCAL_PATH_LINEAR ? lr.focal[i] : rep.focal_sweep;
+    int st = start_from_h(&c, best_H, fv);
+    if (st != SFM_OK) {
+        *report = rep;
+        return SFM_E_SINGULAR;
     }
-    (void)best_f;
+    memcpy(best_H, c.H, sizeof best_H);
+    for (int i = 0; i < m; i++)
+        fv[i] = path == SFM_SELFCAL_PATH_LINEAR ? rep.focal_linear : rep.focal_sweep;
+    st = adjust(&c, fv, 1, o.max_iterations, &cost);
+    if (st != SFM_OK) {
+        *report = rep;
+        return st == SFM_E_WORKSPACE ? st : SFM_E_SINGULAR;
+    }
     rep.focal = fv[0];
     for (int i = 0; i < m; i++)
         rep.focal_view[i] = fv[i];
