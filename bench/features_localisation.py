@@ -21,7 +21,9 @@ that over 2), its median, and the count. Methods: libsfm's
 detect_and_describe; libsfm followed by the photometric refinement of the
 view-b positions onto view a's patches (sfm_features_align_points, when the
 library has it; the points it leaves alone count with their start);
-OpenCV ORB; ORB followed by cv2.cornerSubPix (5x5 window); OpenCV SIFT
+libsfm followed by OpenCV's Lucas-Kanade (calcOpticalFlowPyrLK, 15x15, one
+level, from the same starts: the same idea implemented independently); OpenCV
+ORB; ORB followed by cv2.cornerSubPix (5x5 window); OpenCV SIFT
 (sub-pixel DoG extrema). libsfm's error is also split by pyramid level.
 
 Usage: python bench/features_localisation.py [--features 2000] [--pairs 2] [--seed 3]
@@ -133,7 +135,8 @@ def main():
     bf_h = cv2.BFMatcher(cv2.NORM_HAMMING)
     bf_l2 = cv2.BFMatcher(cv2.NORM_L2)
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_COUNT, 30, 0.01)
-    names = ["libsfm", "libsfm + align_points", "opencv orb", "orb + cornerSubPix", "opencv sift"]
+    names = ["libsfm", "libsfm + align_points", "libsfm + opencv LK", "opencv orb", "orb + cornerSubPix",
+             "opencv sift"]
     groups = {"herzjesu": {n: Tally() for n in names}, "boofcv": {n: Tally() for n in names}}
     levels = {}
     refined = [0, 0]
@@ -158,6 +161,12 @@ def main():
                 g["libsfm + align_points"].add(e2[ok2])
                 refined[0] += int(good[ok].sum())
                 refined[1] += int(ok.sum())
+            q, st, _ = cv2.calcOpticalFlowPyrLK(a, b, xa.astype(np.float32).reshape(-1, 1, 2),
+                                                xb.astype(np.float32).reshape(-1, 1, 2).copy(), winSize=(15, 15),
+                                                maxLevel=0, flags=cv2.OPTFLOW_USE_INITIAL_FLOW, criteria=crit)
+            q = np.where(st.reshape(-1, 1) == 1, q.reshape(-1, 2).astype(float), xb)
+            e3, ok3 = errors(Hl, xa, q)
+            g["libsfm + opencv LK"].add(e3[ok3])
             kp1, d1 = orb.detectAndCompute(a, None)
             kp2, d2 = orb.detectAndCompute(b, None)
             mo = cv_match(bf_h, d1, d2)
