@@ -279,12 +279,17 @@ def _gray(img, name):
     return np.ascontiguousarray(a)
 
 
-def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, threshold_px=1.0, **kw):
+def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, threshold_px=1.0, align=True, **kw):
     """reconstruct_three_view on three images of one size: features
     (detect_and_describe), matching of the pairs 1-2, 2-3, 3-1 and the cyclic
-    three-view association in front of it. The result also has x (3, t, 2),
-    the associated pixel triplets."""
-    from .features import associate_three_views, detect_and_describe, match
+    three-view association in front of it, then (align=True) each triplet's
+    view-2 and view-3 points aligned photometrically onto its view-1 patch
+    (align_points): the detector's positions lie on their pyramid level's
+    pixel grid, the aligned ones within about a tenth of a pixel. The result
+    also has x (3, t, 2), the pixel triplets passed on, and aligned (t,), the
+    triplets whose two points were both aligned (the others keep the
+    detector's positions)."""
+    from .features import align_points, associate_three_views, detect_and_describe, match
     imgs = [_gray(im, "img%d" % (k + 1)) for k, im in enumerate((img1, img2, img3))]
     if not (imgs[0].shape == imgs[1].shape == imgs[2].shape):
         raise ValueError("the three images must have one size")
@@ -294,7 +299,13 @@ def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, t
     m31 = match(feats[2][1], feats[0][1])
     tri = associate_three_views(m12, m23, m31, len(feats[0][0]), len(feats[1][0]), len(feats[2][0]))
     x = np.stack([feats[v][0][tri[:, v], :2] for v in range(3)])
+    aligned = np.zeros(x.shape[1], dtype=bool)
+    if align:
+        x[1], ok2 = align_points(imgs[0], x[0], imgs[1], x[1])
+        x[2], ok3 = align_points(imgs[0], x[0], imgs[2], x[2])
+        aligned = ok2 & ok3
     h, w = imgs[0].shape
     out = reconstruct_three_view(x[0], x[1], x[2], w, h, seed=seed, threshold_px=threshold_px, **kw)
     out["x"] = x
+    out["aligned"] = aligned
     return out
