@@ -101,6 +101,8 @@ extern "C" {
 typedef struct sfm_uncal_options {
     sfm_ransac_options ransac; /* threshold: pixels per view */
     int sweep_steps;           /* 2..SFM_UNCAL_MAX_SWEEP, default 17 */
+    int sweep_iterations;      /* 1..50, default 8: bundle adjustment steps per
+                                  fixed-focal candidate of the sweep */
     double focal_min;          /* multiples of max(width, height), default 0.2 */
     double focal_max;          /* default 5 */
     double max_rms;            /* px, default 0 = the RANSAC threshold */
@@ -118,6 +120,11 @@ typedef struct sfm_uncal_options {
     int radial;                /* radial distortion terms estimated with the focal
                                   length (three views; see above): 0 pinhole, 1 k1,
                                   2 (default) k1 and k2 */
+    double principal_sigma;    /* default 0.01: prior standard deviation of the
+                                  principal point about the centre, per axis, in
+                                  multiples of max(width, height); 0: none */
+    double aspect_sigma;       /* default 0.0025: prior standard deviation of the
+                                  aspect ratio fy / fx about 1; 0: none */
 } sfm_uncal_options;
 
 typedef struct sfm_uncal_report {
@@ -135,7 +142,9 @@ typedef struct sfm_uncal_report {
     int evaluations;           /* metric bundle adjustments run */
     int path;                  /* SFM_UNCAL_PATH_* */
     double profile_rise;       /* cost rise at f off by > 1.5x, in noise variances */
-    double focal_sigma;        /* relative standard deviation of f from the profile */
+    double focal_sigma;        /* relative standard deviation of f: the profile's
+                                  and the priors' in quadrature (see above) */
+    double focal_sigma_noise;  /* the profile's part alone (the noise) */
     double focal;              /* px, final (with k1, k2, inliers, rms and
                                   front_fraction: the last candidate's when it is
                                   refused at the validation stage) */
