@@ -468,7 +468,7 @@ static double prior_variance(sfmi_mu *c, const sfm_pose cand[3], double ff, cons
             const double dl = sfmi_log(f1 / ff);
             var += dl * dl;
         } else {
-            var = INFINITY;
+            var = (double)INFINITY;
         }
         /* the observations again from the pixels (bit for bit) */
         for (int k = 0; k < c->np; k++)
