@@ -21,7 +21,8 @@
  *     metric cameras of that K (essential matrices K^T F21 K, K^T F31 K of
  *     the tensor, decomposed with the cheirality choice, the third view
  *     scaled by least squares) refined by a metric bundle adjustment with the
- *     focal length held, scored by its final cost; then a golden-section
+ *     focal length held (options.sweep_iterations steps), scored by its
+ *     final cost; then a golden-section
  *     search on log f around the best candidate;
  *  4. metric bundle adjustment with the focal length free from the linear
  *     start and from the sweep's best (Huber loss at 2 thresholds, view 1

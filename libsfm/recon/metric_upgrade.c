@@ -790,8 +790,9 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
          * the better basin (Herz-Jesu 0000-0005-0006 with 5 steps per sweep
          * candidate: the sweep's fixed-focal answer, cost 37.8 against
          * 34.3, then f +7.3 % at sigma 1.67 % after the best fit's 2.35 %
-         * was refused). Only a physical failure (cheirality, RMS, the
-         * distortion) hands the turn to the next candidate. */
+         * was refused). Any other failure (cheirality, RMS, the
+         * distortion, parallax, a homography) hands the turn to the next
+         * candidate. */
         if (c->undetermined)
             break;
     }
