@@ -176,7 +176,7 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
 
 
 def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
-                   radial=2):
+                   radial=2, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
     o = ffi.new("sfm_uncal_options *")
     lib.sfm_uncal_default_options(o)
     o.ransac.threshold = float(threshold_px)
@@ -192,6 +192,12 @@ def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_para
     if radial not in (0, 1, 2):
         raise ValueError("radial must be 0, 1 or 2, got %r" % radial)
     o.radial = radial
+    if principal_sigma is not None:
+        o.principal_sigma = float(principal_sigma)
+    if aspect_sigma is not None:
+        o.aspect_sigma = float(aspect_sigma)
+    if sweep_iterations is not None:
+        o.sweep_iterations = int(sweep_iterations)
     return o
 
 
@@ -200,18 +206,19 @@ def _report(r):
                 ransac_iterations=r.ransac.iterations, projective_rms=r.projective_rms,
                 linear_status=r.linear_status, linear_flags=r.linear_flags, focal_linear=r.focal_linear,
                 focal_sweep=r.focal_sweep, evaluations=r.evaluations, path=PATHS.get(r.path, r.path),
-                focal_view=[r.focal_view[v] for v in range(3)], profile_rise=r.profile_rise, focal_sigma=r.focal_sigma, focal=r.focal, inliers=r.inliers,
+                focal_view=[r.focal_view[v] for v in range(3)], profile_rise=r.profile_rise, focal_sigma=r.focal_sigma,
+                focal_sigma_noise=r.focal_sigma_noise, focal=r.focal, inliers=r.inliers,
                 rms=r.rms, front_fraction=r.front_fraction, parallax_deg=r.parallax_deg, k1=r.k1, k2=r.k2,
                 radial_rise=[r.radial_rise[0], r.radial_rise[1]])
 
 
 def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
-         per_view_focal, radial=0):
+         per_view_focal, radial=0, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
     x1 = as_array(xs[0], (None, 2), "x1")
     n = x1.shape[0]
     xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
     o = _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
-                       radial)
+                       radial, principal_sigma, aspect_sigma, sweep_iterations)
     size_fn = (lib.sfm_recon_three_view_uncalibrated_workspace_size if nv == 3
                else lib.sfm_recon_two_view_uncalibrated_workspace_size)
     need = size_fn(n)
@@ -242,7 +249,8 @@ def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_si
 
 
 def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, max_iterations=None,
-                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, radial=2):
+                           max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, radial=2,
+                           principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
     """Metric cameras and points from (n,2) pixel triplets of one unknown
     camera of image size width x height.
 
@@ -250,7 +258,10 @@ def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, 
     (kept when it passes the same checks). radial: radial distortion terms
     estimated with the focal length (Brown k1, k2 about the image centre):
     0 pinhole, 1 k1, 2 k1 and k2; a term is dropped when the data do not
-    reject it being 0.
+    reject it being 0. principal_sigma (of max(width, height), per axis) and
+    aspect_sigma: the prior standard deviations of the principal point about
+    the centre and of the aspect ratio about 1 that focal_sigma includes
+    (defaults 0.01 and 0.0025; 0: the noise alone, focal_sigma_noise).
     Returns dict(K (3,3,3), dist (5,) OpenCV distortion vector (k1, k2, 0,
     0, 0), R (3,3,3), t (3,3), X (n,3) (zero off the inliers), inliers (n,)
     bool, report dict (stage, path "linear" or "sweep", focal_linear,
@@ -259,14 +270,15 @@ def reconstruct_three_view(x1, x2, x3, width, height, seed=0, threshold_px=1.0, 
     physical check; the exception carries .report.
     """
     return _run(3, (x1, x2, x3), width, height, threshold_px, seed, max_iterations, max_focal_sigma,
-                min_parallax_deg, per_view_focal, radial)
+                min_parallax_deg, per_view_focal, radial, principal_sigma, aspect_sigma, sweep_iterations)
 
 
 def reconstruct_two_view(x1, x2, width, height, seed=0, threshold_px=1.0, max_iterations=None,
-                         max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False):
+                         max_focal_sigma=None, min_parallax_deg=None, per_view_focal=False, principal_sigma=None,
+                         aspect_sigma=None, sweep_iterations=None):
     """The same from (n,2) pixel pairs: K (2,3,3), R (2,3,3), t (2,3), ..."""
     return _run(2, (x1, x2), width, height, threshold_px, seed, max_iterations, max_focal_sigma,
-                min_parallax_deg, per_view_focal)
+                min_parallax_deg, per_view_focal, 0, principal_sigma, aspect_sigma, sweep_iterations)
 
 
 def _gray(img, name):

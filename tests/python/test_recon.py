@@ -368,7 +368,10 @@ def herz_triplets():
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
 def test_three_view_uncalibrated_herzjesu():
-    errs, failed, paths = [], 0, {}
+    """54 of 56 within 5 %, none wrong; the reported sigma honest against
+    the known focal length (median |z| = |log(f / f_true)| / sigma about
+    0.67 for an honest one; 1.32 with the profile's sigma alone)."""
+    errs, z, failed, paths = [], [], 0, {}
     for path in herz_triplets():
         x = np.loadtxt(path)
         try:
@@ -377,21 +380,28 @@ def test_three_view_uncalibrated_herzjesu():
             failed += 1
             continue
         errs.append(r["K"][0, 0, 0] / F_HERZ - 1)
+        z.append(np.log(r["K"][0, 0, 0] / F_HERZ) / r["report"]["focal_sigma"])
         paths[r["report"]["path"]] = paths.get(r["report"]["path"], 0) + 1
     errs = np.abs(errs)
     n = len(herz_triplets())
     within = int(np.sum(errs < 0.05))
     print("\nHerz-Jesu-P8 uncalibrated three-view: %d of %d within 5 %% (%.1f %%), %d refused, %d wrong "
-          "answers returned as success, median |f error| %.4f, paths %s (BoofCV 1.2.2: 13 of 56)"
-          % (within, n, 100.0 * within / n, failed, len(errs) - within, np.median(errs), paths))
+          "answers returned as success, median |f error| %.4f, median |z| %.2f, paths %s (BoofCV 1.2.2: 13 of 56)"
+          % (within, n, 100.0 * within / n, failed, len(errs) - within, np.median(errs), np.median(np.abs(z)),
+             paths))
     assert len(errs) - within == 0
     assert within >= 0.9 * n
     assert np.median(errs) < 0.01
+    assert 0.4 < np.median(np.abs(z)) < 1.0
 
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
 def test_two_view_uncalibrated_herzjesu():
-    errs, failed = [], 0
+    """The pairs 1-2 of the 56 triplets: no wrong answer returned as success
+    at the default bound (sigma <= 5/3 %), the sigma honest (median |z|
+    0.63; 1.43 with the profile's sigma alone, which returned one answer
+    6.6 % off at sigma 1.4 %)."""
+    errs, z, failed = [], [], 0
     for path in herz_triplets():
         x = np.loadtxt(path)
         try:
@@ -400,14 +410,102 @@ def test_two_view_uncalibrated_herzjesu():
             failed += 1
             continue
         errs.append(abs(r["K"][0, 0, 0] / F_HERZ - 1))
+        z.append(np.log(r["K"][0, 0, 0] / F_HERZ) / r["report"]["focal_sigma"])
     errs = np.array(errs)
     n = len(herz_triplets())
     within = int(np.sum(errs < 0.05))
     print("\nHerz-Jesu-P8 uncalibrated two-view (views 1, 2 of each triplet): %d of %d within 5 %%, "
-          "%d refused, %d wrong answers, median |f error| %.4f" % (within, n, failed, len(errs) - within,
-                                                                 np.median(errs)))
+          "%d refused, %d wrong answers, median |f error| %.4f, median |z| %.2f"
+          % (within, n, failed, len(errs) - within, np.median(errs), np.median(np.abs(z))))
     assert within >= 0.6 * n
-    assert len(errs) - within <= max(1, len(errs) // 20)
+    assert len(errs) - within == 0
+    assert 0.4 < np.median(np.abs(z)) < 1.0
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_fragile_triplet_does_not_depend_on_the_sweep_steps():
+    """Herz-Jesu 0000-0005-0006 returned f 7.3 % off as success with 5
+    bundle-adjustment steps per sweep candidate (+0.2 % with 4, 6, 7, 8,
+    10): after the best fit of its first RANSAC run was refused for its
+    sigma, the sweep's costlier fixed-focal answer converged to a local
+    optimum whose own curvature passed the bound. Now the best fit's refusal
+    ends that run, whatever the steps and with or without the priors."""
+    path = os.path.join(HERZ, "triplets", "triplet_0000_0005_0006.txt")
+    if not os.path.exists(path):
+        pytest.skip("SKIP: %s not found" % path)
+    x = np.loadtxt(path)
+    for prior in (None, 0.0):
+        fs = []
+        for it in (3, 4, 5, 6, 7, 8, 10, 12):
+            try:
+                r = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=1,
+                                                  sweep_iterations=it, principal_sigma=prior, aspect_sigma=prior)
+            except libsfm.SfmError:
+                continue
+            fs.append(r["K"][0, 0, 0])
+            assert abs(fs[-1] / F_HERZ - 1) < 0.05, (it, prior, fs[-1])
+        print("\n0000-0005-0006, sweep steps 3-12, priors %s: f %s" % (prior, np.round(fs, 1)))
+        assert len(fs) >= 6 and np.ptp(np.log(fs)) < 0.01
+
+
+def calib_scene(rng, nv, f=1000.0, w=1280, h=960, n=200, noise=0.5, pp_sigma=0.0, aspect_sigma=0.0):
+    """nv views of a cloud of points from cameras on an arc turned towards
+    jittered targets (optical axes that do not meet), principal point and
+    aspect ratio drawn about the centre and 1 with the given standard
+    deviations (pp_sigma of max(w, h)), Gaussian noise in pixels."""
+    cx = (w - 1) / 2 + rng.normal(0, pp_sigma * max(w, h))
+    cy = (h - 1) / 2 + rng.normal(0, pp_sigma * max(w, h))
+    K = np.array([[f, 0, cx], [0, f * (1 + rng.normal(0, aspect_sigma)), cy], [0, 0, 1]])
+    X = np.c_[rng.uniform(-2.5, 2.5, 4 * n), rng.uniform(-2, 2, 4 * n), rng.uniform(5, 10, 4 * n), np.ones(4 * n)]
+    ok, xs = np.ones(len(X), bool), []
+    for i in range(nv):
+        a = np.radians(12) * i + rng.normal(0, np.radians(2))
+        C = np.array([7 * np.sin(a), rng.normal(0, 0.8), 7.5 - 7 * np.cos(a)])
+        zc = np.array([0, 0, 7.5]) + rng.normal(0, 0.8, 3) - C
+        zc /= np.linalg.norm(zc)
+        xc = np.cross([0, -1.0, 0], zc)
+        xc /= np.linalg.norm(xc)
+        R = np.array([xc, np.cross(zc, xc), zc])
+        y = X @ (K @ np.c_[R, -R @ C]).T
+        p = y[:, :2] / y[:, 2:]
+        ok &= (y[:, 2] > 0) & (p[:, 0] > 0) & (p[:, 0] < w) & (p[:, 1] > 0) & (p[:, 1] < h)
+        xs.append(p)
+    idx = np.flatnonzero(ok)[:n]
+    return [x[idx] + rng.normal(0, noise, (len(idx), 2)) for x in xs]
+
+
+@pytest.mark.parametrize("nv", [2, 3])
+@pytest.mark.parametrize("prior", [0.0, 0.01])
+def test_focal_sigma_is_calibrated_on_synthetic_scenes(nv, prior):
+    """z = log(f / f_true) / sigma over 60 synthetic scenes (0.5 px noise)
+    must spread as a standard normal: std within [0.8, 1.25]. prior 0: the
+    model exact (principal point at the centre, aspect 1) and the priors
+    off, so the profile's sigma alone is tested; prior 0.01: the principal
+    point drawn with 1 % of max(w, h) per axis and the aspect with 0.25 %,
+    the defaults of principal_sigma and aspect_sigma that sigma includes.
+    Measured: std z 1.00 / 1.14 (two / three views, exact model), 0.98 /
+    1.12 (priors); the profile's sigma alone under the drawn intrinsics
+    gives 1.60 / 3.67."""
+    rng = np.random.default_rng(1400 + nv)
+    kw = {} if prior > 0 else dict(principal_sigma=0.0, aspect_sigma=0.0)
+    z = []
+    for k in range(60):
+        obs = calib_scene(rng, nv, pp_sigma=prior, aspect_sigma=prior / 4)
+        try:
+            if nv == 2:
+                r = libsfm.reconstruct_two_view(obs[0], obs[1], 1280, 960, seed=k, max_focal_sigma=1.0, **kw)
+            else:
+                r = libsfm.reconstruct_three_view(obs[0], obs[1], obs[2], 1280, 960, seed=k, max_focal_sigma=1.0,
+                                                  **kw)
+        except libsfm.SfmError:
+            continue
+        z.append(np.log(r["K"][0, 0, 0] / 1000.0) / r["report"]["focal_sigma"])
+    z = np.array(z)
+    print("\n%d views, prior %.2f: %d of 60 answered, std z %.2f, median |z| %.2f, mean z %+.2f"
+          % (nv, prior, len(z), z.std(ddof=1), np.median(np.abs(z)), z.mean()))
+    assert len(z) >= 55
+    assert 0.8 <= z.std(ddof=1) <= 1.25
+    assert abs(z.mean()) < 3 / np.sqrt(len(z))
 
 
 BOOF_F = dict(bobcats=1141.5, books=999.5, chicken=1128.4, minecraft_cave1=543.5, minecraft_distant=212.4,
