@@ -248,8 +248,9 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
     (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 5u +                           \
-     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) * 2u +          \
-     SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(n)) +                             \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) +               \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 4u +                        \
      SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 3u + 15u)
 
 /*
