@@ -9,6 +9,7 @@
 #include "core/linalg_util.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_selfcal.h"
+#include "recon/selfcal_internal.h"
 
 /* weights of Pollefeys et al.: zero skew and principal point 1/0.1, unit
  * aspect 1/0.2, focal near the guess 1/9 */
@@ -23,7 +24,7 @@ static const int QI[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
 static const int QJ[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
 
 /* coefficients of w_ab = (P Q P^T)_ab in the 10 entries of Q */
-static void omega_row(const double P[12], int a, int b, double r[10])
+void sfmi_selfcal_omega_row(const double P[12], int a, int b, double r[10])
 {
     for (int k = 0; k < 10; k++) {
         int i = QI[k], j = QJ[k];
@@ -33,7 +34,7 @@ static void omega_row(const double P[12], int a, int b, double r[10])
     }
 }
 
-static void add_row(double A[100], const double r[10], double w)
+void sfmi_selfcal_add_row(double A[100], const double r[10], double w)
 {
     for (int a = 0; a < 10; a++)
         for (int b = 0; b <= a; b++)
@@ -41,7 +42,7 @@ static void add_row(double A[100], const double r[10], double w)
 }
 
 /* W = P Q P^T (3x3) */
-static void omega(const double P[12], const double Q[16], double W[9])
+void sfmi_selfcal_omega(const double P[12], const double Q[16], double W[9])
 {
     double PQ[12];
     for (int r = 0; r < 3; r++)
@@ -62,7 +63,7 @@ static void omega(const double P[12], const double Q[16], double W[9])
 
 /* Upper-triangular K with K K^T = W (W positive definite, scaled so
  * K_22 = 1). 0 when W is not positive definite. */
-static int upper_cholesky(const double Win[9], double K[9])
+int sfmi_selfcal_upper_cholesky(const double Win[9], double K[9])
 {
     if (!(Win[8] > 0))
         return 0;
@@ -100,7 +101,7 @@ static void mul44(const double A[16], const double B[16], double C[16])
         }
 }
 
-static void mul34_44(const double P[12], const double H[16], double out[12])
+void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12])
 {
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 4; c++) {
@@ -112,7 +113,7 @@ static void mul34_44(const double P[12], const double H[16], double out[12])
 }
 
 /* A = B^{-1} for 4x4 by LU (copy). 0 when singular. */
-static int inv44(const double B[16], double A[16])
+int sfmi_selfcal_inv44(const double B[16], double A[16])
 {
     double LU[16];
     int piv[4];
@@ -126,13 +127,41 @@ static int inv44(const double B[16], double A[16])
     return sfmi_la_all_finite(A, 16);
 }
 
+int sfmi_selfcal_rank3(double Q[16], int *flags, void *ews, size_t ews_size)
+{
+    double ev[4], V[16];
+    int st = sfm_sym_eig(Q, 4, ev, V, ews, ews_size);
+    if (st < 0)
+        return st;
+    int small = 0;
+    for (int k = 1; k < 4; k++)
+        if (fabs(ev[k]) < fabs(ev[small]))
+            small = k;
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 4; k++)
+        if (k != small)
+            pos += ev[k] > 0, neg += ev[k] < 0;
+    double sgn = pos >= neg ? 1.0 : -1.0;
+    if (pos != 3 && neg != 3)
+        *flags |= SFM_SELFCAL_FLAG_NOT_PSD;
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                if (k != small)
+                    s += V[4 * a + k] * sgn * ev[k] * V[4 * b + k];
+            Q[4 * a + b] = s;
+        }
+    return SFM_OK;
+}
+
 /* One weighted linear solve (two passes), rank 3, semi-definiteness and
  * the focal lengths; flags in res. */
 static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double Q[16], double K1[9],
                      sfm_selfcal_result *res, void *ews, size_t ews_size)
 {
     /* two passes: unit weights, then rows divided by each view's w_22 */
-    double nu[SFM_SELFCAL_MAX_VIEWS], q[10], ev[4], V[16];
+    double nu[SFM_SELFCAL_MAX_VIEWS], q[10];
     int st;
     for (int i = 0; i < m; i++)
         nu[i] = 1;
@@ -140,25 +169,25 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
         double Aall[100] = {0}, Astrong[100] = {0};
         for (int i = 0; i < m; i++) {
             double r00[10], r11[10], r22[10], r01[10], r02[10], r12[10], d[10];
-            omega_row(Pc[i], 0, 0, r00);
-            omega_row(Pc[i], 1, 1, r11);
-            omega_row(Pc[i], 2, 2, r22);
-            omega_row(Pc[i], 0, 1, r01);
-            omega_row(Pc[i], 0, 2, r02);
-            omega_row(Pc[i], 1, 2, r12);
+            sfmi_selfcal_omega_row(Pc[i], 0, 0, r00);
+            sfmi_selfcal_omega_row(Pc[i], 1, 1, r11);
+            sfmi_selfcal_omega_row(Pc[i], 2, 2, r22);
+            sfmi_selfcal_omega_row(Pc[i], 0, 1, r01);
+            sfmi_selfcal_omega_row(Pc[i], 0, 2, r02);
+            sfmi_selfcal_omega_row(Pc[i], 1, 2, r12);
             double iw = 1.0 / nu[i];
             for (int k = 0; k < 10; k++)
                 d[k] = r00[k] - r11[k];
-            add_row(Astrong, d, W_ASPECT * iw);
-            add_row(Astrong, r01, W_STRONG * iw);
-            add_row(Astrong, r02, W_STRONG * iw);
-            add_row(Astrong, r12, W_STRONG * iw);
+            sfmi_selfcal_add_row(Astrong, d, W_ASPECT * iw);
+            sfmi_selfcal_add_row(Astrong, r01, W_STRONG * iw);
+            sfmi_selfcal_add_row(Astrong, r02, W_STRONG * iw);
+            sfmi_selfcal_add_row(Astrong, r12, W_STRONG * iw);
             for (int k = 0; k < 10; k++)
                 d[k] = r00[k] - r22[k];
-            add_row(Aall, d, W_WEAK * iw);
+            sfmi_selfcal_add_row(Aall, d, W_WEAK * iw);
             for (int k = 0; k < 10; k++)
                 d[k] = r11[k] - r22[k];
-            add_row(Aall, d, W_WEAK * iw);
+            sfmi_selfcal_add_row(Aall, d, W_WEAK * iw);
         }
         for (int k = 0; k < 100; k++)
             Aall[k] = weak ? Aall[k] + Astrong[k] : Astrong[k];
@@ -182,41 +211,21 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
                 Q[k] = -Q[k];
         for (int i = 0; i < m; i++) {
             double W[9];
-            omega(Pc[i], Q, W);
+            sfmi_selfcal_omega(Pc[i], Q, W);
             nu[i] = fabs(W[8]) > 1e-12 ? fabs(W[8]) : 1.0;
         }
     }
     if (res->null_ratio > AMBIGUOUS_RATIO)
         res->flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
 
-    /* rank 3 and semi-definiteness */
-    st = sfm_sym_eig(Q, 4, ev, V, ews, ews_size);
+    st = sfmi_selfcal_rank3(Q, &res->flags, ews, ews_size);
     if (st < 0)
         return st;
-    int small = 0;
-    for (int k = 1; k < 4; k++)
-        if (fabs(ev[k]) < fabs(ev[small]))
-            small = k;
-    int pos = 0, neg = 0;
-    for (int k = 0; k < 4; k++)
-        if (k != small)
-            pos += ev[k] > 0, neg += ev[k] < 0;
-    double sgn = pos >= neg ? 1.0 : -1.0;
-    if (pos != 3 && neg != 3)
-        res->flags |= SFM_SELFCAL_FLAG_NOT_PSD;
-    for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                if (k != small)
-                    s += V[4 * a + k] * sgn * ev[k] * V[4 * b + k];
-            Q[4 * a + b] = s;
-        }
     /* every w*_i positive definite: the focal lengths */
     for (int i = 0; i < m; i++) {
         double W[9], Ki[9];
-        omega(Pc[i], Q, W);
-        if (!upper_cholesky(W, Ki)) {
+        sfmi_selfcal_omega(Pc[i], Q, W);
+        if (!sfmi_selfcal_upper_cholesky(W, Ki)) {
             res->flags |= SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
             res->focal[i] = 0;
             continue;
@@ -225,6 +234,122 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
             memcpy(K1, Ki, 9 * sizeof(double));
         res->focal[i] = 0.5 * (Ki[0] + Ki[4]) * sc[i];
     }
+    return SFM_OK;
+}
+
+int sfmi_selfcal_frame(int m, double Pc[][12], double H0[16], void *ews, size_t ews_size)
+{
+    /* H0 = [Pn_1; C^T]^{-1} puts the first camera at [I | 0] */
+    double G[16] = {0}, ev[4], V[16];
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            for (int r = 0; r < 3; r++)
+                G[4 * a + b] += Pc[0][4 * r + a] * Pc[0][4 * r + b];
+    int st = sfm_sym_eig(G, 4, ev, V, ews, ews_size);
+    if (st < 0)
+        return st;
+    if (!(ev[1] > 1e-12 * ev[3]))
+        return SFM_E_SINGULAR;
+    double A4[16];
+    memcpy(A4, Pc[0], 12 * sizeof(double));
+    for (int k = 0; k < 4; k++)
+        A4[12 + k] = V[4 * k];
+    if (!sfmi_selfcal_inv44(A4, H0))
+        return SFM_E_SINGULAR;
+    for (int i = 0; i < m; i++) {
+        double t[12];
+        sfmi_selfcal_mul34_44(Pc[i], H0, t);
+        memcpy(Pc[i], t, sizeof t);
+    }
+    /* balance the fourth coordinate against the first three */
+    double num = 0, den = 0;
+    for (int i = 1; i < m; i++)
+        for (int r = 0; r < 3; r++) {
+            for (int c = 0; c < 3; c++)
+                num += Pc[i][4 * r + c] * Pc[i][4 * r + c];
+            den += Pc[i][4 * r + 3] * Pc[i][4 * r + 3];
+        }
+    double lam = den > 1e-30 * num ? sqrt(num / (3 * den)) : 1.0;
+    for (int i = 0; i < m; i++)
+        for (int r = 0; r < 3; r++)
+            Pc[i][4 * r + 3] *= lam;
+    for (int r = 0; r < 4; r++)
+        H0[4 * r + 3] *= lam;
+    for (int i = 0; i < m; i++) {
+        double s = 0;
+        for (int k = 0; k < 12; k++)
+            s += Pc[i][k] * Pc[i][k];
+        s = 1 / sqrt(s);
+        for (int k = 0; k < 12; k++)
+            Pc[i][k] *= s;
+    }
+    return SFM_OK;
+}
+
+int sfmi_selfcal_rectify(int m, const double *P, const double Q[16], const double K1[9], const double H0[16],
+                         int n, const double *X, double Ht[16], sfm_selfcal_result *res)
+{
+    /* plane at infinity p from Q* = [w1, -w1 p; -p^T w1, p^T w1 p] with
+     * w1 = K1 K1^T (P_1 = [I | 0]), w1 taken at Q's own scale */
+    double LU[9], pinf[3];
+    int piv[3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            LU[3 * r + c] = Q[4 * r + c];
+    for (int r = 0; r < 3; r++)
+        pinf[r] = -Q[4 * r + 3];
+    if (sfm_lu_factor(LU, 3, piv) < 0 || sfm_lu_solve(LU, piv, 3, pinf, 1) < 0)
+        return SFM_E_SINGULAR;
+    double H1[16] = {0};
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            H1[4 * r + c] = K1[3 * r + c];
+    for (int c = 0; c < 3; c++)
+        H1[12 + c] = -(pinf[0] * K1[c] + pinf[1] * K1[3 + c] + pinf[2] * K1[6 + c]);
+    H1[15] = 1;
+    mul44(H0, H1, Ht);
+
+    /* mirror by cheirality */
+    long front = 0, total = 0;
+    if (n > 0) {
+        double Hi[16];
+        if (!sfmi_selfcal_inv44(Ht, Hi))
+            return SFM_E_SINGULAR;
+        double dets[SFM_SELFCAL_MAX_VIEWS];
+        for (int i = 0; i < m; i++) {
+            double Pm[12], M[9];
+            sfmi_selfcal_mul34_44(&P[12 * i], Ht, Pm);
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    M[3 * r + c] = Pm[4 * r + c];
+            dets[i] = det3(M);
+        }
+        for (int j = 0; j < n; j++) {
+            const double *Xj = &X[4 * (size_t)j];
+            if (Xj[0] == 0 && Xj[1] == 0 && Xj[2] == 0 && Xj[3] == 0)
+                continue;
+            double T = Hi[12] * Xj[0] + Hi[13] * Xj[1] + Hi[14] * Xj[2] + Hi[15] * Xj[3];
+            for (int i = 0; i < m; i++) {
+                const double *Pi = &P[12 * i];
+                double w = Pi[8] * Xj[0] + Pi[9] * Xj[1] + Pi[10] * Xj[2] + Pi[11] * Xj[3];
+                front += dets[i] * w * T > 0;
+                total++;
+            }
+        }
+        if (total > 0 && 2 * front < total) {
+            for (int r = 0; r < 4; r++)
+                Ht[4 * r + 3] = -Ht[4 * r + 3];
+            front = total - front;
+            res->flags |= SFM_SELFCAL_FLAG_MIRRORED;
+        }
+        res->front_fraction = total > 0 ? (double)front / (double)total : 0.0;
+        if (total > 0 && res->front_fraction < FRONT_MIN) {
+            res->flags |= SFM_SELFCAL_FLAG_CHEIRALITY;
+            return SFM_E_SINGULAR;
+        }
+    }
+    if (!sfmi_la_all_finite(Ht, 16))
+        return SFM_E_SINGULAR;
     return SFM_OK;
 }
 
@@ -260,50 +385,10 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
             Pc[i][8 + c] = Pi[8 + c];
         }
     }
-    /* frame: H0 = [Pn_1; C^T]^{-1} puts the first camera at [I | 0] */
-    double G[16] = {0}, ev[4], V[16];
-    for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++)
-            for (int r = 0; r < 3; r++)
-                G[4 * a + b] += Pc[0][4 * r + a] * Pc[0][4 * r + b];
-    int st = sfm_sym_eig(G, 4, ev, V, ews, sizeof ews);
+    double H0[16];
+    int st = sfmi_selfcal_frame(m, Pc, H0, ews, sizeof ews);
     if (st < 0)
         return st;
-    if (!(ev[1] > 1e-12 * ev[3]))
-        return SFM_E_SINGULAR;
-    double A4[16], H0[16];
-    memcpy(A4, Pc[0], 12 * sizeof(double));
-    for (int k = 0; k < 4; k++)
-        A4[12 + k] = V[4 * k];
-    if (!inv44(A4, H0))
-        return SFM_E_SINGULAR;
-    for (int i = 0; i < m; i++) {
-        double t[12];
-        mul34_44(Pc[i], H0, t);
-        memcpy(Pc[i], t, sizeof t);
-    }
-    /* balance the fourth coordinate against the first three */
-    double num = 0, den = 0;
-    for (int i = 1; i < m; i++)
-        for (int r = 0; r < 3; r++) {
-            for (int c = 0; c < 3; c++)
-                num += Pc[i][4 * r + c] * Pc[i][4 * r + c];
-            den += Pc[i][4 * r + 3] * Pc[i][4 * r + 3];
-        }
-    double lam = den > 1e-30 * num ? sqrt(num / (3 * den)) : 1.0;
-    for (int i = 0; i < m; i++)
-        for (int r = 0; r < 3; r++)
-            Pc[i][4 * r + 3] *= lam;
-    for (int r = 0; r < 4; r++)
-        H0[4 * r + 3] *= lam;
-    for (int i = 0; i < m; i++) {
-        double s = 0;
-        for (int k = 0; k < 12; k++)
-            s += Pc[i][k] * Pc[i][k];
-        s = 1 / sqrt(s);
-        for (int k = 0; k < 12; k++)
-            Pc[i][k] *= s;
-    }
 
     /* the strong equations alone first (exact on exact data); when their
      * solution is unusable, again with the weak focal prior added */
@@ -321,77 +406,19 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
             *result = res;
         return SFM_E_SINGULAR;
     }
-    /* plane at infinity p from Q* = [w1, -w1 p; -p^T w1, p^T w1 p] with
-     * w1 = K1 K1^T (P_1 = [I | 0]), w1 taken at Q's own scale */
-    double w1[9], LU[9], pinf[3];
-    int piv[3];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            w1[3 * r + c] = LU[3 * r + c] = Q[4 * r + c];
-    for (int r = 0; r < 3; r++)
-        pinf[r] = -Q[4 * r + 3];
-    if (sfm_lu_factor(LU, 3, piv) < 0 || sfm_lu_solve(LU, piv, 3, pinf, 1) < 0)
-        return SFM_E_SINGULAR;
-    (void)w1;
-    double H1[16] = {0};
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            H1[4 * r + c] = K1[3 * r + c];
-    for (int c = 0; c < 3; c++)
-        H1[12 + c] = -(pinf[0] * K1[c] + pinf[1] * K1[3 + c] + pinf[2] * K1[6 + c]);
-    H1[15] = 1;
     double Ht[16];
-    mul44(H0, H1, Ht);
-
-    /* mirror by cheirality */
-    long front = 0, total = 0;
-    if (n > 0) {
-        double Hi[16];
-        if (!inv44(Ht, Hi))
-            return SFM_E_SINGULAR;
-        double dets[SFM_SELFCAL_MAX_VIEWS];
-        for (int i = 0; i < m; i++) {
-            double Pm[12], M[9];
-            mul34_44(&P[12 * i], Ht, Pm);
-            for (int r = 0; r < 3; r++)
-                for (int c = 0; c < 3; c++)
-                    M[3 * r + c] = Pm[4 * r + c];
-            dets[i] = det3(M);
-        }
-        for (int j = 0; j < n; j++) {
-            const double *Xj = &X[4 * (size_t)j];
-            if (Xj[0] == 0 && Xj[1] == 0 && Xj[2] == 0 && Xj[3] == 0)
-                continue;
-            double T = Hi[12] * Xj[0] + Hi[13] * Xj[1] + Hi[14] * Xj[2] + Hi[15] * Xj[3];
-            for (int i = 0; i < m; i++) {
-                const double *Pi = &P[12 * i];
-                double w = Pi[8] * Xj[0] + Pi[9] * Xj[1] + Pi[10] * Xj[2] + Pi[11] * Xj[3];
-                front += dets[i] * w * T > 0;
-                total++;
-            }
-        }
-        if (total > 0 && 2 * front < total) {
-            for (int r = 0; r < 4; r++)
-                Ht[4 * r + 3] = -Ht[4 * r + 3];
-            front = total - front;
-            res.flags |= SFM_SELFCAL_FLAG_MIRRORED;
-        }
-        res.front_fraction = total > 0 ? (double)front / (double)total : 0.0;
-        if (total > 0 && res.front_fraction < FRONT_MIN) {
-            res.flags |= SFM_SELFCAL_FLAG_CHEIRALITY;
-            if (result != NULL)
-                *result = res;
-            return SFM_E_SINGULAR;
-        }
+    st = sfmi_selfcal_rectify(m, P, Q, K1, H0, n, X, Ht, &res);
+    if (st < 0) {
+        if (result != NULL && (res.flags & SFM_SELFCAL_FLAG_CHEIRALITY))
+            *result = res;
+        return st;
     }
-    if (!sfmi_la_all_finite(Ht, 16))
-        return SFM_E_SINGULAR;
     for (int i = 0; i < m; i++) {
         double cx = 0.5 * (wh[2 * i] - 1), cy = 0.5 * (wh[2 * i + 1] - 1);
         const double k[9] = {res.focal[i], 0, cx, 0, res.focal[i], cy, 0, 0, 1};
         memcpy(&K[9 * i], k, sizeof k);
     }
-    memcpy(H, Ht, sizeof Ht);
+    memcpy(H, Ht, 16 * sizeof(double));
     if (result != NULL)
         *result = res;
     return SFM_OK;
