@@ -60,8 +60,9 @@ extern "C" {
 #define SFM_SELFCAL_FLAG_NOT_PSD 1      /* Q* not semi-definite after rank 3 */
 #define SFM_SELFCAL_FLAG_OMEGA_NOT_PD 2 /* some w*_i not positive definite */
 #define SFM_SELFCAL_FLAG_CHEIRALITY 4   /* the plane at infinity cuts the scene */
-#define SFM_SELFCAL_FLAG_AMBIGUOUS 8    /* the linear system has a second null
-                                           direction: a critical motion */
+#define SFM_SELFCAL_FLAG_AMBIGUOUS 8    /* the strong equations have a second
+                                           (nearly) null direction: a critical
+                                           motion */
 #define SFM_SELFCAL_FLAG_MIRRORED 16    /* H was flipped by cheirality (not an error) */
 
 typedef struct sfm_selfcal_result {
@@ -70,6 +71,9 @@ typedef struct sfm_selfcal_result {
                             weighted system (near 1: ambiguous) */
     double focal[SFM_SELFCAL_MAX_VIEWS]; /* f_i in pixels, per view */
     double front_fraction; /* share of (point, view) pairs in front, with points */
+    double weak_ratio;   /* strong residual of the solution with the weak
+                            equations over the strong minimum (large: the
+                            weak prior chose the answer) */
 } sfm_selfcal_result;
 
 /* Linear self-calibration of m >= 3 projective cameras P (m x 12, pixels)

@@ -18,6 +18,16 @@
 #define W_WEAK (1.0 / 9.0)
 /* second null direction of the strong equations: a critical motion */
 #define AMBIGUOUS_RATIO 0.2
+/* The weak equations move the solution along a direction the strong ones
+ * leave nearly free: the strong residual of the solution with the weak
+ * equations over the strong minimum (both at that solve's weights). General
+ * motion, 3-8 views, 0.5-2 px: at most 2.4 measured; a turntable (optical
+ * axes through one point, where the image of a sphere about that point
+ * meets the strong equations as the absolute conic does): 6.9 or more. */
+#define WEAK_RATIO_MAX 4.0
+/* ... and the focal lengths moved by more than this (relative, mean): the
+ * weak pull on noise-free general motion costs nothing in f */
+#define WEAK_SHIFT_MAX 0.02
 #define FRONT_MIN 0.9
 
 static const int QI[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
@@ -155,10 +165,22 @@ int sfmi_selfcal_rank3(double Q[16], int *flags, void *ews, size_t ews_size)
     return SFM_OK;
 }
 
+static double quad10(const double A[100], const double q[10])
+{
+    double s = 0;
+    for (int a = 0; a < 10; a++) {
+        s += A[a * 10 + a] * q[a] * q[a];
+        for (int b = 0; b < a; b++)
+            s += 2 * A[a * 10 + b] * q[a] * q[b];
+    }
+    return s;
+}
+
 /* One weighted linear solve (two passes), rank 3, semi-definiteness and
- * the focal lengths; flags in res. */
+ * the focal lengths; flags in res. *weak_ratio: sqrt(q^T A_strong q /
+ * lambda_min(A_strong)) at the last pass (1 without the weak equations). */
 static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double Q[16], double K1[9],
-                     sfm_selfcal_result *res, void *ews, size_t ews_size)
+                     sfm_selfcal_result *res, double *weak_ratio, void *ews, size_t ews_size)
 {
     /* two passes: unit weights, then rows divided by each view's w_22 */
     double nu[SFM_SELFCAL_MAX_VIEWS], q[10];
@@ -198,11 +220,16 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
         res->null_ratio = w10[1] > 0 ? sqrt(fmax(w10[0], 0) / w10[1]) : 1.0;
         if (!(w10[1] > 1e-12 * w10[9]))
             res->null_ratio = 1.0;
+        const double w10s0 = w10[0];
         st = sfm_sym_eig(Aall, 10, w10, V10, ews, ews_size);
         if (st < 0)
             return st;
         for (int k = 0; k < 10; k++)
             q[k] = V10[k * 10];
+        {
+            double c = quad10(Astrong, q), l0 = fmax(w10s0, 0);
+            *weak_ratio = l0 > 0 ? sqrt(fmax(c, 0) / l0) : (c > 0 ? HUGE_VAL : 1.0);
+        }
         for (int k = 0; k < 10; k++)
             Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = q[k];
         /* sign: Q* is positive semi-definite, so its trace is positive */
@@ -390,16 +417,43 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     if (st < 0)
         return st;
 
-    /* the strong equations alone first (exact on exact data); when their
-     * solution is unusable, again with the weak focal prior added */
-    double Q[16], K1[9];
-    for (int weak = 0; weak < 2; weak++) {
-        res.flags = 0;
-        st = solve_adq(m, Pc, sc, weak, Q, K1, &res, ews, sizeof ews);
-        if (st < 0)
-            return st;
-        if (!(res.flags & (SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD)))
-            break;
+    /* The strong equations alone (exact on exact data) and again with the
+     * weak focal prior added. The strong solution is the answer when
+     * usable, else the one with the prior; either way the prior must not
+     * have chosen it: when the solution with the prior leaves the strong
+     * equations far above their minimum (and, with a usable strong
+     * solution, moved the focal lengths), the strong equations have a
+     * second, nearly free direction that the prior resolved (a critical
+     * motion for per-view focal lengths: Sturm 1997; Kahl, Triggs and
+     * Astrom 2000) and the answer is refused as ambiguous. */
+    double Q[16], K1[9], Qw[16], K1w[9], ratio_s, ratio_w;
+    sfm_selfcal_result rw = res;
+    st = solve_adq(m, Pc, sc, 0, Q, K1, &res, &ratio_s, ews, sizeof ews);
+    if (st < 0)
+        return st;
+    st = solve_adq(m, Pc, sc, 1, Qw, K1w, &rw, &ratio_w, ews, sizeof ews);
+    if (st < 0)
+        return st;
+    const int unusable = SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
+    res.weak_ratio = ratio_w;
+    if (!(res.flags & unusable)) {
+        double shift = 0;
+        if (!(rw.flags & unusable))
+            for (int i = 0; i < m; i++)
+                shift += fabs(rw.focal[i] / res.focal[i] - 1) / m;
+        else
+            shift = HUGE_VAL;
+        if (ratio_w > WEAK_RATIO_MAX && shift > WEAK_SHIFT_MAX)
+            res.flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
+    } else {
+        double nr = res.null_ratio;
+        res = rw;
+        res.null_ratio = nr; /* of the strong equations */
+        res.weak_ratio = ratio_w;
+        memcpy(Q, Qw, sizeof Q);
+        memcpy(K1, K1w, sizeof K1);
+        if (ratio_w > WEAK_RATIO_MAX)
+            res.flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
     }
     if (res.flags & (SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD | SFM_SELFCAL_FLAG_AMBIGUOUS)) {
         if (result != NULL)
