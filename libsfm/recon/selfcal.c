@@ -18,15 +18,18 @@
 #define W_WEAK (1.0 / 9.0)
 /* second null direction of the strong equations: a critical motion */
 #define AMBIGUOUS_RATIO 0.2
-/* The weak equations move the solution along a direction the strong ones
+/* The weak equations moved the solution along a direction the strong ones
  * leave nearly free: the strong residual of the solution with the weak
- * equations over the strong minimum (both at that solve's weights). General
- * motion, 3-8 views, 0.5-2 px: at most 2.4 measured; a turntable (optical
- * axes through one point, where the image of a sphere about that point
- * meets the strong equations as the absolute conic does): 6.9 or more. */
+ * equations over the strong minimum (both at that solve's weights).
+ * Measured (0.25-2 px, 3-8 views): general motion at most 2.4, a turntable
+ * 6.9 or more (there the image of a sphere about the point on every
+ * optical axis meets the strong equations as the absolute conic does). */
 #define WEAK_RATIO_MAX 4.0
-/* ... and the focal lengths moved by more than this (relative, mean): the
- * weak pull on noise-free general motion costs nothing in f */
+/* ... and, when the strong solution is usable, moved its focal lengths by
+ * more than this per unit of that ratio (the mean relative change of f
+ * along the prior's direction at the cost of the noise; on exact data the
+ * prior moves a usable solution without cost to the data, a 3-view case
+ * measured 3.8 % at a ratio of 153; a turntable: 1900 % at 7.9) */
 #define WEAK_SHIFT_MAX 0.02
 #define FRONT_MIN 0.9
 
@@ -178,7 +181,8 @@ static double quad10(const double A[100], const double q[10])
 
 /* One weighted linear solve (two passes), rank 3, semi-definiteness and
  * the focal lengths; flags in res. *weak_ratio: sqrt(q^T A_strong q /
- * lambda_min(A_strong)) at the last pass (1 without the weak equations). */
+ * lambda_min(A_strong)) at the last pass (1 without the weak equations, up
+ * to rounding). */
 static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double Q[16], double K1[9],
                      sfm_selfcal_result *res, double *weak_ratio, void *ews, size_t ews_size)
 {
@@ -220,15 +224,18 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
         res->null_ratio = w10[1] > 0 ? sqrt(fmax(w10[0], 0) / w10[1]) : 1.0;
         if (!(w10[1] > 1e-12 * w10[9]))
             res->null_ratio = 1.0;
-        const double w10s0 = w10[0];
+        /* the strong minimum, floored at a singular value 1e-6 of the
+         * largest (rounding on exact data; a turntable's minimum at 0.5 px
+         * is 9e-5 of it) */
+        const double lmin = fmax(w10[0], 1e-12 * w10[9]);
         st = sfm_sym_eig(Aall, 10, w10, V10, ews, ews_size);
         if (st < 0)
             return st;
         for (int k = 0; k < 10; k++)
             q[k] = V10[k * 10];
         {
-            double c = quad10(Astrong, q), l0 = fmax(w10s0, 0);
-            *weak_ratio = l0 > 0 ? sqrt(fmax(c, 0) / l0) : (c > 0 ? HUGE_VAL : 1.0);
+            double c = quad10(Astrong, q);
+            *weak_ratio = lmin > 0 ? sqrt(fmax(c, 0) / lmin) : 1.0;
         }
         for (int k = 0; k < 10; k++)
             Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = q[k];
@@ -420,13 +427,14 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     /* The strong equations alone (exact on exact data) and again with the
      * weak focal prior added. The strong solution is the answer when
      * usable, else the one with the prior; either way the prior must not
-     * have chosen it: when the solution with the prior leaves the strong
+     * have chosen it. When the solution with the prior leaves the strong
      * equations far above their minimum (and, with a usable strong
-     * solution, moved the focal lengths), the strong equations have a
-     * second, nearly free direction that the prior resolved (a critical
-     * motion for per-view focal lengths: Sturm 1997; Kahl, Triggs and
-     * Astrom 2000) and the answer is refused as ambiguous. */
+     * solution, moved the focal lengths that far), the strong block has a second,
+     * nearly free direction that the prior resolved (orbital motion, a
+     * critical motion for per-view focal lengths: Sturm 1997; Kahl, Triggs
+     * and Astrom 2000) and the answer is refused as ambiguous. */
     double Q[16], K1[9], Qw[16], K1w[9], ratio_s, ratio_w;
+    const int unusable = SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
     sfm_selfcal_result rw = res;
     st = solve_adq(m, Pc, sc, 0, Q, K1, &res, &ratio_s, ews, sizeof ews);
     if (st < 0)
@@ -434,27 +442,23 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     st = solve_adq(m, Pc, sc, 1, Qw, K1w, &rw, &ratio_w, ews, sizeof ews);
     if (st < 0)
         return st;
-    const int unusable = SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
-    res.weak_ratio = ratio_w;
     if (!(res.flags & unusable)) {
         double shift = 0;
-        if (!(rw.flags & unusable))
+        if (rw.flags & unusable)
+            shift = HUGE_VAL;
+        else
             for (int i = 0; i < m; i++)
                 shift += fabs(rw.focal[i] / res.focal[i] - 1) / m;
-        else
-            shift = HUGE_VAL;
-        if (ratio_w > WEAK_RATIO_MAX && shift > WEAK_SHIFT_MAX)
+        if (ratio_w > WEAK_RATIO_MAX && shift / ratio_w > WEAK_SHIFT_MAX)
             res.flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
     } else {
-        double nr = res.null_ratio;
         res = rw;
-        res.null_ratio = nr; /* of the strong equations */
-        res.weak_ratio = ratio_w;
         memcpy(Q, Qw, sizeof Q);
         memcpy(K1, K1w, sizeof K1);
         if (ratio_w > WEAK_RATIO_MAX)
             res.flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;
     }
+    res.weak_ratio = ratio_w;
     if (res.flags & (SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD | SFM_SELFCAL_FLAG_AMBIGUOUS)) {
         if (result != NULL)
             *result = res;
