@@ -434,7 +434,7 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
      * second, nearly free direction that the prior resolved (orbital
      * motion, critical for per-view focal lengths: Sturm 1997; Kahl,
      * Triggs and Astrom 2000) and the answer is refused as ambiguous. */
-    double Q[16], K1[9], Qw[16], K1w[9], ratio_s, ratio_w; /* ratio_s: 1 */
+    double Q[16], K1[9], Qw[16], K1w[9], ratio_s, ratio_w; /* ratio_s unused (1) */
     const int unusable = SFM_SELFCAL_FLAG_NOT_PSD | SFM_SELFCAL_FLAG_OMEGA_NOT_PD;
     sfm_selfcal_result rw = res;
     st = solve_adq(m, Pc, sc, 0, Q, K1, &res, &ratio_s, ews, sizeof ews);
