@@ -77,7 +77,8 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
     Without tracks: the linear absolute dual quadric only (principal point
     at the centre, zero skew, unit aspect); X, optional, resolves the mirror
     by cheirality. Returns dict(K (m,3,3), H (4,4) with P_i H ~ K_i [R_i |
-    t_i], path "linear", flags, null_ratio, front_fraction); raises SfmError
+    t_i], path "linear", flags, null_ratio, weak_ratio, front_fraction);
+    raises SfmError
     when the linear solution is unusable (the error's .flags says why: 1 not
     semi-definite, 2 a w*_i not definite, 4 cheirality, 8 critical motion).
 
@@ -170,9 +171,10 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
     except Exception as e:
         e.flags = res.flags
         e.null_ratio = res.null_ratio
+        e.weak_ratio = res.weak_ratio
         raise
     return dict(K=K, H=H, path="linear", flags=res.flags, null_ratio=res.null_ratio,
-                front_fraction=res.front_fraction)
+                weak_ratio=res.weak_ratio, front_fraction=res.front_fraction)
 
 
 def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
