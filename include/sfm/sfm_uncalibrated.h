@@ -62,7 +62,11 @@
  * likelihood's curvature at the answer, the fixed-focal optima at
  * f e^{+-0.05} (poses, points and the free radial terms re-optimized, the
  * noise variance from the answer's residuals with the points' and poses'
- * degrees of freedom removed) against the free optimum, the flatter side.
+ * degrees of freedom removed, and at least 0.2 px squared) against the
+ * free optimum, the flatter side. The floor is the localisation error's
+ * systematic part, which the residuals of sub-pixel aligned points (0.07-
+ * 0.14 px) do not show: on the rendered demo loop (f known, the model
+ * exact) z had RMS 2.32 without it, 1.06 with it.
  * The model's: the principal point is held at the centre and the aspect
  * ratio at 1, which no real camera meets exactly; each is moved by one
  * standard deviation of its prior (options.principal_sigma per axis,
