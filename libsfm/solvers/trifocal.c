@@ -112,22 +112,57 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
 }
 
 /* Unit null vector (right singular vector of the smallest singular value) of
- * a 3x3 matrix, or of its transpose when left != 0. */
-static int null3(const double M[9], int left, double v[3])
+ * a 3x3 matrix, or of its transpose when left != 0: the eigenvector of the
+ * smallest eigenvalue l3 of the Gram matrix G (M^T M, or M M^T), l3 from
+ * the characteristic cubic, the vector orthogonal to the rows of G - l3 I.
+ * The error of that vector is about eps l1 / (l2 - l3); where the gap
+ * l2 - l3 is below 1e-6 of the trace (the vector poorly determined to
+ * start with), or G - l3 I is not of rank 2, the SVD of M gives it. */
+static int null3_svd(const double *A, double v[3])
 {
-    double A[9], V[9], S[3];
+    double B[9], V[9], S[3];
     unsigned char ws[2048];
     if (sfm_svd_workspace_size(3, 3) > sizeof ws)
         return SFM_E_WORKSPACE;
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            A[r * 3 + c] = left ? M[c * 3 + r] : M[r * 3 + c];
-    int st = sfm_svd(A, 3, 3, NULL, S, V, ws, sizeof ws);
+    memcpy(B, A, sizeof B);
+    int st = sfm_svd(B, 3, 3, NULL, S, V, ws, sizeof ws);
     if (st < 0)
         return st;
     for (int r = 0; r < 3; r++)
         v[r] = V[r * 3 + 2];
     return SFM_OK;
+}
+
+static int null3(const double M[9], int left, double v[3])
+{
+    double A[9], G[9];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            A[r * 3 + c] = left ? M[c * 3 + r] : M[r * 3 + c];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c <= r; c++)
+            G[r * 3 + c] = G[c * 3 + r] = A[r] * A[c] + A[3 + r] * A[3 + c] + A[6 + r] * A[6 + c];
+    /* det(x I + G) = x^3 + tr x^2 + c2 x + det: its largest root is -l3 */
+    const double tr = G[0] + G[4] + G[8];
+    const double c2 = (G[0] * G[4] - G[1] * G[1]) + (G[0] * G[8] - G[2] * G[2]) + (G[4] * G[8] - G[5] * G[5]);
+    const double det = G[0] * (G[4] * G[8] - G[5] * G[5]) - G[1] * (G[1] * G[8] - G[5] * G[2]) +
+                       G[2] * (G[1] * G[5] - G[4] * G[2]);
+    const double l3 = -sfmi_cubic_largest_root(tr, c2, det);
+    /* l1 + l2 = tr - l3 = s, l1 l2 = c2 - l3 s: l2 the smaller root */
+    const double sum = tr - l3, prod = c2 - l3 * sum;
+    const double l2 = 0.5 * (sum - sqrt(fmax(sum * sum - 4.0 * prod, 0.0)));
+    if (tr > 0.0 && l2 - l3 > 1e-6 * tr) {
+        double r0[3] = {G[0] - l3, G[1], G[2]}, r1[3] = {G[3], G[4] - l3, G[5]},
+               r2[3] = {G[6], G[7], G[8] - l3}, n[3];
+        const double m = sfmi_rank2_null3(r0, r1, r2, 1e-6, n);
+        if (m > 0.0 && isfinite(m)) {
+            const double s = 1.0 / sqrt(m);
+            for (int k = 0; k < 3; k++)
+                v[k] = n[k] * s;
+            return SFM_OK;
+        }
+    }
+    return null3_svd(A, v);
 }
 
 static void fix_sign(double v[3])
