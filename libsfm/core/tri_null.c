@@ -17,28 +17,20 @@
 #include "core/tri_null.h"
 
 enum { TRI_NULL_ONE_STEPS = 20, TRI_NULL_TWO_STEPS = 40 };
-/* |R|_max within these bounds: a step cannot overflow (see inverse_step) */
-#define TRI_NULL_SAFE_LO 1e-100
-#define TRI_NULL_SAFE_HI 1e100
+/* The range of |R|_max taken (see inverse_step); beyond, 0 (the SVD). */
+#define TRI_NULL_RANGE_LO 1e-100
+#define TRI_NULL_RANGE_HI 1e100
 
-/* x /= |x|; 0 when x is zero or not finite. The sum of squares directly
- * when it is well inside the range of doubles, else scaled by the largest
- * entry first. */
+/* x /= |x|; 0 when x is zero or not finite. */
 static int normalize(double *x, int n)
 {
-    double s = 0.0;
-    for (int i = 0; i < n; i++)
+    double m = sfmi_la_max_abs(x, (size_t)n);
+    if (!(m > 0.0) || !isfinite(m))
+        return 0;
+    double inv = 1.0 / m, s = 0.0;
+    for (int i = 0; i < n; i++) {
+        x[i] *= inv;
         s += x[i] * x[i];
-    if (!(s > 1e-280 && s < 1e280)) {
-        double m = sfmi_la_max_abs(x, (size_t)n);
-        if (!(m > 0.0) || !isfinite(m))
-            return 0;
-        double inv = 1.0 / m;
-        s = 0.0;
-        for (int i = 0; i < n; i++) {
-            x[i] *= inv;
-            s += x[i] * x[i];
-        }
     }
     s = 1.0 / sqrt(s);
     for (int i = 0; i < n; i++)
@@ -108,17 +100,15 @@ static int settle(double *x, const double *y, int n, double tol, double *prev)
     return est <= tol;
 }
 
-/* y <- R^-1 R^-T y, normalized; 0 when not finite. y is normalised between
- * the solves only when |R|_max is outside TRI_NULL_SAFE_LO.._HI (safe = 0):
- * within, the pivots floored at eps |R|_max keep the two solves of a unit
- * vector far from overflow for any factor short of a pathological growth of
- * the substitution, and an overflow there is still caught (the iterate is
- * not finite: 0, the caller's SVD). */
-static int inverse_step(const double *R, int n, const double *dinv, int safe, double *y)
+/* y <- R^-1 R^-T y, normalized; 0 when not finite. With |R|_max within
+ * TRI_NULL_RANGE_LO.._HI and the pivots floored at eps |R|_max, the two
+ * solves of a unit vector stay far from overflow and underflow for any
+ * factor short of a pathological growth of the substitution, so y is not
+ * rescaled between them (an overflow would still be caught: the iterate
+ * is not finite, 0, the caller's SVD). */
+static int inverse_step(const double *R, int n, const double *dinv, double *y)
 {
     solve_rt(R, n, dinv, y);
-    if (!safe && !normalize(y, n))
-        return 0;
     solve_r(R, n, dinv, y);
     return normalize(y, n);
 }
@@ -139,7 +129,9 @@ static double rx_dot(const double *R, int n, const double *x, const double *y)
     return s;
 }
 
-int sfmi_la_tri_pivots(const double *R, int n, double *dinv)
+/* The reciprocals of R's pivots, floored at eps |R|_max, in dinv; 0 when
+ * |R|_max is zero, not finite or outside TRI_NULL_RANGE_LO.._HI. */
+static int pivots(const double *R, int n, double *dinv)
 {
     double rmax = 0.0;
     for (int i = 0; i < n; i++)
@@ -148,14 +140,14 @@ int sfmi_la_tri_pivots(const double *R, int n, double *dinv)
             if (!(a <= rmax))
                 rmax = a; /* NaN propagates */
         }
-    if (!(rmax > 0.0) || !isfinite(rmax))
+    if (!(rmax > TRI_NULL_RANGE_LO && rmax < TRI_NULL_RANGE_HI))
         return 0;
     const double floor = DBL_EPSILON * rmax;
     for (int i = 0; i < n; i++) {
         const double d = R[(size_t)i * n + i];
         dinv[i] = 1.0 / (fabs(d) >= floor ? d : copysign(floor, d));
     }
-    return rmax > TRI_NULL_SAFE_LO && rmax < TRI_NULL_SAFE_HI ? 1 : -1;
+    return 1;
 }
 
 void sfmi_la_tri_gram_solve(const double *R, int n, const double *dinv, double *x)
@@ -168,10 +160,8 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double tol, double *v, do
 {
     double *x = scratch, *y = scratch + n, *q = scratch + 2 * n, *w = scratch + 3 * n;
     double *dinv = scratch + 4 * n;
-    const int piv = sfmi_la_tri_pivots(R, n, dinv);
-    if (piv == 0)
+    if (!pivots(R, n, dinv))
         return 0;
-    const int safe = piv > 0;
     /* Start from R^-1 e_n: the last column of R^-1, large where R is
      * nearly singular. */
     for (int i = 0; i < n; i++)
@@ -184,7 +174,7 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double tol, double *v, do
     for (int step = 0; step < TRI_NULL_ONE_STEPS; step++) {
         for (int i = 0; i < n; i++)
             y[i] = x[i];
-        if (!inverse_step(R, n, dinv, safe, y))
+        if (!inverse_step(R, n, dinv, y))
             return 0;
         for (int i = 0; i < n; i++)
             q[i] = y[i] - x[i]; /* the last change: mostly the next vector */
@@ -213,7 +203,7 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double tol, double *v, do
             y[i] = x[i];
             w[i] = q[i];
         }
-        if (!inverse_step(R, n, dinv, safe, y) || !inverse_step(R, n, dinv, safe, w))
+        if (!inverse_step(R, n, dinv, y) || !inverse_step(R, n, dinv, w))
             return 0;
         for (int pass = 0; pass < 2; pass++) {
             double d = 0.0;

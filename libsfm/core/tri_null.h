@@ -13,21 +13,17 @@
  * tol (the remaining change of v, extrapolated from the contraction seen;
  * 1e-13 is rounding level for n <= 27) within 20 + 40 steps; returns 0
  * with v untouched when it did not
- * (the smallest singular values too close together, or R zero or not
- * finite): the caller then takes the SVD. On return 1, scratch[4n..5n)
- * holds R's reciprocal floored pivots (those of sfmi_la_tri_pivots). When
+ * (the smallest singular values too close together, or |R|_max zero, not
+ * finite or outside 1e-100..1e100): the caller then takes the SVD. On return 1, scratch[4n..5n)
+ * holds the reciprocals of R's floored pivots, for sfmi_la_tri_gram_solve. When
  * the smallest singular value
  * is multiple, v may be any unit vector of its space (so may an SVD's).
  * n >= 1. */
 int sfmi_la_tri_smallest_right(const double *R, int n, double tol, double *v, double *scratch);
 
-/* The reciprocals of R's pivots floored as above (n doubles in dinv), for
- * sfmi_la_tri_gram_solve. Returns 0 when R is zero or not finite (dinv then
- * unspecified), 1 when |R|_max lies within 1e-100..1e100, -1 beyond. */
-int sfmi_la_tri_pivots(const double *R, int n, double *dinv);
-
 /* x <- (R^T R)^-1 x by the two substitutions of one inverse-iteration step
- * (dinv from sfmi_la_tri_pivots), unnormalised. */
+ * (dinv: the reciprocal pivots a successful sfmi_la_tri_smallest_right left
+ * in its scratch), unnormalised. */
 void sfmi_la_tri_gram_solve(const double *R, int n, const double *dinv, double *x);
 
 #endif

@@ -41,7 +41,7 @@
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
 
-enum { NU = 27, ALG_ITERS = 1 };
+enum { NU = 27 };
 /* Inverse-iteration tolerances (core/tri_null.h) of the linear solution
  * (followed by the correction step) and of the algebraic step. Against
  * 1e-13 for both: 13 % fewer instructions per minimal sample, the same
@@ -100,114 +100,6 @@ static void apply(const double H[9], const double *x, double p[3])
     p[2] = 1.0;
 }
 
-/* The factors of triplet p's four rows (see the top): its normalised view-1
- * point u, the rows a_0, a_1 of [v]x and the columns b_0, b_1 of [q]x (v, q
- * the normalised points of views 2 and 3); with Av, Bq (may be NULL) the
- * 3 x 3 sums a_0 a_0^T + a_1 a_1^T and b_0 b_0^T + b_1 b_1^T. */
-typedef struct tf_norm {
-    const double *x[3];
-    double H[3][9];
-} tf_norm;
-
-typedef struct tf_rows {
-    double u[3], a[2][3], b[2][3];
-} tf_rows;
-
-static void triplet_factors(const tf_norm *d, int p, tf_rows *f, double Av[9], double Bq[9])
-{
-    double v[3], q[3];
-    apply(d->H[0], &d->x[0][2 * p], f->u);
-    apply(d->H[1], &d->x[1][2 * p], v);
-    apply(d->H[2], &d->x[2][2 * p], q);
-    /* [v]x rows 0, 1 and [q]x columns 0, 1 */
-    const double a[2][3] = {{0.0, -v[2], v[1]}, {v[2], 0.0, -v[0]}};
-    const double b[2][3] = {{0.0, q[2], -q[1]}, {-q[2], 0.0, q[0]}};
-    memcpy(f->a, a, sizeof a);
-    memcpy(f->b, b, sizeof b);
-    if (Av == NULL)
-        return;
-    for (int j = 0; j < 3; j++)
-        for (int k = 0; k < 3; k++) {
-            Av[j * 3 + k] = a[0][j] * a[0][k] + a[1][j] * a[1][k];
-            Bq[j * 3 + k] = b[0][j] * b[0][k] + b[1][j] * b[1][k];
-        }
-}
-
-/* g = A^T A t, from the triplets' factors: row (p, s, r) of A t is
- * a_s^T (sum_i u_i T_i) b_r, and A^T maps the four residuals of triplet p
- * to u (x) C, C = sum_{s,r} res_{s,r} a_s b_r^T. With the rows' own
- * rounding only, unlike A^T A formed: the product the correction step
- * (correct_null) needs. */
-static void gram_apply(const tf_norm *d, int n, const double t[NU], double g[NU])
-{
-    memset(g, 0, sizeof(double) * NU);
-    for (int p = 0; p < n; p++) {
-        tf_rows f;
-        triplet_factors(d, p, &f, NULL, NULL);
-        double Mt[9], C[9] = {0}, mb[2][3];
-        for (int c = 0; c < 9; c++)
-            Mt[c] = f.u[0] * t[c] + f.u[1] * t[9 + c] + f.u[2] * t[18 + c];
-        for (int r = 0; r < 2; r++)
-            for (int j = 0; j < 3; j++)
-                mb[r][j] = Mt[j * 3] * f.b[r][0] + Mt[j * 3 + 1] * f.b[r][1] + Mt[j * 3 + 2] * f.b[r][2];
-        for (int s = 0; s < 2; s++)
-            for (int r = 0; r < 2; r++) {
-                const double res = f.a[s][0] * mb[r][0] + f.a[s][1] * mb[r][1] + f.a[s][2] * mb[r][2];
-                for (int j = 0; j < 3; j++)
-                    for (int k = 0; k < 3; k++)
-                        C[j * 3 + k] += res * f.a[s][j] * f.b[r][k];
-            }
-        for (int i = 0; i < 3; i++)
-            for (int c = 0; c < 9; c++)
-                g[i * 9 + c] += f.u[i] * C[c];
-    }
-}
-
-/* One correction of the unit vector y (m entries) that inverse iteration on
- * R (R^T R the Gram matrix G as formed, m x m) left, given g = G y computed
- * without forming G (gram_apply), and R's reciprocal pivots dinv
- * (smallest_right_tri; dinv[0] = 0: no correction): y <- y - P (R^T R)^-1 P g, P the
- * projection off y, renormalised: a Newton step on the Rayleigh quotient
- * with R^T R in place of G. It takes out the error that forming G left in
- * y (of order eps (s_1 / s_{m-1})^2) down to the accuracy of the rows
- * themselves, and shrinks the rest as one inverse-iteration step would. */
-static void correct_null(const double *R, int m, const double *dinv, const double *g, double *y)
-{
-    double h[NU], rho = 0.0, c = 0.0, nn = 0.0;
-    if (dinv[0] == 0.0)
-        return;
-    for (int k = 0; k < m; k++)
-        rho += y[k] * g[k];
-    for (int k = 0; k < m; k++)
-        h[k] = g[k] - rho * y[k];
-    sfmi_la_tri_gram_solve(R, m, dinv, h);
-    for (int k = 0; k < m; k++)
-        c += h[k] * y[k];
-    double z[NU];
-    for (int k = 0; k < m; k++) {
-        z[k] = y[k] - (h[k] - c * y[k]);
-        nn += z[k] * z[k];
-    }
-    if (!(nn > 0.0) || !isfinite(nn))
-        return;
-    nn = 1.0 / sqrt(nn);
-    for (int k = 0; k < m; k++)
-        y[k] = z[k] * nn;
-}
-
-/* E^T S E for the symmetric 3 x 3 S and the columns E_a of E = [e p q]
- * (vectors e[a]): out[a * 3 + b]. */
-static void congruence3(const double S[9], const double *const e[3], double out[9])
-{
-    double SE[3][3]; /* SE[a] = S E_a */
-    for (int a = 0; a < 3; a++)
-        for (int r = 0; r < 3; r++)
-            SE[a][r] = S[r * 3] * e[a][0] + S[r * 3 + 1] * e[a][1] + S[r * 3 + 2] * e[a][2];
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b <= a; b++)
-            out[a * 3 + b] = out[b * 3 + a] = e[a][0] * SE[b][0] + e[a][1] * SE[b][1] + e[a][2] * SE[b][2];
-}
-
 /* y[j] += f x[j] for j < m. Four entries a pass where the build is for
  * speed (the same operations, so the same bits, as the plain loop of a
  * build for size). */
@@ -224,6 +116,113 @@ static inline void axpy(double *y, double f, const double *x, int m)
 #endif
     for (; j < m; j++)
         y[j] += f * x[j];
+}
+
+/* The factors of triplet p's four rows (see the top): its normalised view-1
+ * point u, Sa = [v]x with its last row zeroed (rows a_0, a_1) and
+ * Sb = [q]x with its last column zeroed (columns b_0, b_1), v and q the
+ * normalised points of views 2 and 3; with Av, Bq (may be NULL) the 3 x 3
+ * sums Sa^T Sa = a_0 a_0^T + a_1 a_1^T and Sb Sb^T = b_0 b_0^T + b_1 b_1^T. */
+typedef struct tf_norm {
+    const double *x[3];
+    double H[3][9];
+} tf_norm;
+
+typedef struct tf_rows {
+    double u[3], Sa[9], Sb[9];
+} tf_rows;
+
+static void triplet_factors(const tf_norm *d, int p, tf_rows *f, double Av[9], double Bq[9])
+{
+    double v[3], q[3];
+    apply(d->H[0], &d->x[0][2 * p], f->u);
+    apply(d->H[1], &d->x[1][2 * p], v);
+    apply(d->H[2], &d->x[2][2 * p], q);
+    sfm_skew(v, f->Sa);
+    sfm_skew(q, f->Sb);
+    for (int k = 0; k < 3; k++) {
+        f->Sa[6 + k] = 0.0;
+        f->Sb[3 * k + 2] = 0.0;
+    }
+    if (Av == NULL)
+        return;
+    sfmi_matmul3_tn(f->Sa, f->Sa, Av);
+    sfmi_matmul3_nt(f->Sb, f->Sb, Bq);
+}
+
+/* g = A^T A t, from the triplets' factors: the four rows of triplet p times
+ * t are the upper-left 2 x 2 block of Sa (sum_i u_i T_i) Sb, and A^T maps
+ * that block Q to u (x) Sa^T Q Sb^T. With the rows' own rounding only,
+ * unlike A^T A formed: the product the correction step (correct_null)
+ * needs. */
+static void gram_apply(const tf_norm *d, int n, const double t[NU], double g[NU])
+{
+    memset(g, 0, sizeof(double) * NU);
+    for (int p = 0; p < n; p++) {
+        tf_rows f;
+        triplet_factors(d, p, &f, NULL, NULL);
+        double Q[9];
+        for (int c = 0; c < 9; c++)
+            Q[c] = f.u[0] * t[c] + f.u[1] * t[9 + c] + f.u[2] * t[18 + c];
+        sfmi_matmul3(f.Sa, Q, Q);
+        sfmi_matmul3(Q, f.Sb, Q);
+        sfmi_matmul3_tn(f.Sa, Q, Q);
+        sfmi_matmul3_nt(Q, f.Sb, Q);
+        for (int i = 0; i < 3; i++)
+            axpy(g + 9 * i, f.u[i], Q, 9);
+    }
+}
+
+/* One correction of the unit vector y (m entries) that inverse iteration on
+ * R (R^T R the Gram matrix G as formed, m x m) left, given g = G y computed
+ * without forming G (gram_apply), and R's reciprocal pivots dinv
+ * (smallest_right_tri; dinv[0] = 0, after an SVD: no correction):
+ * y <- y - P (R^T R)^-1 P g, P the
+ * projection off y, renormalised: a Newton step on the Rayleigh quotient
+ * with R^T R in place of G. It takes out the error that forming G left in
+ * y (of order eps (s_1 / s_{m-1})^2) down to the accuracy of the rows
+ * themselves, and shrinks the rest as one inverse-iteration step would. */
+static void correct_null(const double *R, int m, const double *dinv, const double *g, double *y)
+{
+    double h[NU], z[NU], rho = 0.0, c = 0.0;
+    if (dinv[0] == 0.0)
+        return;
+    for (int k = 0; k < m; k++)
+        rho += y[k] * g[k];
+    for (int k = 0; k < m; k++)
+        h[k] = g[k] - rho * y[k];
+    sfmi_la_tri_gram_solve(R, m, dinv, h);
+    for (int k = 0; k < m; k++)
+        c += h[k] * y[k];
+    for (int k = 0; k < m; k++)
+        z[k] = y[k] - (h[k] - c * y[k]);
+    if (sfmi_trifocal_normalize(z, m) == SFM_OK)
+        memcpy(y, z, sizeof(double) * (size_t)m);
+}
+
+/* E^T S E for the 3 x 3 S and E of the columns e[0], e[1], e[2]. */
+static void congruence3(const double S[9], const double *const e[3], double out[9])
+{
+    double E[9];
+    for (int k = 0; k < 9; k++)
+        E[k] = e[k % 3][k / 3];
+    sfmi_matmul3(S, E, out);
+    sfmi_matmul3_tn(E, out, out);
+}
+
+/* dst (row stride ld, upper triangle) += (u u^T) (x) W for the symmetric
+ * bs x bs W: the blocks (i, i2 >= i), the diagonal ones on and above their
+ * diagonal. */
+static inline void kron_add(double *dst, int ld, int bs, const double u[3], const double *W)
+{
+    for (int i = 0; i < 3; i++)
+        for (int i2 = i; i2 < 3; i2++) {
+            const double uu = u[i] * u[i2];
+            for (int c = 0; c < bs; c++) {
+                const int c0 = i == i2 ? c : 0;
+                axpy(&dst[(i * bs + c) * ld + i2 * bs + c0], uu, &W[c * bs + c0], bs - c0);
+            }
+        }
 }
 
 /* In place: the upper triangle of the symmetric positive semi-definite
@@ -249,36 +248,29 @@ static void gram_factor(double *G, int n)
     }
 }
 
-/* Right singular vector of the smallest singular value of A (m x n), by the
- * SVD. */
-static int smallest_right(tf_ws *w, const double *A, int m, int n, double *v)
+/* Right singular vector of the smallest singular value of the n x n upper
+ * triangular A (strict lower part zero): inverse iteration to tol, and the
+ * SVD only when that does not settle (the two smallest singular values too
+ * close). dinv (may be NULL) receives A's reciprocal floored pivots
+ * (sfmi_la_tri_gram_solve) when the iteration settled; dinv[0] = 0 when the
+ * SVD gave v. */
+static int smallest_right_tri(tf_ws *w, const double *A, int n, double tol, double *v, double *dinv)
 {
-    int st = sfm_svd(A, m, n, NULL, w->S, w->V, w->svd, w->svd_size);
+    double scratch[5 * NU];
+    const int ok = sfmi_la_tri_smallest_right(A, n, tol, v, scratch);
+    if (dinv != NULL)
+        dinv[0] = 0.0;
+    if (ok) {
+        if (dinv != NULL)
+            memcpy(dinv, scratch + 4 * n, sizeof(double) * (size_t)n);
+        return SFM_OK;
+    }
+    int st = sfm_svd(A, n, n, NULL, w->S, w->V, w->svd, w->svd_size);
     if (st < 0)
         return st;
     for (int r = 0; r < n; r++)
         v[r] = w->V[r * n + (n - 1)];
     return SFM_OK;
-}
-
-/* The same for an n x n upper triangular A whose strict lower part is zero:
- * inverse iteration to tol, and the SVD only when that does not settle (the
- * two smallest singular values too close). dinv (may be NULL) receives A's
- * reciprocal floored pivots (sfmi_la_tri_pivots); 0 when A is not
- * usable. */
-static int smallest_right_tri(tf_ws *w, const double *A, int n, double tol, double *v, double *dinv)
-{
-    double scratch[5 * NU];
-    int ok = sfmi_la_tri_smallest_right(A, n, tol, v, scratch);
-    if (dinv != NULL) {
-        if (ok)
-            memcpy(dinv, scratch + 4 * n, sizeof(double) * (size_t)n);
-        else if (sfmi_la_tri_pivots(A, n, dinv) == 0)
-            dinv[0] = 0.0;
-    }
-    if (ok)
-        return SFM_OK;
-    return smallest_right(w, A, n, n, v);
 }
 
 /* An orthonormal pair completing the unit vector e to a basis of R^3. */
@@ -328,22 +320,12 @@ static int algebraic_step(tf_ws *w, const tf_norm *d, int n, double t[NU], doubl
         tf_rows f;
         double Av[9], Bq[9], Ae[9], Be[9], G[NB * NB];
         triplet_factors(d, p, &f, Av, Bq);
-        const double *u = f.u;
         congruence3(Av, E2, Ae);
         congruence3(Bq, E3, Be);
         for (int b = 0; b < NB; b++)
             for (int b2 = 0; b2 < NB; b2++)
                 G[b * NB + b2] = Ae[xb[b] * 3 + xb[b2]] * Be[yb[b] * 3 + yb[b2]];
-        /* upper triangle of M: blocks (i, i2 >= i) */
-        for (int i = 0; i < 3; i++)
-            for (int i2 = i; i2 < 3; i2++) {
-                const double uu = u[i] * u[i2];
-                for (int b = 0; b < NB; b++) {
-                    double *row = &M[(i * NB + b) * NA + i2 * NB];
-                    for (int b2 = i == i2 ? b : 0; b2 < NB; b2++)
-                        row[b2] += uu * G[b * NB + b2];
-                }
-            }
+        kron_add(M, NA, NB, f.u, G);
     }
     gram_factor(M, NA);
     double y[NA];
@@ -359,6 +341,20 @@ static int algebraic_step(tf_ws *w, const tf_norm *d, int n, double t[NU], doubl
                 t[i * 9 + j * 3 + k] = s;
             }
     return sfmi_trifocal_normalize(t, NU);
+}
+
+/* out = in with one index contracted with a 3 x 3 matrix C: the index of
+ * stride `stride` (9: i, 3: j, 1: k), out[.. a ..] = sum_q C[a][q] in[.. q ..],
+ * C = M, or M^T when tr. */
+static void contract(const double *in, const double M[9], int tr, int stride, double *out)
+{
+    for (int e = 0; e < NU; e++) {
+        const int a = e / stride % 3, base = e - a * stride;
+        double acc = 0;
+        for (int q = 0; q < 3; q++)
+            acc += (tr ? M[q * 3 + a] : M[a * 3 + q]) * in[base + q * stride];
+        out[e] = acc;
+    }
 }
 
 /* Transfer error of x2 ~ H x1, squared. */
@@ -415,14 +411,28 @@ static int denormalize_epipole(const double H[9], const double eh[3], double e[3
     e[2] = eh[2];
     if (sfmi_trifocal_normalize(e, 3) != SFM_OK)
         return SFM_E_SINGULAR;
-    int m = 0;
-    for (int k = 1; k < 3; k++)
-        if (fabs(e[k]) > fabs(e[m]))
-            m = k;
-    if (e[m] < 0)
-        for (int k = 0; k < 3; k++)
-            e[k] = -e[k];
+    sfmi_trifocal_fix_sign(e, 3);
     return SFM_OK;
+}
+
+void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double *G)
+{
+    /* per triplet (u u^T) (x) Av (x) Bq (triplet_factors), by the 9 x 9
+     * blocks (i, i2 >= i) of u_i u_i2 W, W = Av (x) Bq */
+    tf_norm d = {{x[0], x[1], x[2]}, {{0}}};
+    memcpy(d.H, H, sizeof d.H);
+    memset(G, 0, sizeof(double) * NU * NU);
+    for (int p = 0; p < n; p++) {
+        tf_rows f;
+        double Av[9], Bq[9], W[81];
+        triplet_factors(&d, p, &f, Av, Bq);
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                for (int j2 = 0; j2 < 3; j2++)
+                    for (int k2 = 0; k2 < 3; k2++)
+                        W[(j * 3 + k) * 9 + j2 * 3 + k2] = Av[j * 3 + j2] * Bq[k * 3 + k2];
+        kron_add(G, NU, 9, f.u, W);
+    }
 }
 
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
@@ -454,28 +464,7 @@ int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double 
     if (degenerate_points(x1, x2, x3, n, H1, H2, H3))
         return SFM_E_SINGULAR;
 
-    /* N = A^T A: per triplet (u u^T) (x) Av (x) Bq (triplet_factors), upper
-     * triangle, by the 9 x 9 blocks (i, i2 >= i) of u_i u_i2 W, W = Av (x) Bq */
-    memset(w.R, 0, sizeof(double) * NU * NU);
-    for (int p = 0; p < n; p++) {
-        tf_rows f;
-        double Av[9], Bq[9], W[81];
-        triplet_factors(&d, p, &f, Av, Bq);
-        const double *u = f.u;
-        for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++)
-                for (int j2 = 0; j2 < 3; j2++)
-                    for (int k2 = 0; k2 < 3; k2++)
-                        W[(j * 3 + k) * 9 + j2 * 3 + k2] = Av[j * 3 + j2] * Bq[k * 3 + k2];
-        for (int i = 0; i < 3; i++)
-            for (int i2 = i; i2 < 3; i2++) {
-                const double uu = u[i] * u[i2];
-                for (int c = 0; c < 9; c++) {
-                    const int c0 = i == i2 ? c : 0;
-                    axpy(&w.R[(i * 9 + c) * NU + i2 * 9 + c0], uu, &W[c * 9 + c0], 9 - c0);
-                }
-            }
-    }
+    sfmi_trifocal_gram(d.x, n, &d.H[0][0], w.R);
     gram_factor(w.R, NU);
 
     double t[NU], g[NU], dinv[NU];
@@ -485,49 +474,17 @@ int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double 
     gram_apply(&d, n, t, g);
     correct_null(w.R, NU, dinv, g, t);
     double eh2[3], eh3[3];
-    for (int it = 0; it < ALG_ITERS; it++) {
-        double prev[NU];
-        memcpy(prev, t, sizeof t);
-        st = algebraic_step(&w, &d, n, t, eh2, eh3);
-        if (st < 0)
-            return st;
-        double dp = 0, dm = 0;
-        for (int k = 0; k < NU; k++) {
-            dp += (t[k] - prev[k]) * (t[k] - prev[k]);
-            dm += (t[k] + prev[k]) * (t[k] + prev[k]);
-        }
-        if ((dp < dm ? dp : dm) < 1e-24)
-            break;
-    }
+    st = algebraic_step(&w, &d, n, t, eh2, eh3);
+    if (st < 0)
+        return st;
 
     /* Denormalize: T_i^{jk} = H1[r][i] H2^-1[j][s] H3^-1[k][t] That_r^{st}. */
     double H2i[9] = {1 / H2[0], 0, -H2[2] / H2[0], 0, 1 / H2[4], -H2[5] / H2[4], 0, 0, 1};
     double H3i[9] = {1 / H3[0], 0, -H3[2] / H3[0], 0, 1 / H3[4], -H3[5] / H3[4], 0, 0, 1};
     double tmp1[NU], tmp2[NU], out[NU];
-    for (int r = 0; r < 3; r++) /* contract k with H3^-1 */
-        for (int s = 0; s < 3; s++)
-            for (int k = 0; k < 3; k++) {
-                double acc = 0;
-                for (int q = 0; q < 3; q++)
-                    acc += H3i[k * 3 + q] * t[r * 9 + s * 3 + q];
-                tmp1[r * 9 + s * 3 + k] = acc;
-            }
-    for (int r = 0; r < 3; r++) /* contract j with H2^-1 */
-        for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++) {
-                double acc = 0;
-                for (int s = 0; s < 3; s++)
-                    acc += H2i[j * 3 + s] * tmp1[r * 9 + s * 3 + k];
-                tmp2[r * 9 + j * 3 + k] = acc;
-            }
-    for (int i = 0; i < 3; i++) /* contract i with H1 */
-        for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++) {
-                double acc = 0;
-                for (int r = 0; r < 3; r++)
-                    acc += H1[r * 3 + i] * tmp2[r * 9 + j * 3 + k];
-                out[i * 9 + j * 3 + k] = acc;
-            }
+    contract(t, H3i, 0, 1, tmp1);   /* k with H3^-1 */
+    contract(tmp1, H2i, 0, 3, tmp2); /* j with H2^-1 */
+    contract(tmp2, H1, 1, 9, out);   /* i with H1 (transposed) */
     if (sfmi_trifocal_normalize(out, NU) != SFM_OK || !sfmi_la_all_finite(out, NU))
         return SFM_E_SINGULAR;
     double f2[3], f3[3];
@@ -535,12 +492,7 @@ int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double 
         return SFM_E_SINGULAR;
     memcpy(e2, f2, sizeof f2);
     memcpy(e3, f3, sizeof f3);
-    int m = 0;
-    for (int k = 1; k < NU; k++)
-        if (fabs(out[k]) > fabs(out[m]))
-            m = k;
-    double sgn = out[m] < 0 ? -1.0 : 1.0;
-    for (int k = 0; k < NU; k++)
-        T[k] = sgn * out[k];
+    sfmi_trifocal_fix_sign(out, NU);
+    memcpy(T, out, sizeof out);
     return SFM_OK;
 }
