@@ -213,19 +213,31 @@ static void congruence3(const double S[9], const double *const e[3], double out[
     sfmi_matmul3_tn(E, out, out);
 }
 
-/* dst (row stride ld, upper triangle) += (u u^T) (x) W for the symmetric
- * bs x bs W: the blocks (i, i2 >= i), the diagonal ones on and above their
- * diagonal. */
-static inline void kron_add(double *dst, int ld, int bs, const double u[3], const double *W)
+/* Sums of Kronecker products (u u^T) (x) W over the triplets, u u^T and W
+ * symmetric (W bs x bs), kept per distinct entry: acc[a][w] += (u u^T)_a
+ * W_w over the 6 entries a of u u^T on and above its diagonal and the
+ * bs (bs + 1) / 2 entries w of W (Wp, packed row by row), so a triplet
+ * costs one product per distinct entry of the sum (270 for the 27 x 27
+ * Gram matrix, against 378 on its upper triangle); kron_unpack writes the
+ * upper triangle of the sum once, with the same bits. */
+static void kron_pack(double *acc, int nw, const double u[3], const double *Wp)
+{
+    for (int i = 0, a = 0; i < 3; i++)
+        for (int i2 = i; i2 < 3; i2++, a++)
+            axpy(acc + a * nw, u[i] * u[i2], Wp, nw);
+}
+
+static void kron_unpack(double *dst, int ld, int bs, const double *acc)
 {
     for (int i = 0; i < 3; i++)
-        for (int i2 = i; i2 < 3; i2++) {
-            const double uu = u[i] * u[i2];
-            for (int c = 0; c < bs; c++) {
-                const int c0 = i == i2 ? c : 0;
-                axpy(&dst[(i * bs + c) * ld + i2 * bs + c0], uu, &W[c * bs + c0], bs - c0);
-            }
-        }
+        for (int i2 = i; i2 < 3; i2++)
+            for (int c = 0; c < bs; c++)
+                for (int c2 = c; c2 < bs; c2++) {
+                    const double v = *acc++;
+                    dst[(i * bs + c) * ld + i2 * bs + c2] = v;
+                    if (i2 > i) /* W symmetric: the entry (c2, c) of the block too */
+                        dst[(i * bs + c2) * ld + i2 * bs + c] = v;
+                }
 }
 
 /* In place: the upper triangle of the symmetric positive semi-definite
@@ -317,19 +329,22 @@ static int algebraic_step(tf_ws *w, const tf_norm *d, int n, double t[NU], doubl
     const double *E2[3] = {e2, p2, q2}, *E3[3] = {e3, p3, q3};
     /* basis vector b is E2[xb[b]] (x) E3[yb[b]] */
     static const unsigned char xb[NB] = {0, 1, 2, 0, 0}, yb[NB] = {0, 0, 0, 1, 2};
-    double *M = w->M;
-    memset(M, 0, sizeof(double) * NA * NA);
+    enum { NG = NB * (NB + 1) / 2 };
+    double *M = w->M, acc[6 * NG];
+    memset(acc, 0, sizeof acc);
     for (int p = 0; p < n; p++) {
         tf_rows f;
-        double Av[9], Bq[9], Ae[9], Be[9], G[NB * NB];
+        double Av[9], Bq[9], Ae[9], Be[9], Gp[NG];
         triplet_factors(d, p, &f, Av, Bq);
         congruence3(Av, E2, Ae);
         congruence3(Bq, E3, Be);
-        for (int b = 0; b < NB; b++)
-            for (int b2 = 0; b2 < NB; b2++)
-                G[b * NB + b2] = Ae[xb[b] * 3 + xb[b2]] * Be[yb[b] * 3 + yb[b2]];
-        kron_add(M, NA, NB, f.u, G);
+        for (int b = 0, g = 0; b < NB; b++)
+            for (int b2 = b; b2 < NB; b2++, g++)
+                Gp[g] = Ae[xb[b] * 3 + xb[b2]] * Be[yb[b] * 3 + yb[b2]];
+        kron_pack(acc, NG, f.u, Gp);
     }
+    memset(M, 0, sizeof(double) * NA * NA);
+    kron_unpack(M, NA, NB, acc);
     gram_factor(M, NA);
     double y[NA];
     st = smallest_right_tri(w, M, NA, TOL_ALG, y, NULL);
@@ -420,22 +435,25 @@ static int denormalize_epipole(const double H[9], const double eh[3], double e[3
 
 void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double *G)
 {
-    /* per triplet (u u^T) (x) Av (x) Bq (triplet_factors), by the 9 x 9
-     * blocks (i, i2 >= i) of u_i u_i2 W, W = Av (x) Bq */
+    /* per triplet (u u^T) (x) Av (x) Bq (triplet_factors), W = Av (x) Bq
+     * over the index pairs (j k), (j2 k2), kept as distinct entries
+     * (kron_pack) */
+    enum { NW = 45 };
     tf_norm d = {{x[0], x[1], x[2]}, {{0}}};
+    double acc[6 * NW];
     memcpy(d.H, H, sizeof d.H);
-    memset(G, 0, sizeof(double) * NU * NU);
+    memset(acc, 0, sizeof acc);
     for (int p = 0; p < n; p++) {
         tf_rows f;
-        double Av[9], Bq[9], W[81];
+        double Av[9], Bq[9], Wp[NW];
         triplet_factors(&d, p, &f, Av, Bq);
-        for (int j = 0; j < 3; j++)
-            for (int k = 0; k < 3; k++)
-                for (int j2 = 0; j2 < 3; j2++)
-                    for (int k2 = 0; k2 < 3; k2++)
-                        W[(j * 3 + k) * 9 + j2 * 3 + k2] = Av[j * 3 + j2] * Bq[k * 3 + k2];
-        kron_add(G, NU, 9, f.u, W);
+        for (int c = 0, w = 0; c < 9; c++)
+            for (int c2 = c; c2 < 9; c2++, w++)
+                Wp[w] = Av[(c / 3) * 3 + c2 / 3] * Bq[(c % 3) * 3 + c2 % 3];
+        kron_pack(acc, NW, f.u, Wp);
     }
+    memset(G, 0, sizeof(double) * NU * NU);
+    kron_unpack(G, NU, 9, acc);
 }
 
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
