@@ -13,9 +13,13 @@
 # later is built for the M7 too, so that it is proven portable, and printed,
 # not bounded (a program links only what it calls): the robot-to-robot code
 # (r2r_*, in solvers/ and refine/), recon's uncalibrated pipelines, stereo
-# and vo. An entry is a module (every object in it but r2r_*) or one file.
+# and vo, and the files of UNBUDGETED (later additions to a budgeted module:
+# features/align, the photometric alignment of correspondences for the
+# uncalibrated images path). An entry is a module (every object in it but
+# r2r_* and UNBUDGETED) or one file.
 set -eu
 BUDGET="core solvers robust refine features recon/three_view_pose"
+UNBUDGETED="features/align"
 budget_objs() {
     for e in $BUDGET; do
         if [ -d "$1/obj/libsfm/$e" ]; then
@@ -23,7 +27,7 @@ budget_objs() {
         else
             echo "$1/obj/libsfm/$e.o"
         fi
-    done | sort
+    done | sort | grep -v -x -F $(for u in $UNBUDGETED; do printf -- '-e %s ' "$1/obj/libsfm/$u.o"; done)
 }
 if [ "${1:-}" = --budget ]; then
     budget_objs "$2"

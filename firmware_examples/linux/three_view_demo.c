@@ -336,6 +336,7 @@ int main(int argc, char **argv)
     sfm_keypoint *kps[3] = {NULL, NULL, NULL};
     uint8_t *desc[3] = {NULL, NULL, NULL};
     int *matches[3] = {NULL, NULL, NULL}; /* pairs 1-2, 2-3, 3-1 */
+    uint8_t *frames[3] = {NULL, NULL, NULL}; /* copies of the frames, uncalibrated path only */
     int *trip = malloc(sizeof(int) * 3 * (size_t)cap);
     double *px = malloc(sizeof(double) * 6 * (size_t)cap); /* px1 | px2 | px3, cap x 2 each */
     uint8_t *inl = malloc((size_t)cap);
@@ -425,6 +426,16 @@ int main(int argc, char **argv)
         status = fr.width == w && fr.height == h
                      ? sfm_features_detect(&img, &fp, kps[v], desc[v], cap, ws, ws_size)
                      : SFM_E_FORMAT;
+        /* the uncalibrated path aligns the triplets on the pixels: keep a copy */
+        if (status >= 0 && uncalibrated) {
+            if (frames[v] == NULL)
+                frames[v] = malloc((size_t)w * (size_t)h);
+            if (frames[v] == NULL)
+                status = SFM_E_WORKSPACE;
+            else
+                for (int y = 0; y < h; y++)
+                    memcpy(frames[v] + (size_t)y * (size_t)w, fr.data + (size_t)y * (size_t)fr.stride, (size_t)w);
+        }
         sfm_capture_release(src, &fr);
         if (status < 0) {
             fprintf(stderr, "three_view_demo: features of frame %d: %s (%d)\n", v + 1, sfm_status_str(status), status);
@@ -477,6 +488,16 @@ int main(int argc, char **argv)
     sfm_ransac_stats st;
     memset(&st, 0, sizeof st);
     if (uncalibrated) {
+        /* The detector's positions lie on their pyramid level's pixel grid:
+         * align each triplet's view-2 and view-3 points onto its view-1
+         * patch (Lucas-Kanade), which the focal length's precision needs.
+         * Points that do not align keep the detector's position. */
+        sfm_align_params ap;
+        sfm_features_default_align_params(&ap);
+        const sfm_image_u8 f1 = {frames[0], w, h, w}, f2 = {frames[1], w, h, w}, f3 = {frames[2], w, h, w};
+        const int a2 = sfm_features_align_points(&f1, px1, &f2, px2, nt, &ap, px2, inl);
+        const int a3 = sfm_features_align_points(&f1, px1, &f3, px3, nt, &ap, px3, inl);
+        printf("aligned onto view 1: %d (view 2) and %d (view 3) of %d triplets\n", a2, a3, nt);
         /* No intrinsics: trifocal RANSAC, self-calibration, metric BA;
          * every stage reported. The cameras found feed the steps below. */
         sfm_uncal_options uo;
@@ -700,6 +721,7 @@ done:
     sfm_capture_close(src);
     free(ws);
     for (int v = 0; v < 3; v++) {
+        free(frames[v]);
         free(kps[v]);
         free(desc[v]);
         free(matches[v]);

@@ -138,6 +138,42 @@ SFM_API int sfm_features_associate_three_views(const int *m12, int n12, const in
                                                const int *m31, int n31, int n1, int n2, int n3,
                                                int *out, int capacity, void *ws, size_t ws_size);
 
+/* Largest patch radius of sfm_features_align_points. */
+#define SFM_FEATURES_ALIGN_MAX_RADIUS 8
+
+typedef struct sfm_align_params {
+    int radius;             /* patch half side in pixels, 2..SFM_FEATURES_ALIGN_MAX_RADIUS */
+    int max_iterations;     /* Gauss-Newton steps, 1..100 */
+    double max_shift;       /* largest move from the start on either axis, pixels, > 0 */
+    double min_zncc;        /* the aligned patches' normalised correlation must reach this, in [-1, 1] */
+    double min_eigen_ratio; /* the template's gradient matrix: smaller eigenvalue / larger, in [0, 1] */
+} sfm_align_params;
+
+/* Defaults: radius 7, 20 iterations, max_shift 3 px, min_zncc 0.8,
+ * min_eigen_ratio 0.05. Returns SFM_OK, or SFM_E_ARGUMENT when p is NULL. */
+SFM_API int sfm_features_default_align_params(sfm_align_params *p);
+
+/* Photometric refinement of correspondences (Lucas-Kanade, translation with
+ * gain and bias): for each k the square patch of ref around x_ref[2k],
+ * x_ref[2k+1] (pixels, origin at the centre of the top-left pixel, sampled
+ * bilinearly) is found in img starting from x[2k], x[2k+1]; the result goes
+ * to out[2k], out[2k+1] and refined[k] = 1. A point whose patch has no
+ * corner-like gradient structure, leaves either image, does not settle,
+ * moves more than max_shift, or correlates below min_zncc keeps its start
+ * (refined[k] = 0). The reference points stay where they are: aligning
+ * views 2 and 3 to view 1 makes each triplet one surface point, wherever
+ * the detector put it in view 1.
+ * out may be x (in place); nothing else may alias. Bounded stack (5.5 KB),
+ * no workspace.
+ * Returns the number of points refined, or
+ *   SFM_E_ARGUMENT   NULL pointer (arrays may be NULL when n is 0), n < 0,
+ *                    an invalid image view or invalid params;
+ *   SFM_E_NONFINITE  NaN or Inf in x_ref or x.
+ * On failure nothing is written. */
+SFM_API int sfm_features_align_points(const sfm_image_u8 *ref, const double *x_ref, const sfm_image_u8 *img,
+                                      const double *x, int n, const sfm_align_params *p, double *out,
+                                      uint8_t *refined);
+
 #ifdef __cplusplus
 }
 #endif

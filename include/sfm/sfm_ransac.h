@@ -43,8 +43,10 @@
  * refine() on every point within the polish band (the LO band above, from
  * the current model's residuals; for estimators without set_scale 3.5
  * robust deviations between tau and wide_mult tau), re-collected after each
- * refit, until the set of points in the band stops changing, at most
- * opt->polish_rounds refits (with 1 px noise a 1 px threshold keeps only
+ * refit, until the set of points in the band stops changing and the last
+ * refit moved no model entry by more than 1e-7 (1e-5, about 6e-4 deg for
+ * unit-norm models, for estimators with set_scale, whose loss scale follows
+ * the residuals), at most opt->polish_rounds refits (with 1 px noise a 1 px threshold keeps only
  * about half of the true inliers; the polish uses nearly all of them, while
  * the band and the loss keep the outliers out). For estimators with
  * set_scale the polish refits only on the band's points that at least half
@@ -248,8 +250,9 @@ SFM_API size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims);
 #define SFM_RANSAC_R16(b) ((((size_t)(b)) + 15u) & ~(size_t)15u)
 #define SFM_RANSAC_WS_SIZE(n, k, m, s)                                          \
     (SFM_RANSAC_R16(sizeof(int) * (size_t)(n)) * 5u +                           \
-     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) * 2u +          \
-     SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 3u +                        \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(n)) +                             \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(m) * (size_t)(s)) +               \
+     SFM_RANSAC_R16(sizeof(double) * (size_t)(s)) * 4u +                        \
      SFM_RANSAC_R16(sizeof(int) * (size_t)(k)) * 3u + 15u)
 
 /*

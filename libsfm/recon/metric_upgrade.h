@@ -38,6 +38,10 @@ typedef struct sfmi_mu {
     double *xu[3];    /* nmax x 2 scratch: undistorted centred pixels */
     int *idx0;        /* nmax: the inliers the solve started from (radial > 0) */
     double cost;      /* final free-focal cost of the last validated answer */
+    double pp_sigma;  /* px: prior standard deviation of the principal point per axis */
+    double aspect_sigma; /* prior standard deviation of the aspect ratio */
+    int sweep_iters;  /* bundle adjustment steps per fixed-focal sweep candidate */
+    int undetermined; /* the last validation refused f for its sigma */
 } sfmi_mu;
 
 /* Carves the stage for up to `radial` radial terms (0..2; the solve then

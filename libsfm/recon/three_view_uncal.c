@@ -40,6 +40,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
         return SFM_E_ARGUMENT;
     sfm_ransac_default_options(&opt->ransac);
     opt->sweep_steps = 17;
+    opt->sweep_iterations = 8;
     opt->focal_min = 0.2;
     opt->focal_max = 5.0;
     opt->max_rms = 0;
@@ -49,18 +50,22 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
     opt->max_focal_sigma = 0.05 / 3;
     opt->per_view_focal = 0;
     opt->radial = 2;
+    opt->principal_sigma = 0.01;
+    opt->aspect_sigma = 0.0025;
     return SFM_OK;
 }
 
 int sfmi_uncal_check_options(const sfm_uncal_options *o);
 int sfmi_uncal_check_options(const sfm_uncal_options *o)
 {
-    if (o->sweep_steps < 2 || o->sweep_steps > SFM_UNCAL_MAX_SWEEP || !(o->focal_min > 0) ||
+    if (o->sweep_steps < 2 || o->sweep_steps > SFM_UNCAL_MAX_SWEEP || o->sweep_iterations < 1 ||
+        o->sweep_iterations > 50 || !(o->focal_min > 0) ||
         !(o->focal_max > o->focal_min) || !isfinite(o->focal_max) || !(o->max_rms >= 0) ||
         !isfinite(o->max_rms) || !(o->min_front >= 0 && o->min_front <= 1) || !(o->min_profile >= 0) ||
         !isfinite(o->min_profile) ||
         !(o->max_focal_sigma > 0) || (o->per_view_focal != 0 && o->per_view_focal != 1) ||
-        (o->radial < 0 || o->radial > 2) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
+        (o->radial < 0 || o->radial > 2) || !(o->principal_sigma >= 0 && o->principal_sigma < 1) ||
+        !(o->aspect_sigma >= 0 && o->aspect_sigma < 1) || !(o->min_parallax_deg >= 0) || !isfinite(o->min_parallax_deg) || !(o->ransac.threshold > 0))
         return SFM_E_ARGUMENT;
     return SFM_OK;
 }

@@ -31,7 +31,8 @@ typedef struct engine {
     int *order;   /* PROSAC ranking (points by decreasing quality) */
     int *inl;     /* inlier list scratch */
     double *models;
-    double *inner; /* models of the inner samples of an LO */
+    double *inner; /* models of the inner samples of an LO: the outer
+                      sample's array, whose models are all verified by then */
     int *inner_sample;
     double *best;
     double *tmp;
@@ -41,6 +42,11 @@ typedef struct engine {
     int *votes;   /* per point: the near-best models holding it as an inlier at
                      tau (NULL: no consensus filter, see VOTE_MARGIN) */
     int nvotes;   /* models counted in votes */
+    double *res;  /* squared residuals of the model in res_key, every point
+                     (NULL: none kept; with the consensus filter only, whose
+                     estimators' residuals depend on the model alone) */
+    double *res_key;
+    int res_ok;   /* res holds res_key's residuals */
 } engine;
 
 static int dims_ok(const sfm_ransac_dims *d)
@@ -60,7 +66,7 @@ static void carve(sfmi_arena *a, const sfm_ransac_dims *d, engine *e)
     e->order = SFM_ARENA_ARRAY(a, int, d->n);
     e->inl = SFM_ARENA_ARRAY(a, int, d->n);
     e->models = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
-    e->inner = SFM_ARENA_ARRAY(a, double, (size_t)d->max_models * (size_t)d->model_size);
+    e->inner = e->models;
     e->inner_sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
     e->best = SFM_ARENA_ARRAY(a, double, d->model_size);
     e->tmp = SFM_ARENA_ARRAY(a, double, d->model_size);
@@ -68,6 +74,8 @@ static void carve(sfmi_arena *a, const sfm_ransac_dims *d, engine *e)
     e->sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
     e->best_sample = SFM_ARENA_ARRAY(a, int, d->sample_size);
     e->votes = SFM_ARENA_ARRAY(a, int, d->n);
+    e->res = SFM_ARENA_ARRAY(a, double, d->n);
+    e->res_key = SFM_ARENA_ARRAY(a, double, d->model_size);
 }
 
 size_t sfm_ransac_workspace_size(const sfm_ransac_dims *dims)
@@ -102,14 +110,40 @@ int sfm_ransac_default_options(sfm_ransac_options *opt)
     return SFM_OK;
 }
 
-/* Full MSAC score of a model; the inlier count goes to *ninl. */
-static double score_full(const engine *e, const double *model, int *ninl)
+/* Every point's squared residual under model, as an array: the kept one
+ * when it belongs to the same model bytes (the LO band, its points, the
+ * cost and the votes all ask for the same model's residuals), else computed
+ * and kept. NULL when the engine keeps none. */
+static const double *residuals(engine *e, const double *model)
 {
-    const sfm_ransac_estimator *est = e->est;
+    if (e->res == NULL)
+        return NULL;
+    const size_t bytes = sizeof(double) * (size_t)e->s;
+    if (!e->res_ok || memcmp(e->res_key, model, bytes) != 0) {
+        const sfm_ransac_estimator *est = e->est;
+        for (int i = 0; i < e->n; i++)
+            e->res[i] = est->residual(est->ctx, model, i);
+        memcpy(e->res_key, model, bytes);
+        e->res_ok = 1;
+    }
+    return e->res;
+}
+
+/* Squared residual of point i under model, from the array r when there is
+ * one. */
+static double res_at(const engine *e, const double *r, const double *model, int i)
+{
+    return r != NULL ? r[i] : e->est->residual(e->est->ctx, model, i);
+}
+
+/* Full MSAC score of a model; the inlier count goes to *ninl. */
+static double score_full(engine *e, const double *model, int *ninl)
+{
+    const double *res = residuals(e, model);
     double s = 0.0;
     int c = 0;
     for (int i = 0; i < e->n; i++) {
-        double r2 = est->residual(est->ctx, model, i);
+        double r2 = res_at(e, res, model, i);
         if (r2 < e->tau2) {
             s += r2;
             c++;
@@ -135,11 +169,13 @@ static double score_full(const engine *e, const double *model, int *ninl)
  * and say nothing about the model: they count in the score but not in the
  * likelihood ratio nor in the estimate of delta. own_pos holds their
  * positions in the verification order, ascending, ending with n. */
-static int evaluate(const engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
+static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
                     const int *own_pos, double best_score, double best_eps, double *score,
                     int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
+    double *res = e->res;
+    e->res_ok = 0; /* res is overwritten below; it becomes model's at the end */
     const double tau2 = e->tau2;
     const int sprt_on = use_sprt && sp->active && isfinite(best_score);
     const int bail_on = use_sprt && best_eps > 0.0 && best_eps < 1.0;
@@ -148,7 +184,10 @@ static int evaluate(const engine *e, sfmi_sprt *sp, int use_sprt, const double *
     double lambda = 1.0, s = 0.0;
     int c = 0, own = 0, own_c = 0;
     for (int j = 0; j < e->n; j++) {
-        double r2 = est->residual(est->ctx, model, e->perm[j]);
+        const int pj = e->perm[j];
+        double r2 = est->residual(est->ctx, model, pj);
+        if (res != NULL)
+            res[pj] = r2;
         int in = r2 < tau2;
         s += in ? r2 : tau2;
         c += in;
@@ -179,17 +218,21 @@ static int evaluate(const engine *e, sfmi_sprt *sp, int use_sprt, const double *
     }
     *score = s;
     *ninl = c;
+    if (res != NULL) {
+        memcpy(e->res_key, model, sizeof(double) * (size_t)e->s);
+        e->res_ok = 1;
+    }
     return EVAL_BETTER;
 }
 
 /* Points whose squared residual is below r2max: their count, and their
  * indices in list unless it is NULL. */
-static int collect_within(const engine *e, const double *model, double r2max, int *list)
+static int collect_within(engine *e, const double *model, double r2max, int *list)
 {
-    const sfm_ransac_estimator *est = e->est;
+    const double *res = residuals(e, model);
     int c = 0;
     for (int i = 0; i < e->n; i++)
-        if (est->residual(est->ctx, model, i) < r2max) {
+        if (res_at(e, res, model, i) < r2max) {
             if (list)
                 list[c] = i;
             c++;
@@ -257,14 +300,14 @@ static int thin_out(int *list, int c)
  * one-dimensional residual; two-dimensional ones (reprojection, transfer)
  * come out about 1.18 times wider, which only widens the band. 0 when no
  * point is in the band. */
-static double noise_sigma(const engine *e, const double *model)
+static double noise_sigma(engine *e, const double *model)
 {
-    const sfm_ransac_estimator *est = e->est;
+    const double *res = residuals(e, model);
     const double wide = sqrt(e->tau2) * e->wide, wide2 = wide * wide;
     int hist[SPREAD_BINS] = {0};
     int m = 0;
     for (int i = 0; i < e->n; i++) {
-        double r2 = est->residual(est->ctx, model, i);
+        double r2 = res_at(e, res, model, i);
         if (!(r2 < wide2))
             continue;
         int b = (int)(sqrt(r2) / wide * SPREAD_BINS);
@@ -300,7 +343,7 @@ static double noise_sigma(const engine *e, const double *model)
  * the direction error 1.45 against 1.27 deg at tau). Without set_scale the band is the full wide band and the
  * estimator's own scale applies, and only the final polish (polishing)
  * narrows the band. */
-static double lo_band2(const engine *e, const double *model, int polishing)
+static double lo_band2(engine *e, const double *model, int polishing)
 {
     const sfm_ransac_estimator *est = e->est;
     const double wide2 = e->tau2 * e->wide * e->wide;
@@ -382,12 +425,12 @@ static void vote(engine *e, const double *model)
 {
     if (e->votes == NULL)
         return;
-    const sfm_ransac_estimator *est = e->est;
     const double sigma = noise_sigma(e, model), wide2 = e->tau2 * e->wide * e->wide;
     double band2 = sigma > 0.0 ? VOTE_SIGMAS * VOTE_SIGMAS * sigma * sigma : e->tau2;
     band2 = band2 < wide2 ? band2 : wide2;
+    const double *res = residuals(e, model);
     for (int i = 0; i < e->n; i++)
-        if (est->residual(est->ctx, model, i) < band2)
+        if (res_at(e, res, model, i) < band2)
             e->votes[i]++;
     e->nvotes++;
 }
@@ -400,7 +443,7 @@ static void vote(engine *e, const double *model)
  * multiple of the threshold): with noise near the threshold, a model from a
  * noisy sample sees only part of its inliers at tau and converges from the
  * wider set. */
-static void refits(const engine *e, int rounds, double *model, double *score, int *ninl)
+static void refits(engine *e, int rounds, double *model, double *score, int *ninl)
 {
     const sfm_ransac_estimator *est = e->est;
     for (int r = 0; r < rounds; r++) {
@@ -495,8 +538,14 @@ static uint64_t list_hash(const int *list, int c)
 
 /* A refit that moves no model entry by more than this has converged (the
  * models are unit-norm matrices, rotations and unit vectors: 1e-7 is about
- * 1e-5 deg). */
+ * 1e-5 deg). With a loss scale that follows the noise estimate (set_scale),
+ * POLISH_STILL_SCALED (about 6e-4 deg): once the band's points repeat, each
+ * further round only follows the estimate's small drift, and the model
+ * creeps by a factor of 3 or 4 less per round (relative pose: 1e-5, 3e-6,
+ * 1e-6, ..., 6 to 8 rounds to reach 1e-7); stopping at 1e-5 moves the
+ * bench's direction errors by at most 0.001 deg and takes 2-4 rounds. */
 #define POLISH_STILL 1e-7
+#define POLISH_STILL_SCALED 1e-5
 
 /* Final polish of e->best to a fixed point: collect the band (lo_band2,
  * from the current model's residuals), refine on it, and repeat until the
@@ -508,12 +557,13 @@ static uint64_t list_hash(const int *list, int c)
  * inliers. With the consensus filter on (VOTE_MARGIN), only the band's
  * points that at least half of the votes hold are refitted on. Returns the
  * rounds run (0: not kept). */
-static int polish(const engine *e, int rounds, int best_inl)
+static int polish(engine *e, int rounds, int best_inl)
 {
     const sfm_ransac_estimator *est = e->est;
     memcpy(e->spare, e->best, sizeof(double) * (size_t)e->s);
     uint64_t last = 0;
     int done = 0;
+    const double still = est->set_scale != NULL ? POLISH_STILL_SCALED : POLISH_STILL;
     double moved = HUGE_VAL; /* largest change of a model entry in the last refit */
     for (int r = 0; r < rounds; r++) {
         int c = collect_within(e, e->spare, lo_band2(e, e->spare, 1), e->inl);
@@ -527,7 +577,7 @@ static int polish(const engine *e, int rounds, int best_inl)
         if (c < e->k)
             break;
         uint64_t h = list_hash(e->inl, c);
-        if (r > 0 && h == last && moved < POLISH_STILL)
+        if (r > 0 && h == last && moved < still)
             break;
         last = h;
         memcpy(e->tmp, e->spare, sizeof(double) * (size_t)e->s);
@@ -557,7 +607,7 @@ static int polish(const engine *e, int rounds, int best_inl)
  * eps^k would then ask for 2^k times the samples an all-inlier draw needs.
  * The ratio the rule used goes to *share. Returns the samples the
  * confidence now needs (counted by the caller from this sample on). */
-static double new_best(const engine *e, const sfm_ransac_options *opt, sfmi_sprt *sprt, int ninl,
+static double new_best(engine *e, const sfm_ransac_options *opt, sfmi_sprt *sprt, int ninl,
                        double *share)
 {
     memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
@@ -616,10 +666,13 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
     e.wide = opt->wide_mult > 1.0 ? opt->wide_mult : 1.0;
     e.thin = e.wide > 1.0 && opt->polish_rounds > 0;
     e.nvotes = 0;
-    if (est->set_scale != NULL && e.thin && est->refine != NULL)
+    if (est->set_scale != NULL && e.thin && est->refine != NULL) {
         memset(e.votes, 0, sizeof(int) * (size_t)n);
-    else
+    } else {
         e.votes = NULL;
+        e.res = NULL;
+    }
+    e.res_ok = 0;
 
     sfm_rng rng;
     sfm_rng_seed(&rng, opt->seed);

@@ -11,14 +11,16 @@
  * 2. det(E) = 0 and 2 E E^T E - tr(E E^T) E = 0 give 10 cubics in (x, y, z),
  *    a 10x20 coefficient matrix over the monomials ordered as in the paper:
  *    x^3 y^3 x^2y xy^2 x^2z x^2 y^2z y^2 xyz xy | xz^2 xz x yz^2 yz y z^3 z^2 z 1.
- * 3. Gauss-Jordan elimination (partial pivoting) of the left 10x10 block
- *    (back substitution only for the six rows needed).
+ * 3. Gauss-Jordan elimination of the left 10x10 block, partial pivoting on
+ *    entries relative to their row's largest (back substitution only for
+ *    the six rows needed).
  *    Rows e-z*f, g-z*h, i-z*j of the reduced system are three equations
  *    B(z) [x y 1]^T = 0 with entries of degree 3, 3, 4 in z; det B(z) is the
  *    tenth-degree polynomial, solved by Sturm bisection (below).
  * 4. For each real root, [x y 1] is the null vector of B(z): the largest
- *    cross product of two of its rows; Gauss-Newton on the 10 cubics only
- *    when det(E) and the trace constraint of that E are above rounding.
+ *    cross product of two of its rows; Gauss-Newton on the 10 cubics,
+ *    evaluated on E itself, only when the trace constraint of that E is
+ *    above rounding.
  * Instructions per call, and what each change bought: bench/README.md.
  * Solutions with a vanishing W coefficient (x, y or z infinite) are not
  * representable in this parametrization; they have measure zero.
@@ -29,7 +31,6 @@
 
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
-#include "solvers/normalize.h"
 #include "solvers/small_math.h"
 
 #ifndef PRE_BISECT
@@ -47,9 +48,18 @@
  * gives the same bits; the golden outputs of every target compare the two. */
 #if (defined(__SSE2__) || defined(__ARM_NEON)) && !defined(__OPTIMIZE_SIZE__)
 #define RP5_WRITTEN_OUT 1
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#else
+#include <arm_neon.h>
+#endif
 #else
 #define RP5_WRITTEN_OUT 0
 #endif
+/* The quadratics Q[k][.][i] of the constraint rows are stored with a
+ * stride of 4 (QS): Q[k][q][i], i = 0..3, so that two rows' coefficients of
+ * one monomial are adjacent (two lanes). */
+#define QS 4
 #if !RP5_WRITTEN_OUT
 /* Quadratic monomial m = x_i x_j (x_3 = 1), i <= j. */
 static const unsigned char QUAD_IJ[10][2] = {{0, 0}, {0, 1}, {1, 1}, {0, 2}, {1, 2},
@@ -61,30 +71,35 @@ static const unsigned char CUBIC_QL[20][4] = {
     {2, 11, 29}, {3, 6, 13, 16}, {3, 7, 25, 28}, {2, 14, 20}, {3, 15, 26, 32}, {2, 27, 36},
     {2, 18, 21}, {3, 19, 30, 33}, {2, 31, 37}, {1, 22}, {2, 23, 34}, {2, 35, 38}, {1, 39}};
 
+/* q = a b - c d for linear a, b, c, d (quadratic q, stride QS). */
 static void quad_cross(const double *a, const double *b, const double *c, const double *d, double *q)
 {
     for (int m = 0; m < 10; m++) {
         int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
-        q[m] = i == j ? a[i] * b[i] - c[i] * d[i]
-                      : (a[i] * b[j] + a[j] * b[i]) - (c[i] * d[j] + c[j] * d[i]);
+        q[QS * m] = i == j ? a[i] * b[i] - c[i] * d[i]
+                           : (a[i] * b[j] + a[j] * b[i]) - (c[i] * d[j] + c[j] * d[i]);
     }
 }
 
+/* q = a b + c d + e f for linear a..f (quadratic q, stride QS). */
 static void quad3(double *q, const double *a, const double *b, const double *c, const double *d,
                   const double *e, const double *f)
 {
 #define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
     for (int m = 0; m < 10; m++) {
         int i = QUAD_IJ[m][0], j = QUAD_IJ[m][1];
-        q[m] = i == j ? P(i, i) : P(i, j) + P(j, i);
+        q[QS * m] = i == j ? P(i, i) : P(i, j) + P(j, i);
     }
 #undef P
 }
 
+/* c = qa la + qb lb + qc lc for quadratics q (stride QS) and linears l. */
 static void cubic3(double *c, const double *qa, const double *la, const double *qb,
                    const double *lb, const double *qc, const double *lc)
 {
-#define T(t) (qa[(t) >> 2] * la[(t) & 3] + qb[(t) >> 2] * lb[(t) & 3] + qc[(t) >> 2] * lc[(t) & 3])
+#define T(t)                                                                   \
+    (qa[QS * ((t) >> 2)] * la[(t) & 3] + qb[QS * ((t) >> 2)] * lb[(t) & 3] +   \
+     qc[QS * ((t) >> 2)] * lc[(t) & 3])
     for (int m = 0; m < 20; m++) {
         const unsigned char *t = CUBIC_QL[m];
         double acc = T(t[1]);
@@ -95,67 +110,93 @@ static void cubic3(double *c, const double *qa, const double *la, const double *
 #undef T
 }
 #else
-/* q = a b - c d for linear a, b, c, d (quadratic q). */
+/* Two doubles, one per constraint row (GCC and Clang vector extension;
+ * lane-wise IEEE operations, the same bits as two scalar ones). */
+typedef double rp5_v2 __attribute__((vector_size(16)));
+
+/* Lane-wise max(m, |c|) (exact, as the scalar comparisons it replaces). */
+static inline rp5_v2 vmax_abs(rp5_v2 m, rp5_v2 c)
+{
+#if defined(__SSE2__)
+    return (rp5_v2)_mm_max_pd((__m128d)m, _mm_andnot_pd(_mm_set1_pd(-0.0), (__m128d)c));
+#else
+    return vmaxq_f64(m, vabsq_f64(c));
+#endif
+}
+
+/* q = a b - c d for linear a, b, c, d (quadratic q, stride QS). */
 static inline void quad_cross(const double *a, const double *b, const double *c, const double *d,
                               double *q)
 {
     q[0] = a[0] * b[0] - c[0] * d[0];
-    q[1] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
-    q[2] = a[1] * b[1] - c[1] * d[1];
-    q[3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
-    q[4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
-    q[5] = a[2] * b[2] - c[2] * d[2];
-    q[6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
-    q[7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
-    q[8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
-    q[9] = a[3] * b[3] - c[3] * d[3];
+    q[QS] = (a[0] * b[1] + a[1] * b[0]) - (c[0] * d[1] + c[1] * d[0]);
+    q[QS * 2] = a[1] * b[1] - c[1] * d[1];
+    q[QS * 3] = (a[0] * b[2] + a[2] * b[0]) - (c[0] * d[2] + c[2] * d[0]);
+    q[QS * 4] = (a[1] * b[2] + a[2] * b[1]) - (c[1] * d[2] + c[2] * d[1]);
+    q[QS * 5] = a[2] * b[2] - c[2] * d[2];
+    q[QS * 6] = (a[0] * b[3] + a[3] * b[0]) - (c[0] * d[3] + c[3] * d[0]);
+    q[QS * 7] = (a[1] * b[3] + a[3] * b[1]) - (c[1] * d[3] + c[3] * d[1]);
+    q[QS * 8] = (a[2] * b[3] + a[3] * b[2]) - (c[2] * d[3] + c[3] * d[2]);
+    q[QS * 9] = a[3] * b[3] - c[3] * d[3];
 }
 
-/* c = a b + c d + e f for linear a..f (quadratic c). */
+/* q = a b + c d + e f for linear a..f (quadratic q, stride QS). */
 static inline void quad3(double *q, const double *a, const double *b, const double *c,
                          const double *d, const double *e, const double *f)
 {
 #define P(i, j) (a[i] * b[j] + c[i] * d[j] + e[i] * f[j])
     q[0] = P(0, 0);
-    q[1] = P(0, 1) + P(1, 0);
-    q[2] = P(1, 1);
-    q[3] = P(0, 2) + P(2, 0);
-    q[4] = P(1, 2) + P(2, 1);
-    q[5] = P(2, 2);
-    q[6] = P(0, 3) + P(3, 0);
-    q[7] = P(1, 3) + P(3, 1);
-    q[8] = P(2, 3) + P(3, 2);
-    q[9] = P(3, 3);
+    q[QS] = P(0, 1) + P(1, 0);
+    q[QS * 2] = P(1, 1);
+    q[QS * 3] = P(0, 2) + P(2, 0);
+    q[QS * 4] = P(1, 2) + P(2, 1);
+    q[QS * 5] = P(2, 2);
+    q[QS * 6] = P(0, 3) + P(3, 0);
+    q[QS * 7] = P(1, 3) + P(3, 1);
+    q[QS * 8] = P(2, 3) + P(3, 2);
+    q[QS * 9] = P(3, 3);
 #undef P
 }
 
-/* c = qa la + qb lb + qc lc for quadratics q and linears l, written out per
- * cubic monomial of the order above. */
-static inline void cubic3(double *c, const double *qa, const double *la, const double *qb,
-                          const double *lb, const double *qc, const double *lc)
+/* c = qa la + qb lb + qc lc for two rows at once, lane 0 written to r0 and
+ * lane 1 to r1: quadratics q (two lanes, stride QS / 2 vectors), linears l
+ * broadcast to both lanes; written out per cubic monomial of the order
+ * above. Returns the largest magnitude of each row. */
+static inline rp5_v2 cubic3v(double *r0, double *r1, const rp5_v2 *qa, const rp5_v2 *la,
+                           const rp5_v2 *qb, const rp5_v2 *lb, const rp5_v2 *qc, const rp5_v2 *lc)
 {
-#define T(i, j) (qa[i] * la[j] + qb[i] * lb[j] + qc[i] * lc[j])
-    c[0] = T(0, 0);
-    c[1] = T(2, 1);
-    c[2] = T(0, 1) + T(1, 0);
-    c[3] = T(1, 1) + T(2, 0);
-    c[4] = T(0, 2) + T(3, 0);
-    c[5] = T(0, 3) + T(6, 0);
-    c[6] = T(2, 2) + T(4, 1);
-    c[7] = T(2, 3) + T(7, 1);
-    c[8] = T(1, 2) + T(3, 1) + T(4, 0);
-    c[9] = T(1, 3) + T(6, 1) + T(7, 0);
-    c[10] = T(3, 2) + T(5, 0);
-    c[11] = T(3, 3) + T(6, 2) + T(8, 0);
-    c[12] = T(6, 3) + T(9, 0);
-    c[13] = T(4, 2) + T(5, 1);
-    c[14] = T(4, 3) + T(7, 2) + T(8, 1);
-    c[15] = T(7, 3) + T(9, 1);
-    c[16] = T(5, 2);
-    c[17] = T(5, 3) + T(8, 2);
-    c[18] = T(8, 3) + T(9, 2);
-    c[19] = T(9, 3);
+#define T(i, j) (qa[(QS / 2) * (i)] * la[j] + qb[(QS / 2) * (i)] * lb[j] + qc[(QS / 2) * (i)] * lc[j])
+#define C(m, v)                                                                \
+    do {                                                                       \
+        rp5_v2 c_ = v;                                                         \
+        r0[m] = c_[0];                                                         \
+        r1[m] = c_[1];                                                         \
+        mx = vmax_abs(mx, c_);                                                 \
+    } while (0)
+    rp5_v2 mx = {0.0, 0.0};
+    C(0, T(0, 0));
+    C(1, T(2, 1));
+    C(2, T(0, 1) + T(1, 0));
+    C(3, T(1, 1) + T(2, 0));
+    C(4, T(0, 2) + T(3, 0));
+    C(5, T(0, 3) + T(6, 0));
+    C(6, T(2, 2) + T(4, 1));
+    C(7, T(2, 3) + T(7, 1));
+    C(8, T(1, 2) + T(3, 1) + T(4, 0));
+    C(9, T(1, 3) + T(6, 1) + T(7, 0));
+    C(10, T(3, 2) + T(5, 0));
+    C(11, T(3, 3) + T(6, 2) + T(8, 0));
+    C(12, T(6, 3) + T(9, 0));
+    C(13, T(4, 2) + T(5, 1));
+    C(14, T(4, 3) + T(7, 2) + T(8, 1));
+    C(15, T(7, 3) + T(9, 1));
+    C(16, T(5, 2));
+    C(17, T(5, 3) + T(8, 2));
+    C(18, T(8, 3) + T(9, 2));
+    C(19, T(9, 3));
+#undef C
 #undef T
+    return mx;
 }
 #endif
 
@@ -363,13 +404,18 @@ static inline double peval_d(const double *p, int d, double x, double *dp)
     return y;
 }
 
-/* Root of p in (a, b) where p(a), p(b) differ in sign: Newton's method
- * safeguarded by bisection (a bisection step whenever Newton would leave the
- * bracket or not halve the previous step, as "rtsafe" in Numerical Recipes
- * 9.4), started from the false-position point. */
-static inline double polish(const double *p, int d, double a, double b, double fa, double fb)
+/* Root of p in (a, b) where p(a), p(b) differ in sign: a few bisections
+ * (the isolating interval can be wide), then Newton's method from the
+ * false-position point, kept inside the shrinking bracket (a bisection step
+ * whenever Newton would leave it). */
+#if RP5_WRITTEN_OUT
+/* inlined at both calls: the degree-10 one then has its Horner steps fixed */
+#define RP5_POLISH_INLINE static inline __attribute__((always_inline))
+#else
+#define RP5_POLISH_INLINE static
+#endif
+RP5_POLISH_INLINE double polish(const double *p, int d, double a, double b, double fa, double fb)
 {
-    /* a few plain bisections first: the isolating interval can be wide */
     for (int k = 0; k < PRE_BISECT; k++) {
         double m = 0.5 * (a + b), fm = peval(p, d, m);
         if (fm == 0.0)
@@ -382,29 +428,29 @@ static inline double polish(const double *p, int d, double a, double b, double f
             fb = fm;
         }
     }
-    double x = (a * fb - b * fa) / (fb - fa), dxold = b - a, dx = dxold;
+    const int pos = fa > 0.0;
+    double x = (a * fb - b * fa) / (fb - fa);
     for (int it = 0; it < 100; it++) {
         double df, f = peval_d(p, d, x, &df);
         if (f == 0.0)
             return x;
-        if ((f > 0.0) == (fa > 0.0))
+        if ((f > 0.0) == pos)
             a = x;
         else
             b = x;
-        double xn;
-        if (df == 0.0 || fabs(2.0 * f) > fabs(dxold * df) || !((xn = x - f / df) > a && xn < b)) {
-            dxold = dx;
-            dx = 0.5 * (b - a);
-            xn = a + dx;
-        } else {
-            dxold = dx;
-            dx = f / df;
-        }
+        double xn = df != 0.0 ? x - f / df : a;
         /* Newton converges quadratically at a simple root: after a step of
          * 1e-8 (relative) the error is at rounding level. Close roots
          * converge more slowly; the Gauss-Newton polish on the original
-         * constraints below takes care of them. */
-        if (fabs(xn - x) <= 1e-8 * (fabs(x) + 1e-10) || !(b - a > 4e-16 * (fabs(a) + fabs(b))))
+         * constraints below takes care of them. A Newton step inside a
+         * bracket collapsed to rounding is below that size too, so the
+         * bracket's width needs testing only after a bisection step. */
+        if (!(xn > a && xn < b)) {
+            xn = 0.5 * (a + b);
+            if (!(b - a > 4e-16 * (fabs(a) + fabs(b))))
+                return xn;
+        }
+        if (fabs(xn - x) <= 1e-8 * (fabs(x) + 1e-10))
             return xn;
         x = xn;
     }
@@ -417,20 +463,27 @@ static int sturm_roots(const double *c, int d, double *roots)
     sturm_seq S;
     sturm_build(c, d, &S);
     /* Fujiwara's bound, max_i |a_i|^(1/i) times 2 (a_d halved), rounded up
-     * to a power of two by doubling: no roots or logarithms needed. */
-    double B = 1.0 / 64.0;
+     * to a power of two: B = 2^(k + 1), k the largest over i of the least
+     * integer with 2^(k i) >= |a_i| (and at least -6), read off the exponent
+     * bits of a_i: for |a_i| = 1.f 2^L, k i >= L when f = 0, k i > L else.
+     * 2520 (divisible by 1..10) keeps the integer divisions on positive
+     * numerators, so that they round down. Values below 2^-1022 never
+     * raise k. */
+    int kmax = -6;
     for (int i = 1; i <= d; i++) {
-        double ai = fabs(S.s[0][i]) * (i == d ? 0.5 : 1.0), bp;
-        for (;;) {
-            bp = B;
-            for (int k = 1; k < i; k++)
-                bp *= B;
-            if (bp >= ai)
-                break;
-            B *= 2.0;
-        }
+        const uint64_t u = dbits(S.s[0][i]);
+        const int eb = (int)((u >> 52) & 0x7ff);
+        if (eb == 0)
+            continue;
+        const int L = eb - 1023 - (i == d), f0 = (u & 0xfffffffffffffULL) == 0;
+        const int k = (L + 2520 + i - f0) / i - 2520 / i;
+        kmax = k > kmax ? k : kmax;
     }
-    B *= 2.0;
+    double B;
+    {
+        const uint64_t ub = (uint64_t)(kmax + 1 + 1023) << 52;
+        memcpy(&B, &ub, sizeof B);
+    }
     double st_a[2 * STURM_MAX + 2], st_b[2 * STURM_MAX + 2];
     int st_va[2 * STURM_MAX + 2], st_vb[2 * STURM_MAX + 2];
     int sp = 0, nr = 0;
@@ -506,78 +559,73 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
 #define PERM_RETRY_PIVOT 1e-2
 #endif
 #ifndef REFINE_ITERS
-#define REFINE_ITERS 3
+#define REFINE_ITERS 5
 #endif
-#ifndef REFINE_TOL
-#define REFINE_TOL 1e-11
+/* One Gauss-Newton step in (x, y, z) on the ten constraints evaluated on
+ * E = x X + y Y + z Z + W itself (nv: X, Y, Z, W): the nine entries of
+ * (E E^T - tr(E E^T)/2 I) E and det(E), the same polynomials as the rows of
+ * the 10x20 matrix (up to the rows' scaling, which does not move a root).
+ * Along D (one of X, Y, Z) the derivatives are (P + P^T - tr(P) I) E + A D,
+ * P = D E^T, A = E E^T - tr(E E^T)/2 I, and the sum of D .* cof(E). The
+ * caller runs it only when E is above rounding level. Returns 1 when no
+ * step was taken (singular normal equations), else 0. */
+#define MM3(X, Y, i, j) (X[3 * (i)] * Y[j] + X[3 * (i) + 1] * Y[3 + (j)] + X[3 * (i) + 2] * Y[6 + (j)])
+#define MMT3(X, Y, i, j)                                                        \
+    (X[3 * (i)] * Y[3 * (j)] + X[3 * (i) + 1] * Y[3 * (j) + 1] + X[3 * (i) + 2] * Y[3 * (j) + 2])
+#if RP5_WRITTEN_OUT
+#define FOR_IJ(F) F(0, 0) F(0, 1) F(0, 2) F(1, 0) F(1, 1) F(1, 2) F(2, 0) F(2, 1) F(2, 2)
+#else
+#define FOR_IJ(F)                                                              \
+    for (int i_ = 0; i_ < 3; i_++)                                             \
+        for (int j_ = 0; j_ < 3; j_++) {                                       \
+            F(i_, j_)                                                          \
+        }
 #endif
-/* One Gauss-Newton step on the 10 original cubic constraints (rows of unit
- * largest coefficient), given transposed: M0T[k][r] is the coefficient of
- * monomial k in constraint r, so that the products below run over the ten
- * constraints in contiguous memory (each sum still adds its terms in
- * monomial order). Returns 1 when the residual is already at rounding level
- * (no step taken), else 0. */
-/* f = M0T^T v: f[r] = sum over k, in order, of M0T[k][r] v[k]. Written as
- * pairs of adjacent rows so that the compiler can use two-lane arithmetic. */
-static inline void axpy10(double M0T[20][10], const double *v, double *f)
+static int refine(const double *const nv[4], const double *E, double *px, double *py, double *pz)
 {
-    double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, f4 = 0.0, f5 = 0.0, f6 = 0.0, f7 = 0.0,
-           f8 = 0.0, f9 = 0.0;
-    for (int k = 0; k < 20; k++) {
-        const double *c = M0T[k], w = v[k];
-        f0 += c[0] * w; f1 += c[1] * w;
-        f2 += c[2] * w; f3 += c[3] * w;
-        f4 += c[4] * w; f5 += c[5] * w;
-        f6 += c[6] * w; f7 += c[7] * w;
-        f8 += c[8] * w; f9 += c[9] * w;
+    double A[9], f[10], J[3][10];
+#define A_ENTRY(i, j) A[3 * (i) + (j)] = MMT3(E, E, i, j);
+    FOR_IJ(A_ENTRY)
+#undef A_ENTRY
+    const double h = 0.5 * (A[0] + A[4] + A[8]);
+    A[0] -= h;
+    A[4] -= h;
+    A[8] -= h;
+#define F_ENTRY(i, j) f[3 * (i) + (j)] = MM3(A, E, i, j);
+    FOR_IJ(F_ENTRY)
+#undef F_ENTRY
+    /* cofactors of E: det(E) = sum E .* C, its derivative along D sum D .* C */
+    const double C[9] = {E[4] * E[8] - E[5] * E[7], E[5] * E[6] - E[3] * E[8], E[3] * E[7] - E[4] * E[6],
+                         E[2] * E[7] - E[1] * E[8], E[0] * E[8] - E[2] * E[6], E[1] * E[6] - E[0] * E[7],
+                         E[1] * E[5] - E[2] * E[4], E[2] * E[3] - E[0] * E[5], E[0] * E[4] - E[1] * E[3]};
+    f[9] = E[0] * C[0] + E[1] * C[1] + E[2] * C[2];
+    for (int v = 0; v < 3; v++) {
+        const double *D = nv[v];
+        double P[9];
+#define P_ENTRY(i, j) P[3 * (i) + (j)] = MMT3(D, E, i, j);
+        FOR_IJ(P_ENTRY)
+#undef P_ENTRY
+        const double tp = P[0] + P[4] + P[8];
+        double S[9];
+#define S_ENTRY(i, j) S[3 * (i) + (j)] = P[3 * (i) + (j)] + P[3 * (j) + (i)];
+        FOR_IJ(S_ENTRY)
+#undef S_ENTRY
+        S[0] -= tp;
+        S[4] -= tp;
+        S[8] -= tp;
+        double *Jv = J[v];
+#define J_ENTRY(i, j) Jv[3 * (i) + (j)] = MM3(S, E, i, j) + MM3(A, D, i, j);
+        FOR_IJ(J_ENTRY)
+#undef J_ENTRY
+        Jv[9] = ((D[0] * C[0] + D[1] * C[1] + D[2] * C[2]) + (D[3] * C[3] + D[4] * C[4] + D[5] * C[5])) +
+                (D[6] * C[6] + D[7] * C[7] + D[8] * C[8]);
     }
-    f[0] = f0; f[1] = f1; f[2] = f2; f[3] = f3; f[4] = f4;
-    f[5] = f5; f[6] = f6; f[7] = f7; f[8] = f8; f[9] = f9;
-}
-
-static int refine(double M0T[20][10], double *px, double *py, double *pz)
-{
-    double x = *px, y = *py, z = *pz;
-    double m[20] = {x * x * x, y * y * y, x * x * y, x * y * y, x * x * z, x * x, y * y * z, y * y,
-                    x * y * z, x * y, x * z * z, x * z, x, y * z * z, y * z, y, z * z * z, z * z, z, 1.0};
-    /* The largest monomial magnitude: max(1, |x|, |y|, |z|)^3. */
-    double mm = 1.0, ax = fabs(x), ay = fabs(y), az = fabs(z);
-    mm = ax > mm ? ax : mm;
-    mm = ay > mm ? ay : mm;
-    mm = az > mm ? az : mm;
-    const double mmax = mm * mm * mm;
-    double fr[10];
-    axpy10(M0T, m, fr);
-    double fmax_ = 0.0;
-    for (int r = 0; r < 10; r++) {
-        double af = fabs(fr[r]);
-        fmax_ = af > fmax_ ? af : fmax_;
-    }
-    if (fmax_ <= REFINE_TOL * mmax)
-        return 1;
-    /* Jacobian columns over the monomials whose derivative is nonzero */
-    const double xx = x * x, yy = y * y, zz = z * z, xy = x * y, xz = x * z, yz = y * z;
-    const double xx3 = 3.0 * xx, yy3 = 3.0 * yy, zz3 = 3.0 * zz, xy2 = 2.0 * xy, xz2 = 2.0 * xz,
-                 yz2 = 2.0 * yz, x2 = 2.0 * x, y2 = 2.0 * y, z2 = 2.0 * z;
-    double ja[10], jb[10], jc[10];
-    for (int r = 0; r < 10; r++)
-        ja[r] = xx3 * M0T[0][r] + xy2 * M0T[2][r] + yy * M0T[3][r] + xz2 * M0T[4][r] +
-                x2 * M0T[5][r] + yz * M0T[8][r] + y * M0T[9][r] + zz * M0T[10][r] +
-                z * M0T[11][r] + M0T[12][r];
-    for (int r = 0; r < 10; r++)
-        jb[r] = yy3 * M0T[1][r] + xx * M0T[2][r] + xy2 * M0T[3][r] + yz2 * M0T[6][r] +
-                y2 * M0T[7][r] + xz * M0T[8][r] + x * M0T[9][r] + zz * M0T[13][r] +
-                z * M0T[14][r] + M0T[15][r];
-    for (int r = 0; r < 10; r++)
-        jc[r] = xx * M0T[4][r] + yy * M0T[6][r] + xy * M0T[8][r] + xz2 * M0T[10][r] +
-                x * M0T[11][r] + yz2 * M0T[13][r] + y * M0T[14][r] + zz3 * M0T[16][r] +
-                z2 * M0T[17][r] + M0T[18][r];
     double JtJ[6] = {0}, Jtf[3] = {0};
     for (int r = 0; r < 10; r++) {
-        double f = fr[r], a = ja[r], b = jb[r], c = jc[r];
+        double fr = f[r], a = J[0][r], b = J[1][r], c = J[2][r];
         JtJ[0] += a * a; JtJ[1] += a * b; JtJ[2] += a * c;
         JtJ[3] += b * b; JtJ[4] += b * c; JtJ[5] += c * c;
-        Jtf[0] += a * f; Jtf[1] += b * f; Jtf[2] += c * f;
+        Jtf[0] += a * fr; Jtf[1] += b * fr; Jtf[2] += c * fr;
     }
     /* Solve the 3x3 symmetric system by Cramer's rule. */
     double A00 = JtJ[0], A01 = JtJ[1], A02 = JtJ[2], A11 = JtJ[3], A12 = JtJ[4], A22 = JtJ[5];
@@ -591,9 +639,12 @@ static int refine(double M0T[20][10], double *px, double *py, double *pz)
     double dz = (c02 * Jtf[0] + c12 * Jtf[1] + c22 * Jtf[2]) / det;
     if (!isfinite(dx) || !isfinite(dy) || !isfinite(dz))
         return 1;
-    *px = x - dx; *py = y - dy; *pz = z - dz;
+    *px -= dx; *py -= dy; *pz -= dz;
     return 0;
 }
+#undef FOR_IJ
+#undef MMT3
+#undef MM3
 
 /* r[k] -= f p[k] for k = k0..19 (k0 even), written out in pairs of
  * columns entered at the pair of k0: no loop counter, and each pair is one
@@ -624,9 +675,13 @@ static inline void row_axpy(double *restrict r, const double *restrict p, double
 #ifndef ESSENTIAL_TOL
 #define ESSENTIAL_TOL 1e-12
 #endif
-/* 1 when det(E) and (E E^T - tr(E E^T)/2 I) E, cubic in E, are all below
- * ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level. */
-static int essential_at_rounding(const double *E)
+/* 1 when the entries of (E E^T - tr(E E^T)/2 I) E, cubic in E, are all
+ * below ESSENTIAL_TOL |E|^3: E is an essential matrix to rounding level.
+ * (That constraint alone implies det(E) = 0: on the singular values it
+ * reads s_i (s_i^2 - (s_1^2 + s_2^2 + s_3^2)/2) = 0, whose only solutions
+ * with a nonzero s are two equal values and a zero; near it, the smallest
+ * singular value is bounded by the residual.) *n2 = |E|^2 (Frobenius). */
+static int essential_at_rounding(const double *E, double *n2_out)
 {
     double a00 = E[0] * E[0] + E[1] * E[1] + E[2] * E[2];
     double a01 = E[0] * E[3] + E[1] * E[4] + E[2] * E[5];
@@ -635,12 +690,28 @@ static int essential_at_rounding(const double *E)
     double a12 = E[3] * E[6] + E[4] * E[7] + E[5] * E[8];
     double a22 = E[6] * E[6] + E[7] * E[7] + E[8] * E[8];
     double n2 = a00 + a11 + a22, h = 0.5 * n2;
+    *n2_out = n2;
     a00 -= h;
     a11 -= h;
     a22 -= h;
-    double c = fabs(E[0] * (E[4] * E[8] - E[5] * E[7]) - E[1] * (E[3] * E[8] - E[5] * E[6]) +
-                    E[2] * (E[3] * E[7] - E[4] * E[6]));
-    for (int j = 0; j < 3; j++) {
+    double c = 0.0;
+    int j = 0;
+#if RP5_WRITTEN_OUT
+    {
+        /* columns 0 and 1 in two lanes (the same operations per lane) */
+        rp5_v2 e0, e1, e2;
+        memcpy(&e0, E, sizeof e0);
+        memcpy(&e1, E + 3, sizeof e1);
+        memcpy(&e2, E + 6, sizeof e2);
+        const rp5_v2 r0 = (rp5_v2){a00, a00} * e0 + (rp5_v2){a01, a01} * e1 + (rp5_v2){a02, a02} * e2;
+        const rp5_v2 r1 = (rp5_v2){a01, a01} * e0 + (rp5_v2){a11, a11} * e1 + (rp5_v2){a12, a12} * e2;
+        const rp5_v2 r2 = (rp5_v2){a02, a02} * e0 + (rp5_v2){a12, a12} * e1 + (rp5_v2){a22, a22} * e2;
+        const rp5_v2 m = vmax_abs(vmax_abs(vmax_abs((rp5_v2){0.0, 0.0}, r0), r1), r2);
+        c = m[1] > m[0] ? m[1] : m[0];
+        j = 2;
+    }
+#endif
+    for (; j < 3; j++) {
         double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
         double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
         double r2 = fabs(a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j]);
@@ -665,13 +736,12 @@ static inline void row_axpy10(double *restrict r, const double *restrict p, doub
 }
 
 /* Builds the 10x20 constraint matrix for the null basis taken in the cyclic
- * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]), keeps a
- * transposed copy in M0T and reduces M by Gauss-Jordan. Returns the smallest pivot
- * magnitude (rows scaled to unit max norm), 0 when singular. */
-static double build_reduce(const double *N, int perm, double e[9][4], double M0T[20][10],
-                           double Bred[6][10])
+ * order `perm` (the vector with coefficient 1 is N[(3 + perm) % 4]) and
+ * reduces it by Gauss-Jordan. Returns the smallest pivot magnitude (relative
+ * to the largest entry of its row before the elimination), 0 when singular. */
+static double build_reduce(const double *N, int perm, double Bred[6][10])
 {
-    double M[10][20];
+    double M[10][20], e[9][4];
     const double *n0 = N + 9 * (perm & 3), *n1 = N + 9 * ((perm + 1) & 3),
                  *n2 = N + 9 * ((perm + 2) & 3), *n3 = N + 9 * ((perm + 3) & 3);
     for (int k = 0; k < 9; k++) {
@@ -681,62 +751,82 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         e[k][3] = n3[k];
     }
 
-    /* 2. The 10x20 constraint matrix: det(E) by the first row's cofactors,
-     * then (E E^T - tr(E E^T)/2 I) E. */
-    {
-        double c0[10], c1[10], c2[10];
-        quad_cross(e[4], e[8], e[5], e[7], c0);
-        quad_cross(e[5], e[6], e[3], e[8], c1);
-        quad_cross(e[3], e[7], e[4], e[6], c2);
-        cubic3(M[0], c0, e[0], c1, e[1], c2, e[2]);
-    }
-    double EEt[3][3][10];
+    /* 2. The 10x20 constraint matrix: row 1 + 3 i + j is entry (i, j) of
+     * A E, A = E E^T - tr(E E^T)/2 I, the sum over k of A_ik E_kj; row 0 is
+     * det(E) by the cofactors of the first column, the sum over k of
+     * C_k0 E_k0. Q[k][.][i] holds A_ik (i < 3) and C_k0 (i = 3): each row is
+     * a sum over k of Q[k][.][i] times entry (k, j) of E. */
+    union {
+        double d[3][10][QS];
+#if RP5_WRITTEN_OUT
+        rp5_v2 v[3][10][QS / 2];
+#endif
+    } Q;
+    quad_cross(e[4], e[8], e[5], e[7], &Q.d[0][0][3]);
+    quad_cross(e[2], e[7], e[1], e[8], &Q.d[1][0][3]);
+    quad_cross(e[1], e[5], e[2], e[4], &Q.d[2][0][3]);
     for (int i = 0; i < 3; i++)
-        for (int j = i; j < 3; j++) {
-            quad3(EEt[i][j], e[3 * i], e[3 * j], e[3 * i + 1], e[3 * j + 1], e[3 * i + 2],
-                  e[3 * j + 2]);
-            if (j != i)
-                memcpy(EEt[j][i], EEt[i][j], sizeof EEt[i][j]);
+        for (int k = i; k < 3; k++) {
+            quad3(&Q.d[k][0][i], e[3 * i], e[3 * k], e[3 * i + 1], e[3 * k + 1], e[3 * i + 2],
+                  e[3 * k + 2]);
+            if (k != i)
+                for (int q = 0; q < 10; q++)
+                    Q.d[i][q][k] = Q.d[k][q][i];
         }
-    for (int k = 0; k < 10; k++) {
-        double half_tr = 0.5 * (EEt[0][0][k] + EEt[1][1][k] + EEt[2][2][k]);
-        EEt[0][0][k] -= half_tr;
-        EEt[1][1][k] -= half_tr;
-        EEt[2][2][k] -= half_tr;
+    for (int q = 0; q < 10; q++) {
+        double half_tr = 0.5 * (Q.d[0][q][0] + Q.d[1][q][1] + Q.d[2][q][2]);
+        Q.d[0][q][0] -= half_tr;
+        Q.d[1][q][1] -= half_tr;
+        Q.d[2][q][2] -= half_tr;
     }
+#if !RP5_WRITTEN_OUT
+    cubic3(M[0], &Q.d[0][0][3], e[0], &Q.d[1][0][3], e[3], &Q.d[2][0][3], e[6]);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            cubic3(M[1 + 3 * i + j], EEt[i][0], e[j], EEt[i][1], e[3 + j], EEt[i][2], e[6 + j]);
-
-    /* 3. Gauss elimination of the left 10x10 block (partial pivoting), rows
-     * first scaled to unit largest entry (M0T keeps the scaled, unreduced
-     * rows, transposed, for the polish). */
-    for (int r = 0; r < 10; r++) {
-        double *row = M[r];
-        double m0 = fabs(row[0]), m1 = fabs(row[1]); /* two lanes of the maximum */
-#define MX_PAIR(k)                                                             \
-    do {                                                                       \
-        double a0 = fabs(row[k]), a1 = fabs(row[k + 1]);                       \
-        m0 = a0 > m0 ? a0 : m0;                                                \
-        m1 = a1 > m1 ? a1 : m1;                                                \
-    } while (0)
-#if !RP5_WRITTEN_OUT
-        for (int k = 2; k < 20; k += 2)
-            MX_PAIR(k);
+            cubic3(M[1 + 3 * i + j], &Q.d[0][0][i], e[j], &Q.d[1][0][i], e[3 + j], &Q.d[2][0][i],
+                   e[6 + j]);
 #else
-        MX_PAIR(2); MX_PAIR(4); MX_PAIR(6); MX_PAIR(8); MX_PAIR(10);
-        MX_PAIR(12); MX_PAIR(14); MX_PAIR(16); MX_PAIR(18);
+    /* rows (0, j) and (1, j) in the lanes of the first pair, (2, j) and
+     * (for j = 0) the determinant in those of the second */
+    double spare[20]; /* lane 1 of the second pair for j = 1, 2: not used */
+    double rmax[10]; /* largest magnitude of each row */
+    for (int j = 0; j < 3; j++) {
+        rp5_v2 L[3][4];
+        for (int k = 0; k < 3; k++)
+            for (int l = 0; l < 4; l++)
+                L[k][l] = (rp5_v2){e[3 * k + j][l], e[3 * k + j][l]};
+        rp5_v2 m01 = cubic3v(M[1 + j], M[4 + j], &Q.v[0][0][0], L[0], &Q.v[1][0][0], L[1],
+                             &Q.v[2][0][0], L[2]);
+        rp5_v2 m23 = cubic3v(M[7 + j], j == 0 ? M[0] : spare, &Q.v[0][0][1], L[0], &Q.v[1][0][1],
+                             L[1], &Q.v[2][0][1], L[2]);
+        rmax[1 + j] = m01[0];
+        rmax[4 + j] = m01[1];
+        rmax[7 + j] = m23[0];
+        if (j == 0)
+            rmax[0] = m23[1];
+    }
 #endif
-#undef MX_PAIR
-        double mx = m1 > m0 ? m1 : m0;
-        if (!(mx > 0.0))
-            return 0.0;
-        mx = 1.0 / mx;
-        for (int c = 0; c < 20; c++) {
-            double v = row[c] * mx;
-            row[c] = v;
-            M0T[c][r] = v;
+
+    /* 3. Gauss elimination of the left 10x10 block, partial pivoting on the
+     * entries relative to their row's largest (implicit row scaling: the
+     * rows are not multiplied, which would not change the reduced rows). */
+    double rs[10]; /* reciprocal largest magnitude of row R[r] */
+#if !RP5_WRITTEN_OUT
+    double rmax[10];
+    for (int r = 0; r < 10; r++) {
+        const double *row = M[r];
+        double mx = 0.0;
+        for (int k = 0; k < 20; k++) {
+            double a = fabs(row[k]);
+            mx = a > mx ? a : mx;
         }
+        rmax[r] = mx;
+    }
+#endif
+    for (int r = 0; r < 10; r++) {
+        if (!(rmax[r] > 0.0))
+            return 0.0;
+        rs[r] = 1.0 / rmax[r];
     }
     /* Rows are swapped through the pointers R. */
     double *R[10];
@@ -745,9 +835,9 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
     double minpiv = HUGE_VAL, ipiv[10];
     for (int c = 0; c < 10; c++) {
         int piv = c;
-        double pmax = fabs(R[c][c]);
+        double pmax = fabs(R[c][c]) * rs[c];
         for (int r = c + 1; r < 10; r++) {
-            double a = fabs(R[r][c]);
+            double a = fabs(R[r][c]) * rs[r];
             if (a > pmax) {
                 pmax = a;
                 piv = r;
@@ -760,6 +850,7 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
         double *rc = R[piv];
         R[piv] = R[c];
         R[c] = rc;
+        rs[piv] = rs[c];
         /* The pivot row stays unscaled (its reciprocal pivot is kept for the
          * back substitution). Columns left of c are never read again; the
          * updates start at the even column at or before c. */
@@ -789,9 +880,13 @@ static double build_reduce(const double *N, int perm, double e[9][4], double M0T
 
 /* Steps 3 (end) and 4 for one reduced system: solutions written to out as
  * unit-norm 9-vectors; returns their number. */
-static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
+static int solve_reduced(const double *N, int perm, double Bred[6][10],
                          double out[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9])
 {
+    /* E = x nv[0] + y nv[1] + z nv[2] + nv[3], the null vectors in the order
+     * of build_reduce */
+    const double *const nv[4] = {N + 9 * (perm & 3), N + 9 * ((perm + 1) & 3),
+                                 N + 9 * ((perm + 2) & 3), N + 9 * ((perm + 3) & 3)};
     /* B(z): rows (4,5), (6,7), (8,9). Columns 10..19 of the reduced rows
      * are the coefficients of xz^2 xz x yz^2 yz y z^3 z^2 z 1. */
     double pa[3][4], pb[3][4], pc[3][5];
@@ -876,22 +971,43 @@ static int solve_reduced(double e[9][4], double M0T[20][10], double Bred[6][10],
         double x = best[0] / best[2], y = best[1] / best[2];
         /* The Gauss-Newton polish runs only when the cheaper test on E
          * itself finds the constraints above rounding level. */
-        double *o = out[ns];
+        double *o = out[ns], n2;
         for (int iter = 0;; iter++) {
-#define E_ENTRY(k) o[k] = x * e[k][0] + y * e[k][1] + z * e[k][2] + e[k][3]
+#define E_ENTRY(k) o[k] = x * nv[0][k] + y * nv[1][k] + z * nv[2][k] + nv[3][k]
 #if !RP5_WRITTEN_OUT
             for (int k = 0; k < 9; k++)
                 E_ENTRY(k);
 #else
-            E_ENTRY(0); E_ENTRY(1); E_ENTRY(2); E_ENTRY(3); E_ENTRY(4);
-            E_ENTRY(5); E_ENTRY(6); E_ENTRY(7); E_ENTRY(8);
+            {
+                /* two entries at a time (the same operations per lane) */
+                const rp5_v2 vx = {x, x}, vy = {y, y}, vz = {z, z};
+                for (int k = 0; k < 8; k += 2) {
+                    rp5_v2 a0, a1, a2, a3;
+                    memcpy(&a0, nv[0] + k, sizeof a0);
+                    memcpy(&a1, nv[1] + k, sizeof a1);
+                    memcpy(&a2, nv[2] + k, sizeof a2);
+                    memcpy(&a3, nv[3] + k, sizeof a3);
+                    const rp5_v2 ek = vx * a0 + vy * a1 + vz * a2 + a3;
+                    memcpy(o + k, &ek, sizeof ek);
+                }
+                E_ENTRY(8);
+            }
 #endif
 #undef E_ENTRY
-            if (iter == REFINE_ITERS || essential_at_rounding(o) || refine(M0T, &x, &y, &z))
+            if (essential_at_rounding(o, &n2) || iter == REFINE_ITERS || refine(nv, o, &x, &y, &z))
                 break;
         }
-        if (sfmi_normalize9(o))
+        /* unit Frobenius norm, from the |E|^2 of the test */
+        if (!(n2 > 0.0) || !isfinite(n2))
             continue;
+        const double sc = 1.0 / sqrt(n2);
+#if !RP5_WRITTEN_OUT
+        for (int k = 0; k < 9; k++)
+            o[k] *= sc;
+#else
+        o[0] *= sc; o[1] *= sc; o[2] *= sc; o[3] *= sc; o[4] *= sc;
+        o[5] *= sc; o[6] *= sc; o[7] *= sc; o[8] *= sc;
+#endif
         ns++;
     }
     return ns;
@@ -941,16 +1057,16 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
      * that the first polynomial's rounding turned into a complex pair is
      * found by the second). This takes the ground-truth-found rate from
      * about 99% to above 99.9% on near-planar and distant scenes. */
-    double e[9][4], M0T[20][10], Bred[6][10];
+    double Bred[6][10];
     double out[2 * SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
-    double piv = build_reduce(N, 0, e, M0T, Bred);
-    int ns = piv > 0.0 ? solve_reduced(e, M0T, Bred, out) : 0;
+    double piv = build_reduce(N, 0, Bred);
+    int ns = piv > 0.0 ? solve_reduced(N, 0, Bred, out) : 0;
     if (piv < PERM_RETRY_PIVOT) {
         double p2 = 0.0;
         int best = 0;
         int last = 0;
         for (int perm = 1; perm < 4; perm++) {
-            double pp = build_reduce(N, perm, e, M0T, Bred);
+            double pp = build_reduce(N, perm, Bred);
             last = perm;
             if (pp > p2) {
                 p2 = pp;
@@ -962,8 +1078,8 @@ int sfm_relpose_5pt(const double *x1, const double *x2, sfm_mat3 *E)
         if (best > 0) {
             double more[SFM_RELPOSE_5PT_MAX_SOLUTIONS][9];
             if (best != last)
-                (void)build_reduce(N, best, e, M0T, Bred);
-            int n2 = solve_reduced(e, M0T, Bred, more);
+                (void)build_reduce(N, best, Bred);
+            int n2 = solve_reduced(N, best, Bred, more);
             for (int k = 0; k < n2; k++) {
                 int dup = 0;
                 for (int j = 0; j < ns && !dup; j++) {

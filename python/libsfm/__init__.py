@@ -47,8 +47,8 @@ Leader-follower formations (libsfm.formation): leader_follower_next_motion,
 from ._ffi import SfmError, ffi, lib  # noqa: F401
 from .camera import Camera
 from .results import Result
-from .features import (FEATURE_DEFAULTS, MATCH_DEFAULTS, associate_three_views,
-                       detect_and_describe, match)
+from .features import (ALIGN_DEFAULTS, FEATURE_DEFAULTS, MATCH_DEFAULTS, align_points,
+                       associate_three_views, detect_and_describe, match)
 from .solvers import (essential_8pt, fundamental_7pt, fundamental_8pt, homography_4pt,
                       homography_dlt, relpose_5pt)
 from . import frames  # noqa: F401
@@ -104,8 +104,8 @@ __all__ = [
     "homography_dlt", "p3p", "relpose_upright_3pt", "essential_to_poses", "triangulate",
     "trifocal_from_cameras", "trifocal_7pt", "trifocal_epipoles", "trifocal_fundamentals",
     "cameras_from_trifocal", "trifocal_transfer", "trifocal_point_error",
-    "detect_and_describe", "match", "associate_three_views", "FEATURE_DEFAULTS",
-    "MATCH_DEFAULTS", "bundle_adjust",
+    "detect_and_describe", "match", "associate_three_views", "align_points", "FEATURE_DEFAULTS",
+    "MATCH_DEFAULTS", "ALIGN_DEFAULTS", "bundle_adjust",
     "poly_roots", "rot_from_axis_angle", "rot_to_axis_angle", "rot_from_quat", "rot_to_quat",
     "rot_nearest", "skew", "rot_angle_between", "POLY_MAX_DEGREE",
     "factorize_projective", "self_calibrate", "reconstruct_three_view", "reconstruct_two_view",

@@ -11,8 +11,8 @@ import numpy as np
 
 from ._ffi import SfmError, check, ffi, int_array, lib, to_float, to_int
 
-__all__ = ["detect_and_describe", "match", "associate_three_views", "KEYPOINT_COLUMNS",
-           "FEATURE_DEFAULTS", "MATCH_DEFAULTS"]
+__all__ = ["detect_and_describe", "match", "associate_three_views", "align_points", "KEYPOINT_COLUMNS",
+           "FEATURE_DEFAULTS", "MATCH_DEFAULTS", "ALIGN_DEFAULTS"]
 
 # One detector workspace per thread, grown on demand and reused: a frame loop
 # then touches the same pages every call instead of mapping ~2 MB afresh.
@@ -201,3 +201,60 @@ def associate_three_views(m12, m23, m31, n1=None, n2=None, n3=None):
                 raise SfmError(e.status, e.where, name) from None
         raise
     return out[:n].astype(np.intp)
+
+
+def _c_align_defaults():
+    p = ffi.new("sfm_align_params *")
+    check(lib.sfm_features_default_align_params(p), "sfm_features_default_align_params")
+    return dict(radius=p.radius, max_iterations=p.max_iterations, max_shift=p.max_shift,
+                min_zncc=p.min_zncc, min_eigen_ratio=p.min_eigen_ratio)
+
+
+#: The C defaults of sfm_features_align_points (sfm_features_default_align_params).
+ALIGN_DEFAULTS = _c_align_defaults()
+_A = ALIGN_DEFAULTS
+
+
+def _gray_view(img, name):
+    arr = np.asarray(img)
+    if arr.ndim != 2 or arr.dtype != np.uint8:
+        raise ValueError("%s must be a 2-D uint8 array, got %s %s" % (name, arr.shape, arr.dtype))
+    arr = np.ascontiguousarray(arr)
+    view = ffi.new("sfm_image_u8 *")
+    view.data = ffi.cast("const uint8_t *", ffi.from_buffer(arr))
+    view.height, view.width = arr.shape
+    view.stride = arr.strides[0]
+    return arr, view
+
+
+def align_points(ref, x_ref, img, x, radius=_A["radius"], max_iterations=_A["max_iterations"],
+                 max_shift=_A["max_shift"], min_zncc=_A["min_zncc"], min_eigen_ratio=_A["min_eigen_ratio"]):
+    """Photometric (Lucas-Kanade) refinement of correspondences: the patch of
+    ref around each x_ref[k] is found in img starting from x[k].
+
+    ref, img: (h, w) uint8 gray (sizes may differ); x_ref, x: (n, 2) pixels.
+    Returns (points (n, 2) float64, refined (n,) bool); a point not refined
+    (no corner-like patch, not settled, moved more than max_shift, left the
+    image, correlation below min_zncc) keeps its start. Defaults are the C
+    library's (ALIGN_DEFAULTS).
+    """
+    from ._ffi import as_array, dptr
+    a, va = _gray_view(ref, "ref")
+    b, vb = _gray_view(img, "img")
+    xr = as_array(x_ref, (None, 2), "x_ref")
+    xs = as_array(x, (xr.shape[0], 2), "x")
+    p = ffi.new("sfm_align_params *")
+    check(lib.sfm_features_default_align_params(p))
+    p.radius = to_int(radius, "radius", 2, lib.SFM_FEATURES_ALIGN_MAX_RADIUS)
+    p.max_iterations = to_int(max_iterations, "max_iterations", 1, 100)
+    p.max_shift = to_float(max_shift, "max_shift")
+    p.min_zncc = to_float(min_zncc, "min_zncc")
+    p.min_eigen_ratio = to_float(min_eigen_ratio, "min_eigen_ratio")
+    n = xr.shape[0]
+    out = np.empty((max(n, 1), 2))
+    ok = np.zeros(max(n, 1), dtype=np.uint8)
+    check(lib.sfm_features_align_points(va, dptr(xr), vb, dptr(xs), n, p, dptr(out),
+                                        ffi.cast("uint8_t *", ffi.from_buffer(ok))),
+          "sfm_features_align_points")
+    del a, b
+    return out[:n].copy(), ok[:n].astype(bool)

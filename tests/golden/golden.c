@@ -403,6 +403,20 @@ static void run_features(void)
         hd = fnv1a(hd, &d, sizeof d);
     }
     emit("features.hamming", r, hd);
+    /* the keypoints aligned back onto themselves from a sub-pixel offset */
+    static double xr[2 * CAP], xs[2 * CAP];
+    static uint8_t ok[CAP];
+    const int n = r > 0 ? r : 0;
+    for (int i = 0; i < n; i++) {
+        xr[2 * i] = kps[i].x;
+        xr[2 * i + 1] = kps[i].y;
+        xs[2 * i] = kps[i].x + 0.3 + 0.1 * sfm_rng_uniform(&rng);
+        xs[2 * i + 1] = kps[i].y - 0.4 + 0.1 * sfm_rng_uniform(&rng);
+    }
+    sfm_align_params ap;
+    sfm_features_default_align_params(&ap);
+    int ra = sfm_features_align_points(&im, xr, &im, xs, n, &ap, xs, ok);
+    emit("features.align", ra, ra < 0 ? FNV_INIT : fnv1a(fnv1a(FNV_INIT, xs, (size_t)n * 2 * sizeof(double)), ok, (size_t)n));
 }
 
 /* Decompositions of fixed random matrices. */

@@ -100,9 +100,10 @@ def test_factorize_oxford_house_at_or_below_ground_truth_rms():
 
 @pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
 def test_self_calibrate_oxford_house_gives_no_wrong_focal():
-    """The house sequence moves forward with little rotation, near-critical
-    for the linear dual-quadric method (and its focal length changes from
-    view to view): the linear method must refuse or be right."""
+    """The house's cameras turn about one axis and their intrinsics break
+    the linear method's priors (principal point up to 96 px off-centre,
+    skew, a focal length changing from view to view): the linear method
+    must refuse or be right."""
     x, P, _ = load_house()
     r = libsfm.factorize_projective(x)
     try:
@@ -117,6 +118,244 @@ def test_self_calibrate_oxford_house_gives_no_wrong_focal():
         Kg = Kg / Kg[2, 2]
         assert abs(K[0, 0] / abs(Kg[0, 0]) - 1) < 0.05
 
+
+def house_cameras(P):
+    """(K, R, C) of each ground-truth camera by RQ, K with a positive
+    diagonal. The house's frame is left-handed (every det P[:, :3] < 0 with
+    the points at positive depth w), so R has det -1."""
+    out = []
+    for Pi in P:
+        Q, U = np.linalg.qr(np.flipud(Pi[:, :3]).T)
+        K, R = np.flipud(U.T)[:, ::-1], Q.T[::-1, :]
+        D = np.diag(np.sign(np.diag(K)))
+        K, R = K @ D, D @ R
+        out.append((K / K[2, 2], R, -np.linalg.solve(Pi[:, :3], Pi[:, 3])))
+    return out
+
+
+def similarity(A, B):
+    """s, Q, T with B ~ s Q A + T by least squares (Umeyama), Q orthogonal;
+    a reflection is allowed (the house's frame is left-handed)."""
+    ma, mb = A.mean(0), B.mean(0)
+    U, S, Vt = np.linalg.svd((B - mb).T @ (A - ma))
+    Q = U @ Vt
+    s = S.sum() / ((A - ma) ** 2).sum()
+    return s, Q, mb - s * Q @ ma
+
+
+def against_house(s, P, X):
+    """Per view: rotation error (deg), camera-centre error / scene radius,
+    focal / fx - 1 and / fy - 1, after the similarity that best maps the
+    adjusted points onto the ground-truth points; and the median point
+    error / scene radius."""
+    gt = house_cameras(P)
+    ok = np.any(s["X"] != 0, axis=1)
+    sc, Q, T = similarity(s["X"][ok], X[ok, :3])
+    radius = np.linalg.norm(X[:, :3] - X[:, :3].mean(0), axis=1).max()
+    rot, cen = [], []
+    for (Kg, Rg, Cg), R, t in zip(gt, s["R"], s["t"]):
+        # x ~ K Rg (Xg - Cg) with Xg = sc Q X + T: the estimate's R ~ Rg Q
+        c = (np.trace(R.T @ Rg @ Q) - 1) / 2
+        rot.append(np.degrees(np.arccos(np.clip(c, -1, 1))))
+        cen.append(np.linalg.norm(sc * Q @ (-R.T @ t) + T - Cg) / radius)
+    fx = np.array([g[0][0, 0] for g in gt])
+    fy = np.array([g[0][1, 1] for g in gt])
+    pts = np.linalg.norm((sc * (Q @ s["X"][ok].T)).T + T - X[ok, :3], axis=1) / radius
+    return np.array(rot), np.array(cen), s["focal_view"] / fx - 1, s["focal_view"] / fy - 1, np.median(pts)
+
+
+@pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
+def test_self_calibrate_oxford_house_metric_against_ground_truth():
+    """The linear dual quadric refuses the house (critical for a focal
+    length per view); the focal search, one shared f, is not flat (the
+    fixed-focal cost 1.5x away rises by thousands of noise variances) and
+    gives a metric reconstruction whose points match the ground truth
+    after a similarity. The ground truth's own intrinsics break the priors
+    (fx 594-666, principal point up to 96 px off-centre, skew to -26), so
+    with the principal point held at the centre the focal length comes out
+    9-22 % above fx and the rotations absorb the principal point (up to
+    11.5 deg in the last view, where it is 96 px off); a principal point
+    per view (principal="per_view") brings f within 3.5 % of fy."""
+    x, P, X = load_house()
+    r = libsfm.factorize_projective(x)
+    rows = {}
+    modes = {"shared f": {}, "f per view": dict(per_view_focal=True), "shared pp": dict(principal="shared"),
+             "pp per view": dict(principal="per_view")}
+    for mode, kw in modes.items():
+        s = libsfm.self_calibrate(r["P"], (768, 576), r["X"], tracks=x, **kw)
+        rows[mode] = (s,) + against_house(s, P, X)
+    print("\nOxford house, m-view self-calibration (linear status %d flags %d); after a similarity on the points:"
+          % (s["linear_status"], s["linear_flags"]))
+    print("  mode | path | f shared | sigma f | far rise | rms px | rot err deg max | centre err / radius max"
+          " | f/fx-1 range | f/fy-1 range | point err / radius median")
+    for mode, (s, rot, cen, efx, efy, pts) in rows.items():
+        print("  %-11s | %s | %.1f | %.4f | %.0f | %.4f | %.2f | %.3f | %+.3f..%+.3f | %+.3f..%+.3f | %.4f"
+              % (mode, s["path"], s["focal"], s["focal_sigma"], s["profile_rise"], s["rms"], rot.max(), cen.max(),
+                 efx.min(), efx.max(), efy.min(), efy.max(), pts))
+        print("    rotation error per view", np.round(rot, 2), "centre error", np.round(cen, 3))
+        print("    focal per view", np.round(s["focal_view"], 1), "principal point x", np.round(s["K"][:, 0, 2], 1))
+        # the linear method refuses; the search answers
+        assert s["linear_status"] == -5 and s["linear_flags"] & 8 and s["path"] == "sweep"
+        assert s["profile_rise"] > 1000 and s["focal_sigma"] < 0.01
+        assert s["rms"] < 0.7 and s["front_fraction"] == 1.0 and s["points"] == x.shape[1]
+        # measured: points 0.73-0.77 % of the radius; rotations 11.5 deg, centres 0.21 radius
+        assert pts < 0.012 and rot.max() < 15 and cen.max() < 0.3
+    s, rot, cen, efx, efy, pts = rows["shared f"]
+    print("  the profile (fixed-focal cost, Huber, over f; inf: no metric cameras for that f):")
+    print("   ", " ".join("%.0f:%.0f" % fc for fc in zip(s["sweep_focal"], s["sweep_cost"])))
+    again = libsfm.self_calibrate(r["P"], (768, 576), r["X"], tracks=x)
+    assert np.array_equal(again["K"], s["K"]) and np.array_equal(again["R"], s["R"])  # deterministic
+    assert np.all(np.abs(efx) < 0.3) and np.all(efx > 0)  # measured +9 .. +22 %: the priors' bias
+    s, rot, cen, efx, efy, pts = rows["pp per view"]
+    assert s["per_view"] and s["principal"] == "per_view" and np.all(np.abs(efy) < 0.06)  # measured -1.0 .. +3.5 %
+    assert np.all(np.abs(efx) < 0.16) and cen.max() < 0.16  # measured -1.6 .. +11.4 %, 0.12
+
+
+@pytest.mark.skipif(not os.path.isdir(HOUSE), reason="SKIP: ../shared/data/oxford-house not found")
+def test_self_calibrate_house_motion_with_known_focal():
+    """The house's ground-truth motion (rotation about one axis, 11-89 deg)
+    and points, re-imaged by one camera of f = 640 px with 0.5 px noise and
+    the house's missing observations. Principal point at the centre: the
+    linear method answers and the search with it is within 0.3 % (0.9 %
+    with the principal point free, found 13 px off). Principal point at
+    (460, 300), 77 px off: the linear method refuses (a second null
+    direction) and the search recovers f within 1.1 % with the principal
+    point held at the centre, 0.4 % with it free (shared), found within
+    7 px."""
+    xh, P, X = load_house()
+    gt = house_cameras(P)
+    F = np.diag([1.0, 1.0, -1.0])  # a right-handed copy of the left-handed frame
+    Xh = np.c_[X[:, :3] @ F, np.ones(len(X))]
+    rng = np.random.default_rng(16)
+    print("\nhouse motion, f = 640 px: principal point | linear | path | f (pp at centre) | f (pp shared) | pp found")
+    for pp in ((383.5, 287.5), (460.0, 300.0)):
+        K = np.array([[640.0, 0, pp[0]], [0, 640.0, pp[1]], [0, 0, 1]])
+        Ps = [K @ np.c_[Rg @ F, -(Rg @ F) @ (F @ Cg)] for (_, Rg, Cg) in gt]
+        x = np.stack([(Xh @ Pi.T)[:, :2] / (Xh @ Pi.T)[:, 2:] for Pi in Ps]) + rng.normal(0, 0.5, xh.shape)
+        x[np.isnan(xh)] = np.nan
+        r = libsfm.factorize_projective(x)
+        s = libsfm.self_calibrate(r["P"], (768, 576), r["X"], tracks=x)
+        t = libsfm.self_calibrate(r["P"], (768, 576), r["X"], tracks=x, principal="shared")
+        print("  (%.1f, %.1f) | %d flags %d | %s | %.1f | %.1f | (%.1f, %.1f)"
+              % (pp + (s["linear_status"], s["linear_flags"], s["path"], s["focal"], t["focal"], t["K"][0, 0, 2],
+                       t["K"][0, 1, 2])))
+        assert t["principal"] == "shared" and abs(t["focal"] / 640 - 1) < 0.02
+        assert np.hypot(t["K"][0, 0, 2] - pp[0], t["K"][0, 1, 2] - pp[1]) < 20
+        if pp[0] == 383.5:
+            assert s["linear_status"] == 0 and abs(s["focal"] / 640 - 1) < 0.02
+        else:
+            assert s["linear_status"] == -5 and s["linear_flags"] & 8 and s["path"] == "sweep"
+            assert abs(s["focal"] / 640 - 1) < 0.03
+
+
+def views(rng, kind, m=8, n=150, f=800.0, w=640, h=480, sigma=0.5, pp=None, span=1.2):
+    """Tracks (m,n,2) of a cloud 6 units in front of the cameras: kind
+    "general" (random rotations and centres), "turntable" (rotation about
+    the vertical axis through the cloud, optical axes through its centre),
+    "translation" (no rotation), "optical_axis" (rotation about the optical
+    axis with a translation in the image plane)."""
+    cx, cy = ((w - 1) / 2, (h - 1) / 2) if pp is None else pp
+    K = np.array([[f, 0, cx], [0, f, cy], [0, 0, 1]])
+    X = np.c_[rng.uniform(-1.5, 1.5, n), rng.uniform(-1.2, 1.2, n), rng.uniform(-1.5, 1.5, n), np.ones(n)]
+    Ps = []
+    for i in range(m):
+        if kind == "general":
+            R, t = rot(rng.normal(0, 0.25, 3)), np.array([0, 0, 6.0]) + rng.normal(0, 0.5, 3)
+        elif kind == "turntable":
+            R, t = rot(np.array([0, span * i / (m - 1), 0])), np.array([0, 0, 6.0])
+        elif kind == "translation":
+            R, t = np.eye(3), np.array([0.8 * np.cos(2 * i), 0.6 * np.sin(2 * i), 6 + 0.3 * np.sin(i)])
+        else:
+            R, t = rot(np.array([0, 0, 0.3 * i])), np.array([0.5 * np.cos(i), 0.5 * np.sin(i), 6.0])
+        Ps.append(K @ np.c_[R, t])
+    x = np.stack([(X @ P.T)[:, :2] / (X @ P.T)[:, 2:] for P in Ps])
+    return x + rng.normal(0, sigma, x.shape)
+
+
+def test_self_calibrate_sweep_against_linear_and_truth():
+    """Synthetic 8-view scenes, f = 800 px, 0.5 px noise. Where the linear
+    method works, the search finds the same f (within noise); on a
+    turntable the linear method refuses (a focal length per view is not
+    determined by orbital motion) and the search alone is right; with the
+    principal point 40 px off-centre the shared model is biased a few % and
+    a principal point per view removes the bias."""
+    rng = np.random.default_rng(14)
+    rows = []
+    print("\nm-view self-calibration, 8 views, f = 800 px, 0.5 px noise:")
+    print("  scene | linear status | f linear | f sweep (held) | f from linear start | f shared | f per view median"
+          " | sigma f | path | rms px")
+    for kind, kw in (("general", {}), ("turntable", {}), ("pp off-centre", dict(pp=(360.0, 200.0)))):
+        for trial in range(3):
+            x = views(rng, "general" if kind != "turntable" else "turntable", **kw)
+            r = libsfm.factorize_projective(x)
+            opts = dict(principal="shared" if kind == "pp off-centre" else "centre", max_rms=1.5)
+            s = libsfm.self_calibrate(r["P"], (640, 480), r["X"], tracks=x, **opts)
+            lin = libsfm.self_calibrate(r["P"], (640, 480), r["X"], tracks=x, sweep="when_needed", **opts)
+            rows.append((kind, s["linear_status"], s["focal_linear"], s["focal_sweep"], lin["focal"], s["focal"],
+                         np.median(s["focal_view"]), s["focal_sigma"], s["path"], s["rms"]))
+            print("  %s | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %.4f | %s | %.3f" % rows[-1])
+            ef = abs(np.median(s["focal_view"]) / 800 - 1)
+            assert ef < 0.015  # measured <= 0.8 %
+            if kind == "turntable":
+                # the linear method refuses (it answered 558-559 px as success)
+                assert s["linear_status"] == -5 and s["linear_flags"] & 8 and s["path"] == "sweep"
+            else:
+                assert s["linear_status"] == 0
+            assert abs(s["focal_sweep"] / 800 - 1) < (0.04 if kind == "pp off-centre" else 0.015)
+            # the linear start alone, refined, reaches the search's answer
+            assert abs(lin["focal"] / s["focal"] - 1) < 3 * s["focal_sigma"] + 1e-9
+            if kind == "pp off-centre":
+                assert s["principal"] == "shared" and np.all(np.abs(s["K"][:, 0, 2] - 360) < 15)
+                assert np.all(np.abs(s["K"][:, 1, 2] - 200) < 15) and s["rms"] < 0.7
+
+
+def test_self_calibrate_linear_refuses_turntable_answers_general_motion():
+    """The linear method alone (no tracks), 8 views, f = 800 px, factorized
+    tracks: on a turntable (optical axes through the centre of the cloud,
+    17-172 deg, 0.25-1 px) the strong equations leave the image of a
+    sphere about that centre as free as the absolute conic, the weak focal
+    prior used to choose f (558-559 px answered as success), and the answer
+    must now be refused with the critical-motion flag; general motion about
+    the same cloud is answered within 3 %."""
+    rng = np.random.default_rng(21)
+    print("\nlinear self-calibration alone, 8 views, f = 800 px: motion | sigma px | span rad | status | flags |"
+          " null ratio | weak ratio | median f")
+    for kind in ("turntable", "general"):
+        for sigma in (0.25, 0.5, 1.0):
+            for span in ((0.3, 1.2, 3.0) if kind == "turntable" else (None,)):
+                for trial in range(3):
+                    kw = dict(sigma=sigma) if span is None else dict(sigma=sigma, span=span)
+                    x = views(rng, kind, **kw)
+                    r = libsfm.factorize_projective(x)
+                    if kind == "turntable":
+                        with pytest.raises(libsfm.SfmError) as e:
+                            libsfm.self_calibrate(r["P"], (640, 480), r["X"])
+                        print("  %s | %.2f | %.1f | %d | %d | %.3f | %.2f | -" % (
+                            kind, sigma, span, e.value.status, e.value.flags, e.value.null_ratio,
+                            e.value.weak_ratio))
+                        assert e.value.status == -5 and e.value.flags & 8
+                    else:
+                        s = libsfm.self_calibrate(r["P"], (640, 480), r["X"])
+                        f = np.median(s["K"][:, 0, 0])
+                        print("  %s | %.2f | - | 0 | %d | %.3f | %.2f | %.1f" % (
+                            kind, sigma, s["flags"], s["null_ratio"], s["weak_ratio"], f))
+                        assert np.all(np.abs(s["K"][:, 0, 0] / 800 - 1) < 0.03)
+
+
+def test_self_calibrate_sweep_refuses_degenerate_motions():
+    """Pure translation and rotation about the optical axis leave f free:
+    the profile over f is flat and the answer is refused."""
+    rng = np.random.default_rng(15)
+    for kind in ("translation", "optical_axis"):
+        for trial in range(3):
+            x = views(rng, kind)
+            r = libsfm.factorize_projective(x)
+            with pytest.raises(libsfm.SfmError) as e:
+                libsfm.self_calibrate(r["P"], (640, 480), r["X"], tracks=x)
+            rep = e.value.report
+            print("\n%s: refused, far rise %.2f noise variances, sigma f %.3f" % (kind, rep["profile_rise"],
+                                                                                   rep["focal_sigma"]))
+            assert e.value.status == -5 and rep["profile_rise"] < 10
 
 def test_self_calibrate_table_over_noise():
     rng = np.random.default_rng(7)
@@ -165,7 +404,10 @@ def herz_triplets():
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
 def test_three_view_uncalibrated_herzjesu():
-    errs, failed, paths = [], 0, {}
+    """54 of 56 within 5 %, none wrong; the reported sigma honest against
+    the known focal length (median |z| = |log(f / f_true)| / sigma about
+    0.67 for an honest one; 1.32 with the profile's sigma alone)."""
+    errs, z, failed, paths = [], [], 0, {}
     for path in herz_triplets():
         x = np.loadtxt(path)
         try:
@@ -174,21 +416,28 @@ def test_three_view_uncalibrated_herzjesu():
             failed += 1
             continue
         errs.append(r["K"][0, 0, 0] / F_HERZ - 1)
+        z.append(np.log(r["K"][0, 0, 0] / F_HERZ) / r["report"]["focal_sigma"])
         paths[r["report"]["path"]] = paths.get(r["report"]["path"], 0) + 1
     errs = np.abs(errs)
     n = len(herz_triplets())
     within = int(np.sum(errs < 0.05))
     print("\nHerz-Jesu-P8 uncalibrated three-view: %d of %d within 5 %% (%.1f %%), %d refused, %d wrong "
-          "answers returned as success, median |f error| %.4f, paths %s (BoofCV 1.2.2: 13 of 56)"
-          % (within, n, 100.0 * within / n, failed, len(errs) - within, np.median(errs), paths))
+          "answers returned as success, median |f error| %.4f, median |z| %.2f, paths %s (BoofCV 1.2.2: 13 of 56)"
+          % (within, n, 100.0 * within / n, failed, len(errs) - within, np.median(errs), np.median(np.abs(z)),
+             paths))
     assert len(errs) - within == 0
     assert within >= 0.9 * n
     assert np.median(errs) < 0.01
+    assert 0.4 < np.median(np.abs(z)) < 1.0
 
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
 def test_two_view_uncalibrated_herzjesu():
-    errs, failed = [], 0
+    """The pairs 1-2 of the 56 triplets: no wrong answer returned as success
+    at the default bound (sigma <= 5/3 %), the sigma honest (median |z|
+    0.63; 1.43 with the profile's sigma alone, which returned one answer
+    6.6 % off at sigma 1.4 %)."""
+    errs, z, failed = [], [], 0
     for path in herz_triplets():
         x = np.loadtxt(path)
         try:
@@ -197,14 +446,102 @@ def test_two_view_uncalibrated_herzjesu():
             failed += 1
             continue
         errs.append(abs(r["K"][0, 0, 0] / F_HERZ - 1))
+        z.append(np.log(r["K"][0, 0, 0] / F_HERZ) / r["report"]["focal_sigma"])
     errs = np.array(errs)
     n = len(herz_triplets())
     within = int(np.sum(errs < 0.05))
     print("\nHerz-Jesu-P8 uncalibrated two-view (views 1, 2 of each triplet): %d of %d within 5 %%, "
-          "%d refused, %d wrong answers, median |f error| %.4f" % (within, n, failed, len(errs) - within,
-                                                                 np.median(errs)))
+          "%d refused, %d wrong answers, median |f error| %.4f, median |z| %.2f"
+          % (within, n, failed, len(errs) - within, np.median(errs), np.median(np.abs(z))))
     assert within >= 0.6 * n
-    assert len(errs) - within <= max(1, len(errs) // 20)
+    assert len(errs) - within == 0
+    assert 0.4 < np.median(np.abs(z)) < 1.0
+
+
+@pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
+def test_three_view_fragile_triplet_does_not_depend_on_the_sweep_steps():
+    """Herz-Jesu 0000-0005-0006 returned f 7.3 % off as success with 5
+    bundle-adjustment steps per sweep candidate (+0.2 % with 4, 6, 7, 8,
+    10): after the best fit of its first RANSAC run was refused for its
+    sigma, the sweep's costlier fixed-focal answer converged to a local
+    optimum whose own curvature passed the bound. Now the best fit's refusal
+    ends that run, whatever the steps and with or without the priors."""
+    path = os.path.join(HERZ, "triplets", "triplet_0000_0005_0006.txt")
+    if not os.path.exists(path):
+        pytest.skip("SKIP: %s not found" % path)
+    x = np.loadtxt(path)
+    for prior in (None, 0.0):
+        fs = []
+        for it in (3, 4, 5, 6, 7, 8, 10, 12):
+            try:
+                r = libsfm.reconstruct_three_view(x[:, 0:2], x[:, 2:4], x[:, 4:6], 3072, 2048, seed=1,
+                                                  sweep_iterations=it, principal_sigma=prior, aspect_sigma=prior)
+            except libsfm.SfmError:
+                continue
+            fs.append(r["K"][0, 0, 0])
+            assert abs(fs[-1] / F_HERZ - 1) < 0.05, (it, prior, fs[-1])
+        print("\n0000-0005-0006, sweep steps 3-12, priors %s: f %s" % (prior, np.round(fs, 1)))
+        assert len(fs) >= 6 and np.ptp(np.log(fs)) < 0.01
+
+
+def calib_scene(rng, nv, f=1000.0, w=1280, h=960, n=200, noise=0.5, pp_sigma=0.0, aspect_sigma=0.0):
+    """nv views of a cloud of points from cameras on an arc turned towards
+    jittered targets (optical axes that do not meet), principal point and
+    aspect ratio drawn about the centre and 1 with the given standard
+    deviations (pp_sigma of max(w, h)), Gaussian noise in pixels."""
+    cx = (w - 1) / 2 + rng.normal(0, pp_sigma * max(w, h))
+    cy = (h - 1) / 2 + rng.normal(0, pp_sigma * max(w, h))
+    K = np.array([[f, 0, cx], [0, f * (1 + rng.normal(0, aspect_sigma)), cy], [0, 0, 1]])
+    X = np.c_[rng.uniform(-2.5, 2.5, 4 * n), rng.uniform(-2, 2, 4 * n), rng.uniform(5, 10, 4 * n), np.ones(4 * n)]
+    ok, xs = np.ones(len(X), bool), []
+    for i in range(nv):
+        a = np.radians(12) * i + rng.normal(0, np.radians(2))
+        C = np.array([7 * np.sin(a), rng.normal(0, 0.8), 7.5 - 7 * np.cos(a)])
+        zc = np.array([0, 0, 7.5]) + rng.normal(0, 0.8, 3) - C
+        zc /= np.linalg.norm(zc)
+        xc = np.cross([0, -1.0, 0], zc)
+        xc /= np.linalg.norm(xc)
+        R = np.array([xc, np.cross(zc, xc), zc])
+        y = X @ (K @ np.c_[R, -R @ C]).T
+        p = y[:, :2] / y[:, 2:]
+        ok &= (y[:, 2] > 0) & (p[:, 0] > 0) & (p[:, 0] < w) & (p[:, 1] > 0) & (p[:, 1] < h)
+        xs.append(p)
+    idx = np.flatnonzero(ok)[:n]
+    return [x[idx] + rng.normal(0, noise, (len(idx), 2)) for x in xs]
+
+
+@pytest.mark.parametrize("nv", [2, 3])
+@pytest.mark.parametrize("prior", [0.0, 0.01])
+def test_focal_sigma_is_calibrated_on_synthetic_scenes(nv, prior):
+    """z = log(f / f_true) / sigma over 60 synthetic scenes (0.5 px noise)
+    must spread as a standard normal: std within [0.8, 1.25]. prior 0: the
+    model exact (principal point at the centre, aspect 1) and the priors
+    off, so the profile's sigma alone is tested; prior 0.01: the principal
+    point drawn with 1 % of max(w, h) per axis and the aspect with 0.25 %,
+    the defaults of principal_sigma and aspect_sigma that sigma includes.
+    Measured: std z 1.00 / 1.14 (two / three views, exact model), 0.98 /
+    1.12 (priors); the profile's sigma alone under the drawn intrinsics
+    gives 1.60 / 3.67."""
+    rng = np.random.default_rng(1400 + nv)
+    kw = {} if prior > 0 else dict(principal_sigma=0.0, aspect_sigma=0.0)
+    z = []
+    for k in range(60):
+        obs = calib_scene(rng, nv, pp_sigma=prior, aspect_sigma=prior / 4)
+        try:
+            if nv == 2:
+                r = libsfm.reconstruct_two_view(obs[0], obs[1], 1280, 960, seed=k, max_focal_sigma=1.0, **kw)
+            else:
+                r = libsfm.reconstruct_three_view(obs[0], obs[1], obs[2], 1280, 960, seed=k, max_focal_sigma=1.0,
+                                                  **kw)
+        except libsfm.SfmError:
+            continue
+        z.append(np.log(r["K"][0, 0, 0] / 1000.0) / r["report"]["focal_sigma"])
+    z = np.array(z)
+    print("\n%d views, prior %.2f: %d of 60 answered, std z %.2f, median |z| %.2f, mean z %+.2f"
+          % (nv, prior, len(z), z.std(ddof=1), np.median(np.abs(z)), z.mean()))
+    assert len(z) >= 55
+    assert 0.8 <= z.std(ddof=1) <= 1.25
+    assert abs(z.mean()) < 3 / np.sqrt(len(z))
 
 
 BOOF_F = dict(bobcats=1141.5, books=999.5, chicken=1128.4, minecraft_cave1=543.5, minecraft_distant=212.4,
@@ -289,19 +626,24 @@ def test_boofcv_triplets_from_images():
 @pytest.mark.skipif(not os.path.isdir(BOOF), reason="SKIP: ../shared/data/boofcv-triple not found")
 def test_boofcv_mono_wall_against_the_chessboard():
     """mono_wall's lens (k1 = -0.256 by the chessboard) from the images
-    alone. Answered whatever the focal length's standard deviation
-    (max_focal_sigma = 1), the chessboard focal length lies within three
-    of the reported standard deviations plus the 3 % the model's centred
-    principal point and unit aspect cost against the chessboard's (+2.7 %
-    measured: the chessboard's lens on this geometry, fitted by the
-    pipeline); the radial terms are kept and move the image corners as the
-    chessboard's do (within 30 %); the pinhole model on the same triplets
-    puts f far off and, at the default bound, is refused. (Seeds 1-6 give
-    762.6-785.6 px at sigma 3.3-3.5 %.)"""
+    alone, at the default bound on the focal length's standard deviation
+    (answered since the view-2 and view-3 points are aligned onto view 1's
+    patches: 729.7 px, sigma 0.9 %, RMS 0.121 px; before, 762.6 px at sigma
+    3.3 % and only with the bound lifted). The chessboard focal length lies
+    within three of the reported standard deviations plus the 3 % the
+    model's centred principal point and unit aspect cost against the
+    chessboard's (+2.7 % measured: the chessboard's lens on this geometry,
+    fitted by the pipeline); the radial terms are kept and move the image
+    corners as the chessboard's do (within 30 %); the pinhole model on the
+    same triplets puts f far off and, at the default bound, is refused.
+    (With the bound lifted, max_focal_sigma = 1, the pinhole answer, 1724
+    px at sigma 3.6 %, is accepted first and the radial cascade refitted
+    from it stops at 783.9 px, k1 -0.237 alone, RMS 0.136 px: a poorer fit
+    than the default's, reached by the cascade's order.)"""
     imgs = boof_images("mono_wall")
     h, w = imgs[0].shape
     mw = MONO_WALL
-    r = libsfm.reconstruct_three_view_images(*imgs, seed=1, max_focal_sigma=1.0)
+    r = libsfm.reconstruct_three_view_images(*imgs, seed=1)
     rep = r["report"]
     f, k1, k2 = r["K"][0, 0, 0], rep["k1"], rep["k2"]
     corner = np.hypot(w / 2, h / 2)

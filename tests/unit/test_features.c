@@ -180,6 +180,153 @@ SFM_TEST(features_descriptors_follow_known_rotation)
     SFM_CHECK(good > 0 && angle_err / good < 0.12);
 }
 
+/* Smooth texture for the alignment test: Gaussian blobs (sigma 2.5 to 5
+ * px, random gray levels of either sign) evaluated at the pixel centres of a
+ * view whose point x shows world R (x - c) + c + t; smooth enough that a
+ * sub-pixel motion of the world is a sub-pixel motion of the image. */
+#define NBLOB 60
+static void render_blobs(uint8_t *img, const double (*b)[4], double th, double tx, double ty)
+{
+    const double c = cos(th), s = sin(th), x0 = 0.5 * (W - 1), y0 = 0.5 * (H - 1);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const double px = x - x0, py = y - y0;
+            const double X = c * px - s * py + x0 + tx, Y = s * px + c * py + y0 + ty;
+            double v = 128.0;
+            for (int k = 0; k < NBLOB; k++) {
+                const double dx = X - b[k][0], dy = Y - b[k][1], r2 = dx * dx + dy * dy, s2 = b[k][2] * b[k][2];
+                if (r2 < 16.0 * s2)
+                    v += b[k][3] * exp(-0.5 * r2 / s2);
+            }
+            v = v < 0.0 ? 0.0 : (v > 255.0 ? 255.0 : v);
+            img[y * W + x] = (uint8_t)floor(v + 0.5);
+        }
+}
+
+/* Lucas-Kanade alignment against a known motion: image b sees the world of
+ * image a through a rotation of th and a sub-pixel shift; points on a grid
+ * of image a start in image b at the integer pixel nearest the truth. */
+SFM_TEST(features_align_points_recovers_known_motion)
+{
+    static double blob[NBLOB][4];
+    for (int k = 0; k < NBLOB; k++) {
+        blob[k][0] = sfm_test_uniform(t, -10.0, W + 10.0);
+        blob[k][1] = sfm_test_uniform(t, -10.0, H + 10.0);
+        blob[k][2] = sfm_test_uniform(t, 2.5, 5.0);
+        blob[k][3] = sfm_test_uniform(t, 40.0, 90.0) * (k % 2 ? 1.0 : -1.0);
+    }
+    const double ths[2] = {0.0, 0.02};
+    for (int m = 0; m < 2; m++) {
+        const double th = ths[m], tx = sfm_test_uniform(t, -2.0, 2.0), ty = sfm_test_uniform(t, -2.0, 2.0);
+        render_blobs(img_a, (const double(*)[4])blob, 0.0, 0.0, 0.0);
+        render_blobs(img_b, (const double(*)[4])blob, th, tx, ty);
+        const double c = cos(th), s = sin(th), x0 = 0.5 * (W - 1), y0 = 0.5 * (H - 1);
+        /* the points: the detector's corners of image a (what the alignment
+         * is for), each started at the integer pixel nearest its truth */
+        enum { NP = 96 };
+        sfm_features_params fp;
+        sfm_features_default_params(&fp);
+        fp.n_levels = 1;
+        fp.max_features = NP;
+        fp.cell_size = 16;
+        fp.fast_threshold = 8;
+        const int nd = detect(img_a, W, H, &fp, kp_a, desc_a);
+        SFM_CHECK(nd >= 20);
+        const int np = nd < 0 ? 0 : nd;
+        double xa[2 * NP], xb[2 * NP], truth[2 * NP], out[2 * NP];
+        uint8_t ok[NP];
+        for (int k = 0; k < np; k++) {
+            xa[2 * k] = kp_a[k].x;
+            xa[2 * k + 1] = kp_a[k].y;
+            /* x_a = R (x_b - c) + c + t  =>  x_b = R^T (x_a - c - t) + c */
+            const double u = xa[2 * k] - x0 - tx, v = xa[2 * k + 1] - y0 - ty;
+            truth[2 * k] = c * u + s * v + x0;
+            truth[2 * k + 1] = -s * u + c * v + y0;
+            xb[2 * k] = floor(truth[2 * k] + 0.5);
+            xb[2 * k + 1] = floor(truth[2 * k + 1] + 0.5);
+        }
+        sfm_align_params p;
+        SFM_CHECK_EQ_INT(sfm_features_default_align_params(&p), SFM_OK);
+        sfm_image_u8 ia = {img_a, W, H, W}, ib = {img_b, W, H, W};
+        const int n = sfm_features_align_points(&ia, xa, &ib, xb, np, &p, out, ok);
+        double se = 0.0, se0 = 0.0, worst = 0.0;
+        int cnt = 0;
+        for (int k = 0; k < np; k++) {
+            if (!ok[k]) {
+                SFM_CHECK(out[2 * k] == xb[2 * k] && out[2 * k + 1] == xb[2 * k + 1]);
+                continue;
+            }
+            const double e = hypot(out[2 * k] - truth[2 * k], out[2 * k + 1] - truth[2 * k + 1]);
+            se += e * e;
+            se0 += pow(xb[2 * k] - truth[2 * k], 2) + pow(xb[2 * k + 1] - truth[2 * k + 1], 2);
+            worst = e > worst ? e : worst;
+            cnt++;
+        }
+        SFM_CHECK_EQ_INT(n, cnt);
+        SFM_TEST_LOG("rotation %d mrad: %d of %d aligned, RMS %d (start %d), worst %d (thousandths of a pixel)",
+                     (int)(1000.0 * th), cnt, np, cnt ? (int)(1000.0 * sqrt(se / cnt)) : -1,
+                     cnt ? (int)(1000.0 * sqrt(se0 / cnt)) : -1, (int)(1000.0 * worst));
+        SFM_CHECK(cnt >= 3 * np / 4);
+        SFM_CHECK(cnt > 0 && sqrt(se / cnt) < 0.08);
+        SFM_CHECK(worst < 0.3);
+        /* in place gives the same bits */
+        double inplace[2 * NP];
+        memcpy(inplace, xb, sizeof xb);
+        SFM_CHECK_EQ_INT(sfm_features_align_points(&ia, xa, &ib, inplace, np, &p, inplace, ok), n);
+        SFM_CHECK(memcmp(inplace, out, sizeof(double) * 2 * (size_t)np) == 0);
+    }
+}
+
+SFM_TEST(features_align_points_contract)
+{
+    for (int i = 0; i < W * H; i++)
+        img_a[i] = (uint8_t)((i * 2654435761u) >> 24);
+    sfm_image_u8 im = {img_a, W, H, W};
+    sfm_align_params p;
+    SFM_CHECK_EQ_INT(sfm_features_default_align_params(NULL), SFM_E_ARGUMENT);
+    sfm_features_default_align_params(&p);
+    double x[4] = {40.0, 40.0, 80.0, 60.0}, out[4];
+    uint8_t ok[2];
+    sfm_test_fill_canary(out, sizeof out);
+    sfm_test_fill_canary(ok, sizeof ok);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(NULL, x, &im, x, 2, &p, out, ok), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, NULL, &im, x, 2, &p, out, ok), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, NULL, out, ok), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &p, NULL, ok), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &p, out, NULL), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, -1, &p, out, ok), SFM_E_ARGUMENT);
+    sfm_image_u8 bad = im;
+    bad.stride = W - 1;
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &bad, x, 2, &p, out, ok), SFM_E_ARGUMENT);
+    sfm_align_params q = p;
+    q.radius = SFM_FEATURES_ALIGN_MAX_RADIUS + 1;
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &q, out, ok), SFM_E_ARGUMENT);
+    q = p;
+    q.max_shift = (double)NAN;
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &q, out, ok), SFM_E_ARGUMENT);
+    q = p;
+    q.min_zncc = 1.5;
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &q, out, ok), SFM_E_ARGUMENT);
+    double xn[4] = {40.0, 40.0, (double)INFINITY, 60.0};
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, xn, 2, &p, out, ok), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, xn, &im, x, 2, &p, out, ok), SFM_E_NONFINITE);
+    SFM_CHECK(sfm_test_canary_intact(out, sizeof out));
+    SFM_CHECK(sfm_test_canary_intact(ok, sizeof ok));
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, NULL, &im, NULL, 0, &p, NULL, NULL), 0);
+    /* a point whose patch leaves the image keeps its start */
+    double edge[4] = {2.0, 50.0, 80.0, H - 3.0};
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, edge, &im, edge, 2, &p, out, ok), 0);
+    SFM_CHECK(ok[0] == 0 && ok[1] == 0 && memcmp(out, edge, sizeof edge) == 0);
+    /* a flat patch has no gradient to align on */
+    memset(img_b, 90, sizeof img_b);
+    sfm_image_u8 flat = {img_b, W, H, W};
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&flat, x, &im, x, 2, &p, out, ok), 0);
+    /* a point aligned with itself stays put */
+    SFM_CHECK_EQ_INT(sfm_features_align_points(&im, x, &im, x, 2, &p, out, ok), 2);
+    SFM_CHECK_NEAR(out[0], x[0], 1e-6);
+    SFM_CHECK_NEAR(out[3], x[3], 1e-6);
+}
+
 static int popcount_ref(const uint8_t *a, const uint8_t *b)
 {
     int n = 0;

@@ -233,6 +233,27 @@ SFM_TEST(uncal_three_view_contract)
     o.radial = -1;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    /* the priors of the focal sigma and the sweep's steps per candidate */
+    const double bad_sigma[3] = {-0.01, 1.0, (double)NAN};
+    for (int b = 0; b < 3; b++) {
+        sfm_uncal_default_options(&o);
+        o.principal_sigma = bad_sigma[b];
+        SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                           NULL, NULL, ws, need), SFM_E_ARGUMENT);
+        sfm_uncal_default_options(&o);
+        o.aspect_sigma = bad_sigma[b];
+        SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                           NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    }
+    sfm_uncal_default_options(&o);
+    SFM_CHECK_EQ_INT(o.sweep_iterations, 8);
+    o.sweep_iterations = 0;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    o.sweep_iterations = 51;
+    SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
+                                                       NULL, NULL, ws, need), SFM_E_ARGUMENT);
+    sfm_uncal_default_options(&o);
     /* the pinhole options need less: their own size is enough, a byte
      * less is not */
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated_workspace_size_radial(NU, 3), 0);
