@@ -7,6 +7,9 @@
  * 0) on it: the cost of the two radial terms is the ratio. Anchor: BoofCV 1.2.2 takes 1.2 s per triplet (0.67 s in
  * its reconstruction call) on the same triplets. One run; timings vary with
  * the load of the machine and are never asserted.
+ * `uncal_bench DIR LINES` (LINES a comma list of the index's data lines,
+ * 1-based) runs only the default pipeline on those triplets, once each, for
+ * callgrind (bench/uncal_callgrind.sh counts its instructions per triplet).
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -33,9 +36,25 @@ static int cmp(const void *a, const void *b)
 
 static double px[3][2 * MAXN];
 
+/* Whether k is in the comma list s. */
+static int listed(const char *s, int k)
+{
+    while (*s) {
+        char *end;
+        long v = strtol(s, &end, 10);
+        if (end == s)
+            return 0;
+        if (v == k)
+            return 1;
+        s = *end == ',' ? end + 1 : end;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "../shared/data/herzjesu-p8/triplets";
+    const char *lines = argc > 2 ? argv[2] : NULL;
     char path[1024];
     snprintf(path, sizeof path, "%s/triplets_index.txt", dir);
     FILE *idx = fopen(path, "r");
@@ -47,11 +66,14 @@ int main(int argc, char **argv)
     size_t need_r = sfm_ransac_trifocal_workspace_size(MAXN);
     void *ws = malloc(need > need_r ? need : need_r);
     double t_all[128], t_ran[128], t_pin[128];
-    int nt = 0, ok = 0, within = 0, ok_pin = 0;
+    int nt = 0, ok = 0, within = 0, ok_pin = 0, data_line = 0;
     char line[256];
     while (fgets(line, sizeof line, idx) && nt < 128) {
         char a[16], b[16], c[16];
         if (line[0] == '#' || sscanf(line, "%15s %15s %15s", a, b, c) != 3)
+            continue;
+        data_line++;
+        if (lines != NULL && !listed(lines, data_line))
             continue;
         snprintf(path, sizeof path, "%s/triplet_%s_%s_%s.txt", dir, a, b, c);
         FILE *f = fopen(path, "r");
@@ -80,6 +102,11 @@ int main(int argc, char **argv)
         int st = sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], n, 3072, 2048, &o, K, poses, NULL, NULL,
                                                    &rep, ws, need);
         double t1 = now_ms();
+        if (lines != NULL) {
+            printf("%s %s %s  n %4d  %s  f %7.1f  runs %d\n", a, b, c, n, st > 0 ? "ok  " : "fail",
+                   st > 0 ? K[0] : 0.0, rep.attempts);
+            continue;
+        }
         sfm_uncal_options op = o;
         op.radial = 0;
         double Kp[27];
@@ -110,6 +137,10 @@ int main(int argc, char **argv)
         nt++;
     }
     fclose(idx);
+    if (lines != NULL) {
+        free(ws);
+        return 0;
+    }
     double s_all[128], s_ran[128], s_pin[128], sum = 0;
     memcpy(s_all, t_all, sizeof(double) * nt);
     memcpy(s_ran, t_ran, sizeof(double) * nt);

@@ -67,8 +67,8 @@ SFM_API int sfm_trifocal_transfer_line(const double T[27], const double l2[3], c
 /* Estimate T from n >= 7 pixel triplets: the Hartley-normalized linear
  * solution, then algebraic minimization with the epipoles fixed and
  * re-estimated (H&Z alg. 16.2), so that T is geometrically valid (it comes
- * from three cameras). Memory: the design matrix is reduced by blocked QR, so
- * the workspace does not grow with n.
+ * from three cameras). Memory: the design matrix is reduced to its 27 x 27
+ * Gram matrix as the triplets come, so the workspace does not grow with n.
  * Statuses: SFM_OK, SFM_E_ARGUMENT (n < 7, NULL), SFM_E_NONFINITE,
  * SFM_E_WORKSPACE, SFM_E_SINGULAR (degenerate configuration),
  * SFM_E_NO_CONVERGENCE. */

@@ -17,7 +17,9 @@
 #include "core/tri_null.h"
 
 enum { TRI_NULL_ONE_STEPS = 20, TRI_NULL_TWO_STEPS = 40 };
-#define TRI_NULL_TOL 1e-13
+/* The range of |R|_max taken (see inverse_step); beyond, 0 (the SVD). */
+#define TRI_NULL_RANGE_LO 1e-100
+#define TRI_NULL_RANGE_HI 1e100
 
 /* x /= |x|; 0 when x is zero or not finite. */
 static int normalize(double *x, int n)
@@ -36,39 +38,45 @@ static int normalize(double *x, int n)
     return 1;
 }
 
-static double pivot(const double *R, int n, int i, double floor)
+/* s - sum_{k < m} a[k inc] x[k], the terms subtracted in the order of k.
+ * Four terms a pass where the build is for speed: the same operations in
+ * the same order as the plain loop of a build for size, so the same bits,
+ * with a quarter of the loop's own instructions. */
+static inline double sub_dot(double s, const double *a, size_t inc, const double *x, int m)
 {
-    double d = R[(size_t)i * n + i];
-    return fabs(d) >= floor ? d : copysign(floor, d);
+    int k = 0;
+#if !defined(__OPTIMIZE_SIZE__)
+    for (; k + 4 <= m; k += 4) {
+        s -= a[k * inc] * x[k];
+        s -= a[(k + 1) * inc] * x[k + 1];
+        s -= a[(k + 2) * inc] * x[k + 2];
+        s -= a[(k + 3) * inc] * x[k + 3];
+    }
+#endif
+    for (; k < m; k++)
+        s -= a[k * inc] * x[k];
+    return s;
 }
 
-/* x <- R^-T x (forward substitution with the transpose). */
-static void solve_rt(const double *R, int n, double floor, double *x)
+/* x <- R^-T x (forward substitution with the transpose); dinv: the
+ * reciprocal pivots. */
+static void solve_rt(const double *R, int n, const double *dinv, double *x)
 {
-    for (int i = 0; i < n; i++) {
-        double s = x[i];
-        for (int k = 0; k < i; k++)
-            s -= R[(size_t)k * n + i] * x[k];
-        x[i] = s / pivot(R, n, i, floor);
-    }
+    for (int i = 0; i < n; i++)
+        x[i] = sub_dot(x[i], R + i, (size_t)n, x, i) * dinv[i];
 }
 
 /* x <- R^-1 x (back substitution). */
-static void solve_r(const double *R, int n, double floor, double *x)
+static void solve_r(const double *R, int n, const double *dinv, double *x)
 {
-    for (int i = n - 1; i >= 0; i--) {
-        double s = x[i];
-        const double *row = R + (size_t)i * n;
-        for (int k = i + 1; k < n; k++)
-            s -= row[k] * x[k];
-        x[i] = s / pivot(R, n, i, floor);
-    }
+    for (int i = n - 1; i >= 0; i--)
+        x[i] = sub_dot(x[i], R + (size_t)i * n + i + 1, 1, x + i + 1, n - 1 - i) * dinv[i];
 }
 
 /* Tracks convergence of successive unit iterates: x <- y (sign-aligned
  * with x), returns 1 once the extrapolated remaining change is below the
  * tolerance. *prev holds the last change (0 before the first). */
-static int settle(double *x, const double *y, int n, double *prev)
+static int settle(double *x, const double *y, int n, double tol, double *prev)
 {
     double dot = 0.0;
     for (int i = 0; i < n; i++)
@@ -89,16 +97,19 @@ static int settle(double *x, const double *y, int n, double *prev)
             est = delta * rho / (1.0 - rho);
     }
     *prev = delta;
-    return est <= TRI_NULL_TOL;
+    return est <= tol;
 }
 
-/* y <- R^-1 R^-T y, normalized; 0 when not finite. */
-static int inverse_step(const double *R, int n, double floor, double *y)
+/* y <- R^-1 R^-T y, normalized; 0 when not finite. With |R|_max within
+ * TRI_NULL_RANGE_LO.._HI and the pivots floored at eps |R|_max, the two
+ * solves of a unit vector stay far from overflow and underflow for any
+ * factor short of a pathological growth of the substitution, so y is not
+ * rescaled between them (an overflow would still be caught: the iterate
+ * is not finite, 0, the caller's SVD). */
+static int inverse_step(const double *R, int n, const double *dinv, double *y)
 {
-    solve_rt(R, n, floor, y);
-    if (!normalize(y, n)) /* rescaled between the solves: no overflow */
-        return 0;
-    solve_r(R, n, floor, y);
+    solve_rt(R, n, dinv, y);
+    solve_r(R, n, dinv, y);
     return normalize(y, n);
 }
 
@@ -118,7 +129,9 @@ static double rx_dot(const double *R, int n, const double *x, const double *y)
     return s;
 }
 
-int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratch)
+/* The reciprocals of R's pivots, floored at eps |R|_max, in dinv; 0 when
+ * |R|_max is zero, not finite or outside TRI_NULL_RANGE_LO.._HI. */
+static int pivots(const double *R, int n, double *dinv)
 {
     double rmax = 0.0;
     for (int i = 0; i < n; i++)
@@ -127,27 +140,45 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratc
             if (!(a <= rmax))
                 rmax = a; /* NaN propagates */
         }
-    if (!(rmax > 0.0) || !isfinite(rmax))
+    if (!(rmax > TRI_NULL_RANGE_LO && rmax < TRI_NULL_RANGE_HI))
         return 0;
     const double floor = DBL_EPSILON * rmax;
+    for (int i = 0; i < n; i++) {
+        const double d = R[(size_t)i * n + i];
+        dinv[i] = 1.0 / (fabs(d) >= floor ? d : copysign(floor, d));
+    }
+    return 1;
+}
+
+void sfmi_la_tri_gram_solve(const double *R, int n, const double *dinv, double *x)
+{
+    solve_rt(R, n, dinv, x);
+    solve_r(R, n, dinv, x);
+}
+
+int sfmi_la_tri_smallest_right(const double *R, int n, double tol, double *v, double *scratch)
+{
     double *x = scratch, *y = scratch + n, *q = scratch + 2 * n, *w = scratch + 3 * n;
+    double *dinv = scratch + 4 * n;
+    if (!pivots(R, n, dinv))
+        return 0;
     /* Start from R^-1 e_n: the last column of R^-1, large where R is
      * nearly singular. */
     for (int i = 0; i < n; i++)
         x[i] = 0.0;
     x[n - 1] = 1.0;
-    solve_r(R, n, floor, x);
+    solve_r(R, n, dinv, x);
     if (!normalize(x, n))
         return 0;
     double prev = 0.0;
     for (int step = 0; step < TRI_NULL_ONE_STEPS; step++) {
         for (int i = 0; i < n; i++)
             y[i] = x[i];
-        if (!inverse_step(R, n, floor, y))
+        if (!inverse_step(R, n, dinv, y))
             return 0;
         for (int i = 0; i < n; i++)
             q[i] = y[i] - x[i]; /* the last change: mostly the next vector */
-        if (settle(x, y, n, &prev)) {
+        if (settle(x, y, n, tol, &prev)) {
             for (int i = 0; i < n; i++)
                 v[i] = x[i];
             return 1;
@@ -172,7 +203,7 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratc
             y[i] = x[i];
             w[i] = q[i];
         }
-        if (!inverse_step(R, n, floor, y) || !inverse_step(R, n, floor, w))
+        if (!inverse_step(R, n, dinv, y) || !inverse_step(R, n, dinv, w))
             return 0;
         for (int pass = 0; pass < 2; pass++) {
             double d = 0.0;
@@ -204,7 +235,7 @@ int sfmi_la_tri_smallest_right(const double *R, int n, double *v, double *scratc
             return 0;
         for (int i = 0; i < n; i++)
             q[i] = w[i];
-        if (settle(x, y, n, &prev)) {
+        if (settle(x, y, n, tol, &prev)) {
             for (int i = 0; i < n; i++)
                 v[i] = x[i];
             return 1;

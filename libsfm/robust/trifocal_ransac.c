@@ -112,7 +112,7 @@ size_t sfm_ransac_trifocal_workspace_size(int n)
     return sfmi_arena_required(&a);
 }
 
-static const double P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+#define P1 sfmi_tf_P1
 
 static int tf_solve(void *vctx, const int *sample, double *models)
 {
@@ -249,38 +249,23 @@ static int tf_refine(void *vctx, const int *inliers, int n_inliers, double *mode
 #define TF_DESIGN_FLOOR_RATIO 4.0
 
 /* The design test of support_check.h on the trifocal point constraints
- * (the rows of sfm_trifocal_7pt: four per triplet, s, t in {0, 1}:
- * sum x^i [x']x[s][q] [x'']x[r][t] T_i^{qr}), Hartley-normalised per view. */
+ * (the rows of sfm_trifocal_7pt, four per triplet), Hartley-normalised per
+ * view: their Gram matrix as the 7-point solver sums it
+ * (sfmi_trifocal_gram), mirrored into the lower triangle the eigensolver
+ * reads. */
 static int tf_design_degenerate(tf_support_ws *w, int m, double tau)
 {
-    double h[3][3];
-    double *g[3] = {w->g, w->g + 2 * (size_t)m, w->g + 4 * (size_t)m};
-    for (int v = 0; v < 3; v++)
+    double h[3][3], H[3][9];
+    const double *g[3] = {w->g, w->g + 2 * (size_t)m, w->g + 4 * (size_t)m};
+    for (int v = 0; v < 3; v++) {
         if (sfmi_hartley_2d(g[v], m, h[v]) != 0)
             return 1;
-    memset(w->AtA, 0, 27 * 27 * sizeof(double));
-    for (int j = 0; j < m; j++) {
-        double x[3][3];
-        for (int v = 0; v < 3; v++) {
-            x[v][0] = h[v][0] * g[v][2 * j] + h[v][1];
-            x[v][1] = h[v][0] * g[v][2 * j + 1] + h[v][2];
-            x[v][2] = 1.0;
-        }
-        double S2[9], S3[9];
-        sfm_skew(x[1], S2);
-        sfm_skew(x[2], S3);
-        for (int sr = 0; sr < 2; sr++)
-            for (int tc = 0; tc < 2; tc++) {
-                double row[27];
-                for (int i = 0; i < 3; i++)
-                    for (int q = 0; q < 3; q++)
-                        for (int r = 0; r < 3; r++)
-                            row[9 * i + 3 * q + r] = x[0][i] * S2[3 * sr + q] * S3[3 * r + tc];
-                for (int a = 0; a < 27; a++)
-                    for (int b = 0; b <= a; b++)
-                        w->AtA[27 * a + b] += row[a] * row[b];
-            }
+        sfmi_hartley_matrix(h[v], H[v]);
     }
+    sfmi_trifocal_gram(g, m, &H[0][0], w->AtA);
+    for (int a = 0; a < 27; a++)
+        for (int b = 0; b < a; b++)
+            w->AtA[27 * a + b] = w->AtA[27 * b + a];
     const double s = (h[0][0] + h[1][0] + h[2][0]) / 3.0 * tau / 3.0;
     double rho;
     int st = sfmi_design_degenerate(w->AtA, 27, 4 * m, s * s, w->V, w->w, w->eig, w->eig_size,

@@ -43,7 +43,8 @@ void sfmi_tf_refine_layout(sfmi_arena *a, int n, sfmi_tf_refine_ws *w)
     w->cap = n;
 }
 
-static const double P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+const double sfmi_tf_P1[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+#define P1 sfmi_tf_P1
 
 static double total_cost(const double *const xs[3], const int *idx, int n, const double *P2,
                          const double *P3, const double *X)
@@ -156,17 +157,6 @@ static void kron_add_lower(double *S, double acc[KRON_MAX][XX_N], int nk, double
                 }
             }
         }
-}
-
-static void normalize12(double *P)
-{
-    double s = 0;
-    for (int k = 0; k < 12; k++)
-        s += P[k] * P[k];
-    s = sqrt(s);
-    if (s > 0)
-        for (int k = 0; k < 12; k++)
-            P[k] /= s;
 }
 
 /* The LM system: cameras A2, A3 and points X at the current point; the
@@ -352,8 +342,8 @@ static double tf_trial(void *self)
 static void tf_accept(void *self)
 {
     tf_sys *c = self;
-    normalize12(c->B2);
-    normalize12(c->B3);
+    (void)sfmi_trifocal_normalize(c->B2, 12);
+    (void)sfmi_trifocal_normalize(c->B3, 12);
     memcpy(c->A2, c->B2, sizeof c->A2);
     memcpy(c->A3, c->B3, sizeof c->A3);
     double *t = c->X;
@@ -381,8 +371,8 @@ double sfmi_tf_refine(const double *x1, const double *x2, const double *x3, cons
     c.S = w->S;
     memcpy(c.A2, P2, sizeof c.A2);
     memcpy(c.A3, P3, sizeof c.A3);
-    normalize12(c.A2);
-    normalize12(c.A3);
+    (void)sfmi_trifocal_normalize(c.A2, 12);
+    (void)sfmi_trifocal_normalize(c.A3, 12);
     /* Initial points: optimal triangulation under the current cameras,
      * unless the caller has it. */
     for (int q = 0; q < n; q++) {

@@ -6,6 +6,9 @@
 
 #include "core/arena.h"
 
+/* P1 = [I | 0], the first camera of the projective frame. */
+extern const double sfmi_tf_P1[12];
+
 typedef struct sfmi_tf_refine_ws {
     double *X;    /* 4n: current homogeneous points */
     double *Xold; /* 4n: points of the trial step */

@@ -112,17 +112,20 @@ int sfm_trifocal_from_cameras(const double P1[12], const double P2[12], const do
 }
 
 /* Unit null vector (right singular vector of the smallest singular value) of
- * a 3x3 matrix, or of its transpose when left != 0. */
-static int null3(const double M[9], int left, double v[3])
+ * a 3x3 matrix, or of its transpose when left != 0: the eigenvector of the
+ * smallest eigenvalue l3 of the Gram matrix G (M^T M, or M M^T), l3 from
+ * the characteristic cubic, the vector orthogonal to the rows of G - l3 I.
+ * The error of that vector is about eps l1 / (l2 - l3); where the gap
+ * l2 - l3 is below 1e-6 of the trace (the vector poorly determined to
+ * start with), or G - l3 I is not of rank 2, the SVD of M gives it. */
+static int null3_svd(const double *A, double v[3])
 {
-    double A[9], V[9], S[3];
+    double B[9], V[9], S[3];
     unsigned char ws[2048];
     if (sfm_svd_workspace_size(3, 3) > sizeof ws)
         return SFM_E_WORKSPACE;
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            A[r * 3 + c] = left ? M[c * 3 + r] : M[r * 3 + c];
-    int st = sfm_svd(A, 3, 3, NULL, S, V, ws, sizeof ws);
+    memcpy(B, A, sizeof B);
+    int st = sfm_svd(B, 3, 3, NULL, S, V, ws, sizeof ws);
     if (st < 0)
         return st;
     for (int r = 0; r < 3; r++)
@@ -130,14 +133,46 @@ static int null3(const double M[9], int left, double v[3])
     return SFM_OK;
 }
 
-static void fix_sign(double v[3])
+static int null3(const double M[9], int left, double v[3])
+{
+    double G[9], c[3], n[3];
+    if (left)
+        sfmi_matmul3_nt(M, M, G);
+    else
+        sfmi_matmul3_tn(M, M, G);
+    /* det(x I + G) = x^3 + tr x^2 + c2 x + det: its largest root is -l3 */
+    const double tr = G[0] + G[4] + G[8];
+    const double c2 = (G[0] * G[4] - G[1] * G[1]) + (G[0] * G[8] - G[2] * G[2]) + (G[4] * G[8] - G[5] * G[5]);
+    sfmi_cross3(&G[3], &G[6], c);
+    const double l3 = -sfmi_cubic_largest_root(tr, c2, sfmi_dot3(G, c));
+    /* l1 + l2 = tr - l3 = s, l1 l2 = c2 - l3 s: l2 the smaller root */
+    const double sum = tr - l3, prod = c2 - l3 * sum;
+    const double l2 = 0.5 * (sum - sqrt(fmax(sum * sum - 4.0 * prod, 0.0)));
+    if (tr > 0.0 && l2 - l3 > 1e-6 * tr) {
+        for (int k = 0; k < 9; k += 4)
+            G[k] -= l3;
+        const double m = sfmi_rank2_null3(G, G + 3, G + 6, 1e-6, n);
+        if (m > 0.0 && isfinite(m)) {
+            const double s = 1.0 / sqrt(m);
+            for (int k = 0; k < 3; k++)
+                v[k] = n[k] * s;
+            return SFM_OK;
+        }
+    }
+    double A[9];
+    for (int k = 0; k < 9; k++)
+        A[k] = left ? M[(k % 3) * 3 + k / 3] : M[k];
+    return null3_svd(A, v);
+}
+
+void sfmi_trifocal_fix_sign(double *v, int n)
 {
     int m = 0;
-    for (int i = 1; i < 3; i++)
+    for (int i = 1; i < n; i++)
         if (fabs(v[i]) > fabs(v[m]))
             m = i;
     if (v[m] < 0)
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < n; i++)
             v[i] = -v[i];
 }
 
@@ -171,8 +206,8 @@ int sfm_trifocal_epipoles(const double T[27], double e2[3], double e3[3])
         return st;
     if (sfmi_trifocal_normalize(a, 3) != SFM_OK || sfmi_trifocal_normalize(b, 3) != SFM_OK)
         return SFM_E_SINGULAR;
-    fix_sign(a);
-    fix_sign(b);
+    sfmi_trifocal_fix_sign(a, 3);
+    sfmi_trifocal_fix_sign(b, 3);
     memcpy(e2, a, sizeof a);
     memcpy(e3, b, sizeof b);
     return SFM_OK;

@@ -2,7 +2,8 @@
  * Three-view reprojection error of a point triplet: linear triangulation
  * from the three projective cameras (sfm_triangulate_dlt),
  * then Gauss-Newton on the summed squared pixel error. The point stays
- * homogeneous (unit 4-vector, updated in its 3-dimensional tangent space) so
+ * homogeneous (unit 4-vector, updated in its 3-dimensional tangent space,
+ * the basis of the LM driver's sphere update, core/lm.h) so
  * points at infinity of a projective frame need no special case. BoofCV's
  * evaluation of trifocal estimators found this error the most reliable for
  * scoring; it is the geometric (gold standard) error for fixed cameras.
@@ -11,6 +12,7 @@
 #include <string.h>
 
 #include "core/linalg_util.h"
+#include "core/lm.h"
 #include "sfm/sfm_triangulate.h"
 #include "sfm/sfm_trifocal.h"
 #include "solvers/trifocal_internal.h"
@@ -55,28 +57,6 @@ static double cost_jac(const double *P[3], const double *x[3], const double X[4]
     return c;
 }
 
-/* Orthonormal basis B (4x3, columns) of the complement of unit X, from the
- * Householder reflector that maps X to a multiple of e_a. */
-void sfmi_trifocal_tangent_basis(const double X[4], double B[12])
-{
-    int a = 0;
-    for (int k = 1; k < 4; k++)
-        if (fabs(X[k]) > fabs(X[a]))
-            a = k;
-    double v[4];
-    memcpy(v, X, sizeof v);
-    v[a] += X[a] >= 0 ? 1.0 : -1.0;
-    double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3];
-    int col = 0;
-    for (int c = 0; c < 4; c++) {
-        if (c == a)
-            continue;
-        for (int r = 0; r < 4; r++)
-            B[r * 3 + col] = (r == c ? 1.0 : 0.0) - 2.0 * v[r] * v[c] / vv;
-        col++;
-    }
-}
-
 int sfm_trifocal_point_error(const double P1[12], const double P2[12], const double P3[12],
                              const double x1[2], const double x2[2], const double x3[2],
                              double *err2, double Xout[4])
@@ -86,13 +66,9 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_ARGUMENT;
     const double *P[3] = {P1, P2, P3};
     const double *x[3] = {x1, x2, x3};
-    for (int v = 0; v < 3; v++) {
-        for (int k = 0; k < 12; k++)
-            if (!isfinite(P[v][k]))
-                return SFM_E_NONFINITE;
-        if (!isfinite(x[v][0]) || !isfinite(x[v][1]))
+    for (int v = 0; v < 3; v++)
+        if (!sfmi_la_all_finite(P[v], 12) || !sfmi_la_all_finite(x[v], 2))
             return SFM_E_NONFINITE;
-    }
     /* Linear start from the three views; a point at infinity of the
      * projective frame comes back as a direction, homogeneous (d, 0). */
     double Ps[36], xv[6], X3[3], X[4];
@@ -118,7 +94,7 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
         double B[12], H[9] = {0}, Hi[9], g[3] = {0}, d[3];
-        sfmi_trifocal_tangent_basis(X, B);
+        sfmi_lm_sphere_basis(X, 4, B);
         for (int h = 0; h < 6; h++) {
             const double *j = &J[4 * h];
             double jb[3];

@@ -58,7 +58,7 @@ SFM_TEST(tri_null_recovers_known_vector)
 {
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
     static const int dims[][2] = {{1, 1}, {3, 2}, {9, 9}, {28, 27}, {27, 15}, {30, 27}};
-    double s[TN_MAX], v[TN_MAX], scratch[4 * TN_MAX], worst = 0.0;
+    double s[TN_MAX], v[TN_MAX], scratch[5 * TN_MAX], worst = 0.0;
     for (int it = 0; it < SFM_TEST_ITERS(20); it++)
         for (size_t d = 0; d < sizeof dims / sizeof dims[0]; d++) {
             int m = dims[d][0], n = dims[d][1];
@@ -69,7 +69,7 @@ SFM_TEST(tri_null_recovers_known_vector)
             if (n > 1)
                 s[n - 1] = (it % 2) ? 0.0 : 1e-3 * s[n - 2];
             tn_build(t, s, m, n, R, V);
-            SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, n, v, scratch), 1);
+            SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, n, 1e-13, v, scratch), 1);
             double nrm = 0.0;
             for (int i = 0; i < n; i++)
                 nrm += v[i] * v[i];
@@ -86,12 +86,12 @@ SFM_TEST(tri_null_slow_contraction_still_converges)
 {
     /* s_n / s_{n-1} = 0.7: about 50 steps for 1e-13 */
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
-    double s[27], v[27], scratch[108];
+    double s[27], v[27], scratch[135];
     for (int k = 0; k < 27; k++)
         s[k] = 1.0 - 0.02 * k;
     s[26] = 0.7 * s[25];
     tn_build(t, s, 28, 27, R, V);
-    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch), 1);
     SFM_CHECK(tn_err(v, V, 27) < 1e-11);
 }
 
@@ -100,14 +100,14 @@ SFM_TEST(tri_null_two_vector_phase)
     /* s_n / s_{n-1} = 0.97: one vector would need hundreds of steps; the
      * pair converges at (s_n / s_{n-2})^2 = 0.25 a step */
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
-    double s[27], v[27], scratch[108];
+    double s[27], v[27], scratch[135];
     for (int it = 0; it < SFM_TEST_ITERS(10); it++) {
         for (int k = 0; k < 27; k++)
             s[k] = 1.0 - 0.02 * k;
         s[26] = 0.5 * s[24];
         s[25] = s[26] / 0.97;
         tn_build(t, s, 28, 27, R, V);
-        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
+        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch), 1);
         double e = tn_err(v, V, 27);
         SFM_CHECK_MSG(e < 1e-11, "error %g", e);
     }
@@ -117,14 +117,14 @@ SFM_TEST(tri_null_exact_zero_pivots)
 {
     /* singular triangular matrices: zero last pivot, zero interior pivot */
     static double R[27 * 27];
-    double v[27], scratch[108];
+    double v[27], scratch[135];
     for (int zero = 26; zero >= 10; zero -= 16) {
         for (int i = 0; i < 27; i++)
             for (int j = 0; j < 27; j++)
                 R[i * 27 + j] = j < i ? 0.0 : sfm_test_uniform(t, -1, 1);
         for (int i = 0; i < 27; i++)
             R[i * 27 + i] = (i == zero) ? 0.0 : 1.0 + sfm_test_uniform(t, 0, 1);
-        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 1);
+        SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch), 1);
         double r2 = 0.0;
         for (int i = 0; i < 27; i++) {
             double acc = 0.0;
@@ -141,22 +141,22 @@ SFM_TEST(tri_null_declines_without_a_gap)
     /* two equal smallest singular values, a zero and a NaN matrix: 0 and v
      * untouched, so the caller falls back to the SVD */
     static double R[TN_MAX * TN_MAX], V[TN_MAX * TN_MAX];
-    double s[27], v[27], scratch[108];
+    double s[27], v[27], scratch[135];
     for (int k = 0; k < 27; k++)
         s[k] = 1.0 - 0.02 * k;
     s[26] = s[25];
     tn_build(t, s, 28, 27, R, V);
     for (int i = 0; i < 27; i++)
         v[i] = 42.0;
-    int got = sfmi_la_tri_smallest_right(R, 27, v, scratch);
+    int got = sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch);
     SFM_CHECK_EQ_INT(got, 0);
     for (int i = 0; i < 27; i++)
         SFM_CHECK(v[i] == 42.0);
     memset(R, 0, sizeof(double) * 27 * 27);
-    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 0);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch), 0);
     R[5] = (double)NAN;
     R[0] = 1.0;
-    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, v, scratch), 0);
+    SFM_CHECK_EQ_INT(sfmi_la_tri_smallest_right(R, 27, 1e-13, v, scratch), 0);
     for (int i = 0; i < 27; i++)
         SFM_CHECK(v[i] == 42.0);
 }
