@@ -75,6 +75,21 @@ void sfmi_selfcal_omega(const double P[12], const double Q[16], double W[9])
         }
 }
 
+void sfmi_selfcal_set_q(const double q[10], int m, const double Pc[][12], double Q[16], double *nu)
+{
+    for (int k = 0; k < 10; k++)
+        Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = q[k];
+    /* sign: Q* is positive semi-definite, so its trace is positive */
+    if (Q[0] + Q[5] + Q[10] + Q[15] < 0)
+        for (int k = 0; k < 16; k++)
+            Q[k] = -Q[k];
+    for (int i = 0; i < m; i++) {
+        double W[9];
+        sfmi_selfcal_omega(Pc[i], Q, W);
+        nu[i] = fabs(W[8]) > 1e-12 ? fabs(W[8]) : 1.0;
+    }
+}
+
 /* Upper-triangular K with K K^T = W (W positive definite, scaled so
  * K_22 = 1). 0 when W is not positive definite. */
 int sfmi_selfcal_upper_cholesky(const double Win[9], double K[9])
@@ -238,17 +253,7 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
             double c = quad10(Astrong, q);
             *weak_ratio = lmin > 0 ? sqrt(fmax(c, 0) / lmin) : 1.0;
         }
-        for (int k = 0; k < 10; k++)
-            Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = q[k];
-        /* sign: Q* is positive semi-definite, so its trace is positive */
-        if (Q[0] + Q[5] + Q[10] + Q[15] < 0)
-            for (int k = 0; k < 16; k++)
-                Q[k] = -Q[k];
-        for (int i = 0; i < m; i++) {
-            double W[9];
-            sfmi_selfcal_omega(Pc[i], Q, W);
-            nu[i] = fabs(W[8]) > 1e-12 ? fabs(W[8]) : 1.0;
-        }
+        sfmi_selfcal_set_q(q, m, (const double(*)[12])Pc, Q, nu);
     }
     if (res->null_ratio > AMBIGUOUS_RATIO)
         res->flags |= SFM_SELFCAL_FLAG_AMBIGUOUS;

@@ -17,6 +17,11 @@ void sfmi_selfcal_omega_row(const double P[12], int a, int b, double r[10]);
 void sfmi_selfcal_add_row(double A[100], const double r[10], double w);
 /* W = P Q P^T (3x3). */
 void sfmi_selfcal_omega(const double P[12], const double Q[16], double W[9]);
+/* Q (4x4, symmetric) from its 10 upper-triangular entries q, signed so that
+ * its trace is positive (Q* is positive semi-definite), and each view's
+ * |w*_22| into nu (m; 1 where it vanishes), the reweighting of the second
+ * pass. */
+void sfmi_selfcal_set_q(const double q[10], int m, const double Pc[][12], double Q[16], double *nu);
 /* Upper-triangular K with K K^T = W / W_22; 0 when W is not positive
  * definite. */
 int sfmi_selfcal_upper_cholesky(const double W[9], double K[9]);

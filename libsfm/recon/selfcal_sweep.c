@@ -181,18 +181,10 @@ static int known_k_upgrade(const ctx *c, double f, double H[16])
         st = sfm_sym_eig(A, 10, w10, V10, ews, sizeof ews);
         if (st < 0)
             return st;
-        static const int QI[10] = {0, 0, 0, 0, 1, 1, 1, 2, 2, 3};
-        static const int QJ[10] = {0, 1, 2, 3, 1, 2, 3, 2, 3, 3};
+        double q[10];
         for (int k = 0; k < 10; k++)
-            Q[4 * QI[k] + QJ[k]] = Q[4 * QJ[k] + QI[k]] = V10[k * 10];
-        if (Q[0] + Q[5] + Q[10] + Q[15] < 0)
-            for (int k = 0; k < 16; k++)
-                Q[k] = -Q[k];
-        for (int i = 0; i < m; i++) {
-            double W[9];
-            sfmi_selfcal_omega(Pc[i], Q, W);
-            nu[i] = fabs(W[8]) > 1e-12 ? fabs(W[8]) : 1.0;
-        }
+            q[k] = V10[k * 10];
+        sfmi_selfcal_set_q(q, m, (const double(*)[12])Pc, Q, nu);
     }
     int flags = 0;
     st = sfmi_selfcal_rank3(Q, &flags, ews, sizeof ews);
