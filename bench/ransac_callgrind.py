@@ -7,7 +7,8 @@ libsfm.a given, and prints callgrind's instruction count per call (whole
 program over the row's scenes, divided by their number; start-up is the
 same for every build) and the ratio of the second build to the first.
 
-Usage: python bench/ransac_callgrind.py [--scenes 5] build/libsfm.a [other/libsfm.a]
+Usage: python bench/ransac_callgrind.py [--scenes 5] [--rows "unit,200,0.25,2;..."]
+       build/libsfm.a [other/libsfm.a]
 """
 import argparse
 import os
@@ -44,6 +45,8 @@ def instructions(drv, path):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--scenes", type=int, default=5)
+    ap.add_argument("--rows", default=None,
+                    help='rows instead of the default ones: "unit,200,0.25,2;small,1000,0.5,1"')
     ap.add_argument("libs", nargs="+")
     a = ap.parse_args()
     tmp = tempfile.mkdtemp()
@@ -55,7 +58,9 @@ def main():
         drivers.append(drv)
     print("row | " + " | ".join("M instr/call (%s)" % lib for lib in a.libs) +
           (" | ratio" if len(a.libs) == 2 else ""))
-    for i, row in enumerate(ROWS):
+    rows = ROWS if a.rows is None else [
+        (c, int(n), float(r), float(t)) for c, n, r, t in (x.split(",") for x in a.rows.split(";"))]
+    for i, row in enumerate(rows):
         path = os.path.join(tmp, "row%d.bin" % i)
         sc = scenes(row, a.scenes)
         with open(path, "wb") as f:
