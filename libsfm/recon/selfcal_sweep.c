@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "core/dmath.h"
 #include "core/linalg_util.h"
 #include "recon/selfcal_internal.h"
 #include "sfm/sfm_ba.h"
@@ -226,7 +227,7 @@ static int start_from_h(ctx *c, const double Hin[16], const double *fv)
                    M[2] * (M[3] * M[7] - M[4] * M[6]);
         if (!(fabs(d) > 0) || !isfinite(d))
             return SFM_E_SINGULAR;
-        double s = cbrt(d); /* sign included: -P is the same camera */
+        double s = sfmi_cbrt(d); /* sign included: -P is the same camera */
         for (int k = 0; k < 9; k++)
             M[k] /= s;
         if (sfm_rot_nearest(M, Rr[i]) < 0)
@@ -609,10 +610,10 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     double u_best = 0;
     int swept = o.sweep == SFM_SELFCAL_SWEEP_ALWAYS || path == SFM_SELFCAL_PATH_NONE;
     if (swept) {
-        const double u0 = log(o.focal_min * s0), du = (log(o.focal_max * s0) - u0) / (steps - 1);
+        const double u0 = sfmi_log(o.focal_min * s0), du = (sfmi_log(o.focal_max * s0) - u0) / (steps - 1);
         int kb = -1;
         for (int k = 0; k < steps; k++) {
-            rep.sweep_focal[k] = exp(u0 + du * k);
+            rep.sweep_focal[k] = sfmi_exp(u0 + du * k);
             rep.sweep_cost[k] = score(&c, rep.sweep_focal[k]);
             if (rep.sweep_cost[k] < HUGE_VAL && (kb < 0 || rep.sweep_cost[k] < rep.sweep_cost[kb]))
                 kb = k;
@@ -623,16 +624,16 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
             const double g = 0.5 * (sqrt(5.0) - 1);
             double lo = u0 + du * (kb > 0 ? kb - 1 : kb), hi = u0 + du * (kb < steps - 1 ? kb + 1 : kb);
             double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-            double f1 = score(&c, exp(x1)), f2 = score(&c, exp(x2));
+            double f1 = score(&c, sfmi_exp(x1)), f2 = score(&c, sfmi_exp(x2));
             for (int it = 0; it < GOLDEN_STEPS; it++) {
                 if (f1 <= f2) {
                     hi = x2, x2 = x1, f2 = f1;
                     x1 = hi - g * (hi - lo);
-                    f1 = score(&c, exp(x1));
+                    f1 = score(&c, sfmi_exp(x1));
                 } else {
                     lo = x1, x1 = x2, f1 = f2;
                     x2 = lo + g * (hi - lo);
-                    f2 = score(&c, exp(x2));
+                    f2 = score(&c, sfmi_exp(x2));
                 }
             }
             u_best = u0 + du * kb;
@@ -641,7 +642,7 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
                 u_best = x1, cb = f1;
             if (f2 < cb)
                 u_best = x2;
-            rep.focal_sweep = exp(u_best);
+            rep.focal_sweep = sfmi_exp(u_best);
             /* the free-focal adjustment from the best candidate */
             double Hs[16], fv[SFM_SELFCAL_MAX_VIEWS], cost;
             for (int i = 0; i < m; i++)
@@ -691,13 +692,13 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     /* 4. the profile */
     const double var = noise_variance(&c, cost, 1);
     rep.noise_sigma = sqrt(var / 2);
-    const double cp = warm_score(&c, fv[0] * exp(PROFILE_STEP));
-    const double cm = warm_score(&c, fv[0] * exp(-PROFILE_STEP));
+    const double cp = warm_score(&c, fv[0] * sfmi_exp(PROFILE_STEP));
+    const double cm = warm_score(&c, fv[0] * sfmi_exp(-PROFILE_STEP));
     const double curv = (cp + cm - 2 * cost) / (PROFILE_STEP * PROFILE_STEP);
     rep.focal_sigma = curv > 0 && var < HUGE_VAL ? sqrt(var / curv) : HUGE_VAL;
     double far = fmin(warm_score(&c, fv[0] * FAR_FACTOR), warm_score(&c, fv[0] / FAR_FACTOR));
     for (int k = 0; k < rep.sweep_count; k++)
-        if (fabs(log(rep.sweep_focal[k] / fv[0])) > log(FAR_FACTOR))
+        if (fabs(sfmi_log(rep.sweep_focal[k] / fv[0])) > sfmi_log(FAR_FACTOR))
             far = fmin(far, rep.sweep_cost[k]);
     rep.profile_rise = var > 0 && var < HUGE_VAL ? (far - cost) / var : 0.0;
     quality(&c, fv, &rep.rms, &rep.front_fraction);
