@@ -9,7 +9,7 @@ import threading
 
 import numpy as np
 
-from ._ffi import SfmError, check, ffi, int_array, lib, to_float, to_int
+from ._ffi import SfmError, as_array, check, dptr, ffi, int_array, lib, to_float, to_int
 
 __all__ = ["detect_and_describe", "match", "associate_three_views", "align_points", "KEYPOINT_COLUMNS",
            "FEATURE_DEFAULTS", "MATCH_DEFAULTS", "ALIGN_DEFAULTS"]
@@ -66,6 +66,18 @@ def _descriptors(d, name):
     return np.ascontiguousarray(arr)
 
 
+def _gray_view(img, name):
+    arr = np.asarray(img)
+    if arr.ndim != 2 or arr.dtype != np.uint8:
+        raise ValueError("%s must be a 2-D uint8 array, got %s %s" % (name, arr.shape, arr.dtype))
+    arr = np.ascontiguousarray(arr)
+    view = ffi.new("sfm_image_u8 *")
+    view.data = ffi.cast("const uint8_t *", ffi.from_buffer(arr))
+    view.height, view.width = arr.shape
+    view.stride = arr.strides[0]
+    return arr, view
+
+
 def detect_and_describe(image, max_features=_F["max_features"], n_levels=_F["n_levels"],
                         scale_factor=_F["scale_factor"], fast_threshold=_F["fast_threshold"],
                         cell_size=_F["cell_size"]):
@@ -81,10 +93,7 @@ def detect_and_describe(image, max_features=_F["max_features"], n_levels=_F["n_l
     Returns (keypoints (n, 6) float64, descriptors (n, 32) uint8); keypoint
     columns x, y (level-0 pixels), angle (radians), response, scale, level.
     """
-    img = np.asarray(image)
-    if img.ndim != 2 or img.dtype != np.uint8:
-        raise ValueError("image must be a 2-D uint8 array, got %s %s" % (img.shape, img.dtype))
-    img = np.ascontiguousarray(img)
+    img, view = _gray_view(image, "image")
     p = ffi.new("sfm_features_params *")
     check(lib.sfm_features_default_params(p))
     p.max_features = to_int(max_features, "max_features", 1, lib.SFM_FEATURES_MAX_FEATURES)
@@ -99,9 +108,6 @@ def detect_and_describe(image, max_features=_F["max_features"], n_levels=_F["n_l
     if need == 0:
         raise ValueError("invalid feature parameters or image size %dx%d" % (w, h))
     ws = _workspace(need)
-    view = ffi.new("sfm_image_u8 *")
-    view.data = ffi.cast("const uint8_t *", ffi.from_buffer(img))
-    view.width, view.height, view.stride = w, h, img.strides[0]
     cap = max(p.max_features, 1)
     kps = np.empty(cap, dtype=_KP_DTYPE)
     desc = np.empty((cap, 32), dtype=np.uint8)
@@ -215,18 +221,6 @@ ALIGN_DEFAULTS = _c_align_defaults()
 _A = ALIGN_DEFAULTS
 
 
-def _gray_view(img, name):
-    arr = np.asarray(img)
-    if arr.ndim != 2 or arr.dtype != np.uint8:
-        raise ValueError("%s must be a 2-D uint8 array, got %s %s" % (name, arr.shape, arr.dtype))
-    arr = np.ascontiguousarray(arr)
-    view = ffi.new("sfm_image_u8 *")
-    view.data = ffi.cast("const uint8_t *", ffi.from_buffer(arr))
-    view.height, view.width = arr.shape
-    view.stride = arr.strides[0]
-    return arr, view
-
-
 def align_points(ref, x_ref, img, x, radius=_A["radius"], max_iterations=_A["max_iterations"],
                  max_shift=_A["max_shift"], min_zncc=_A["min_zncc"], min_eigen_ratio=_A["min_eigen_ratio"]):
     """Photometric (Lucas-Kanade) refinement of correspondences: the patch of
@@ -238,7 +232,6 @@ def align_points(ref, x_ref, img, x, radius=_A["radius"], max_iterations=_A["max
     image, correlation below min_zncc) keeps its start. Defaults are the C
     library's (ALIGN_DEFAULTS).
     """
-    from ._ffi import as_array, dptr
     a, va = _gray_view(ref, "ref")
     b, vb = _gray_view(img, "img")
     xr = as_array(x_ref, (None, 2), "x_ref")
