@@ -108,8 +108,7 @@ static int settle(double *x, const double *y, int n, double tol, double *prev)
  * is not finite, 0, the caller's SVD). */
 static int inverse_step(const double *R, int n, const double *dinv, double *y)
 {
-    solve_rt(R, n, dinv, y);
-    solve_r(R, n, dinv, y);
+    sfmi_la_tri_gram_solve(R, n, dinv, y);
     return normalize(y, n);
 }
 

@@ -113,13 +113,13 @@ int sfmi_selfcal_upper_cholesky(const double Win[9], double K[9])
     return 1;
 }
 
-static double det3(const double M[9])
+double sfmi_selfcal_det3(const double M[9])
 {
     return M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
            M[2] * (M[3] * M[7] - M[4] * M[6]);
 }
 
-static void mul44(const double A[16], const double B[16], double C[16])
+void sfmi_selfcal_mul44(const double A[16], const double B[16], double C[16])
 {
     for (int r = 0; r < 4; r++)
         for (int c = 0; c < 4; c++) {
@@ -347,7 +347,7 @@ int sfmi_selfcal_rectify(int m, const double *P, const double Q[16], const doubl
     for (int c = 0; c < 3; c++)
         H1[12 + c] = -(pinf[0] * K1[c] + pinf[1] * K1[3 + c] + pinf[2] * K1[6 + c]);
     H1[15] = 1;
-    mul44(H0, H1, Ht);
+    sfmi_selfcal_mul44(H0, H1, Ht);
 
     /* mirror by cheirality */
     long front = 0, total = 0;
@@ -362,7 +362,7 @@ int sfmi_selfcal_rectify(int m, const double *P, const double Q[16], const doubl
             for (int r = 0; r < 3; r++)
                 for (int c = 0; c < 3; c++)
                     M[3 * r + c] = Pm[4 * r + c];
-            dets[i] = det3(M);
+            dets[i] = sfmi_selfcal_det3(M);
         }
         for (int j = 0; j < n; j++) {
             const double *Xj = &X[4 * (size_t)j];

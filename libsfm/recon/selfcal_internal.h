@@ -25,6 +25,10 @@ void sfmi_selfcal_set_q(const double q[10], int m, const double Pc[][12], double
 /* Upper-triangular K with K K^T = W / W_22; 0 when W is not positive
  * definite. */
 int sfmi_selfcal_upper_cholesky(const double W[9], double K[9]);
+/* det M (3x3). */
+double sfmi_selfcal_det3(const double M[9]);
+/* C = A B (4x4). */
+void sfmi_selfcal_mul44(const double A[16], const double B[16], double C[16]);
 void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12]);
 /* A = B^{-1} (4x4, LU); 0 when singular. */
 int sfmi_selfcal_inv44(const double B[16], double A[16]);

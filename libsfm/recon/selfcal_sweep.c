@@ -223,8 +223,7 @@ static int start_from_h(ctx *c, const double Hin[16], const double *fv)
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
                 M[3 * r + k] = Pm[4 * r + k];
-        double d = M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
-                   M[2] * (M[3] * M[7] - M[4] * M[6]);
+        double d = sfmi_selfcal_det3(M);
         if (!(fabs(d) > 0) || !isfinite(d))
             return SFM_E_SINGULAR;
         double s = sfmi_cbrt(d); /* sign included: -P is the same camera */
@@ -261,13 +260,7 @@ static int start_from_h(ctx *c, const double Hin[16], const double *fv)
         T[4 * r + 3] = -sig * (R0[r] * t0[0] + R0[3 + r] * t0[1] + R0[6 + r] * t0[2]);
     }
     T[15] = sig;
-    for (int r = 0; r < 4; r++)
-        for (int k = 0; k < 4; k++) {
-            double s = 0;
-            for (int l = 0; l < 4; l++)
-                s += Hin[4 * r + l] * T[4 * l + k];
-            Ht[4 * r + k] = s;
-        }
+    sfmi_selfcal_mul44(Hin, T, Ht);
     for (int i = 0; i < m; i++) {
         /* R_i' = R_i R0^T, t_i' = sig (t_i - R_i' t0) */
         double *Ri = &c->R[9 * i], *ti = &c->t[3 * i];
@@ -686,7 +679,6 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     for (int i = 0; i < m; i++)
         rep.focal_view[i] = fv[i];
     rep.points = c.np;
-    rep.evaluations = c.evaluations;
     rep.observations = c.no;
 
     /* 4. the profile */
