@@ -567,8 +567,11 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
  * the 10x20 matrix (up to the rows' scaling, which does not move a root).
  * Along D (one of X, Y, Z) the derivatives are (P + P^T - tr(P) I) E + A D,
  * P = D E^T, A = E E^T - tr(E E^T)/2 I, and the sum of D .* cof(E). The
- * caller runs it only when E is above rounding level. Returns 1 when no
- * step was taken (singular normal equations), else 0. */
+ * caller runs it only when E is above rounding level, which
+ * essential_at_rounding has just measured: A (its six distinct entries
+ * a00 a01 a02 a11 a12 a22) and the nine entries of A E come from there,
+ * with the same bits as computed here. Returns 1 when no step was taken
+ * (singular normal equations), else 0. */
 #define MM3(X, Y, i, j) (X[3 * (i)] * Y[j] + X[3 * (i) + 1] * Y[3 + (j)] + X[3 * (i) + 2] * Y[6 + (j)])
 #define MMT3(X, Y, i, j)                                                        \
     (X[3 * (i)] * Y[3 * (j)] + X[3 * (i) + 1] * Y[3 * (j) + 1] + X[3 * (i) + 2] * Y[3 * (j) + 2])
@@ -581,19 +584,12 @@ static inline void cubic_cross(const double *a, const double *b, const double *c
             F(i_, j_)                                                          \
         }
 #endif
-static int refine(const double *const nv[4], const double *E, double *px, double *py, double *pz)
+static int refine(const double *const nv[4], const double *E, const double *a6, const double *ae,
+                  double *px, double *py, double *pz)
 {
-    double A[9], f[10], J[3][10];
-#define A_ENTRY(i, j) A[3 * (i) + (j)] = MMT3(E, E, i, j);
-    FOR_IJ(A_ENTRY)
-#undef A_ENTRY
-    const double h = 0.5 * (A[0] + A[4] + A[8]);
-    A[0] -= h;
-    A[4] -= h;
-    A[8] -= h;
-#define F_ENTRY(i, j) f[3 * (i) + (j)] = MM3(A, E, i, j);
-    FOR_IJ(F_ENTRY)
-#undef F_ENTRY
+    const double A[9] = {a6[0], a6[1], a6[2], a6[1], a6[3], a6[4], a6[2], a6[4], a6[5]};
+    double f[10], J[3][10];
+    memcpy(f, ae, 9 * sizeof(double));
     /* cofactors of E: det(E) = sum E .* C, its derivative along D sum D .* C */
     const double C[9] = {E[4] * E[8] - E[5] * E[7], E[5] * E[6] - E[3] * E[8], E[3] * E[7] - E[4] * E[6],
                          E[2] * E[7] - E[1] * E[8], E[0] * E[8] - E[2] * E[6], E[1] * E[6] - E[0] * E[7],
@@ -680,8 +676,11 @@ static inline void row_axpy(double *restrict r, const double *restrict p, double
  * (That constraint alone implies det(E) = 0: on the singular values it
  * reads s_i (s_i^2 - (s_1^2 + s_2^2 + s_3^2)/2) = 0, whose only solutions
  * with a nonzero s are two equal values and a zero; near it, the smallest
- * singular value is bounded by the residual.) *n2 = |E|^2 (Frobenius). */
-static int essential_at_rounding(const double *E, double *n2_out)
+ * singular value is bounded by the residual.) *n2 = |E|^2 (Frobenius);
+ * a6: the distinct entries of E E^T - |E|^2/2 I (a00 a01 a02 a11 a12 a22)
+ * and ae: that matrix times E, row-major, for the Gauss-Newton step that
+ * follows a 0. */
+static int essential_at_rounding(const double *E, double *n2_out, double *a6, double *ae)
 {
     double a00 = E[0] * E[0] + E[1] * E[1] + E[2] * E[2];
     double a01 = E[0] * E[3] + E[1] * E[4] + E[2] * E[5];
@@ -694,6 +693,12 @@ static int essential_at_rounding(const double *E, double *n2_out)
     a00 -= h;
     a11 -= h;
     a22 -= h;
+    a6[0] = a00;
+    a6[1] = a01;
+    a6[2] = a02;
+    a6[3] = a11;
+    a6[4] = a12;
+    a6[5] = a22;
     double c = 0.0;
     int j = 0;
 #if RP5_WRITTEN_OUT
@@ -706,15 +711,24 @@ static int essential_at_rounding(const double *E, double *n2_out)
         const rp5_v2 r0 = (rp5_v2){a00, a00} * e0 + (rp5_v2){a01, a01} * e1 + (rp5_v2){a02, a02} * e2;
         const rp5_v2 r1 = (rp5_v2){a01, a01} * e0 + (rp5_v2){a11, a11} * e1 + (rp5_v2){a12, a12} * e2;
         const rp5_v2 r2 = (rp5_v2){a02, a02} * e0 + (rp5_v2){a12, a12} * e1 + (rp5_v2){a22, a22} * e2;
+        memcpy(ae, &r0, sizeof r0);
+        memcpy(ae + 3, &r1, sizeof r1);
+        memcpy(ae + 6, &r2, sizeof r2);
         const rp5_v2 m = vmax_abs(vmax_abs(vmax_abs((rp5_v2){0.0, 0.0}, r0), r1), r2);
         c = m[1] > m[0] ? m[1] : m[0];
         j = 2;
     }
 #endif
     for (; j < 3; j++) {
-        double r0 = fabs(a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j]);
-        double r1 = fabs(a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j]);
-        double r2 = fabs(a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j]);
+        double r0 = a00 * E[j] + a01 * E[3 + j] + a02 * E[6 + j];
+        double r1 = a01 * E[j] + a11 * E[3 + j] + a12 * E[6 + j];
+        double r2 = a02 * E[j] + a12 * E[3 + j] + a22 * E[6 + j];
+        ae[j] = r0;
+        ae[3 + j] = r1;
+        ae[6 + j] = r2;
+        r0 = fabs(r0);
+        r1 = fabs(r1);
+        r2 = fabs(r2);
         c = r0 > c ? r0 : c;
         c = r1 > c ? r1 : c;
         c = r2 > c ? r2 : c;
@@ -971,7 +985,7 @@ static int solve_reduced(const double *N, int perm, double Bred[6][10],
         double x = best[0] / best[2], y = best[1] / best[2];
         /* The Gauss-Newton polish runs only when the cheaper test on E
          * itself finds the constraints above rounding level. */
-        double *o = out[ns], n2;
+        double *o = out[ns], n2, a6[6], ae[9];
         for (int iter = 0;; iter++) {
 #define E_ENTRY(k) o[k] = x * nv[0][k] + y * nv[1][k] + z * nv[2][k] + nv[3][k]
 #if !RP5_WRITTEN_OUT
@@ -994,7 +1008,8 @@ static int solve_reduced(const double *N, int perm, double Bred[6][10],
             }
 #endif
 #undef E_ENTRY
-            if (essential_at_rounding(o, &n2) || iter == REFINE_ITERS || refine(nv, o, &x, &y, &z))
+            if (essential_at_rounding(o, &n2, a6, ae) || iter == REFINE_ITERS ||
+                refine(nv, o, a6, ae, &x, &y, &z))
                 break;
         }
         /* unit Frobenius norm, from the |E|^2 of the test */
