@@ -281,6 +281,43 @@ SFM_TEST(lm_dense_cauchy_loss_ignores_gross_outliers)
     SFM_CHECK_NEAR(b1, 0.5, 0.02);
 }
 
+/* The Cauchy cost, 1/2 sum a^2 log(1 + r^2/a^2), against an independent
+ * sum of log1p in long double: small residuals, residuals whose factors
+ * push the running product past 2^256 (the engine takes powers out) and
+ * one whose factor alone is above 2^256. */
+SFM_TEST(lm_dense_cauchy_cost_matches_sum_of_log1p)
+{
+    fit_data d;
+    d.n = NPTS;
+    const double a = 0.05, a2 = a * a;
+    for (int i = 0; i < d.n; i++) {
+        d.x[i] = i;
+        if (i < 25)
+            d.y[i] = 0.01 * (double)(i + 1); /* factors 1.04 .. 26 */
+        else if (i < 39)
+            d.y[i] = 1e15 * (double)(i - 24); /* about 2^108 each */
+        else
+            d.y[i] = 1e80; /* about 2^540 */
+    }
+    double b0 = 0.0, b1 = 0.0;
+    sfmi_lm_block blk[2] = {{&b0, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL},
+                            {&b1, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
+    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_CAUCHY, a};
+    sfmi_lm_options o;
+    sfmi_lm_default_options(&o);
+    o.max_iterations = 0;
+    double ws[SFMI_LM_DENSE_WS_DOUBLES(2, 2, 1)];
+    sfmi_lm_summary s;
+    SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_OK);
+    long double ref = 0.0L;
+    for (int i = 0; i < d.n; i++) {
+        long double r = (long double)d.y[i];
+        ref += (long double)a2 * log1pl(r * r / (long double)a2);
+    }
+    ref *= 0.5L;
+    SFM_CHECK(fabsl((long double)s.initial_cost - ref) <= 1e-13L * ref);
+}
+
 SFM_TEST(lm_dense_contract_statuses_and_nothing_written)
 {
     fit_data d;
