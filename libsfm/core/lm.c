@@ -377,7 +377,9 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
     /* Cauchy: the sum of a2 log(1 + s/a2) as a2 log of the product of the
      * factors, kept below 2^CAUCHY_SPLIT by counting the powers taken out
      * (one log per evaluation instead of one per residual: the logs were
-     * 6 % of a relative-pose RANSAC call). A factor that could overflow the
+     * 6 % of a relative-pose RANSAC call). Each product rounds once, so the
+     * log is off by at most about n units of 2^-53, the order of the
+     * rounding of a sum of n log1p terms. A factor that could overflow the
      * product, or NaN, takes its own log1p. */
     const int cauchy = !known && p->loss == SFMI_LM_LOSS_CAUCHY;
     double prod = 1.0;
