@@ -85,8 +85,14 @@ def fit_shear(fn, views=(1, 2), step=1e-3, rounds=4):
         else:
             d = -g / max(np.abs(np.diag(H)).max(), 1e-12)
         d = np.clip(d, -4 * h, 4 * h)
-        for a, v in enumerate(vs):
-            s[v] += d[a]
+        for _ in range(4):  # halved until the cost falls
+            t = s.copy()
+            for a, v in enumerate(vs):
+                t[v] += d[a]
+            if fn(t)[0] < c0:
+                s = t
+                break
+            d = d / 2
     return s, fn(s)
 
 
@@ -97,7 +103,7 @@ def real(w, h, r, xs):
     c0, _ = refit(r, X, obs, [f0, f0, cx, cy, k1, k2], ["focal", "radial"], cy=cy)
     n = len(X)
     s2 = 2 * c0 / (6 * n - 3 * n - 6)
-    print("mono_wall: f %.1f (%+.2f %%), sigma %.2f %%, k1 %.3f k2 %.3f, %d points, residual %.3f px"
+    print("answer: f %.1f (%+.2f %%), sigma %.2f %%, k1 %.3f k2 %.3f, %d points, residual %.3f px"
           % (f0, 100 * (f0 / CB["fx"] - 1), 100 * r["report"]["focal_sigma"], k1, k2, n, np.sqrt(s2)))
     print("%-44s %9s %9s %8s %8s %7s %7s %7s %7s" % ("refit", "rise", "rise@0.2", "f", "vs 701", "cx", "cy",
                                                       "k1", "k2"))
@@ -194,7 +200,7 @@ def herzjesu():
         X, obs = inlier_obs(r, xs)
         ref = ["focal"] + (["radial"] if k2 != 0 else ["k1"] if k1 != 0 else [])
         c0, _ = refit(r, X, obs, [f, f, cx, cy, k1, k2], ref, cy=cy)
-        s, (cs, I) = fit_shear(lambda t: refit(r, X, obs, [f, f, cx, cy, k1, k2], ref, t, cy), step=1e-4)
+        s, (cs, I) = fit_shear(lambda t: refit(r, X, obs, [f, f, cx, cy, k1, k2], ref, t, cy), step=2e-5)
         n = len(X)
         s2 = max(2 * c0 / (3 * n - 6), FLOOR ** 2)
         rises.append(2 * (c0 - cs) / s2)
@@ -214,13 +220,17 @@ def main():
     ap.add_argument("--herzjesu", action="store_true")
     ap.add_argument("--features", type=int, default=5000)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--no-align", action="store_true", help="the detector's positions (max_focal_sigma 1)")
+    ap.add_argument("--scene", default="mono_wall", help="another BoofCV triplet (the chessboard column then "
+                    "means nothing): the shear's rise there")
     a = ap.parse_args()
     if a.herzjesu:
         herzjesu()
         return
-    imgs = boof_images("mono_wall")
+    imgs = boof_images(a.scene)
     h, w = imgs[0].shape
-    r = libsfm.reconstruct_three_view_images(*imgs, seed=a.seed, max_features=a.features)
+    r = libsfm.reconstruct_three_view_images(*imgs, seed=a.seed, max_features=a.features, align=not a.no_align,
+                                             **(dict(max_focal_sigma=1.0) if a.no_align else {}))
     if a.synthetic:
         g = libsfm.reconstruct_three_view_images(*imgs, seed=1, max_focal_sigma=1.0)
         synthetic(w, h, g, a.synthetic, a.noise, a.shear3)
