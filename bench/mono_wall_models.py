@@ -14,7 +14,9 @@ fy / fx 0.997, k1, k2; --noise px): the bias the centred model leaves and
 what each refit removes. --herzjesu: the shear rise on the Herz-Jesu-P8
 triplets (still images, ground truth f 2760 px).
 Figures: bench/README.md ("mono_wall against its chessboard").
-Usage: PYTHONPATH=python python bench/mono_wall_models.py [--synthetic 32 --noise 0.12] [--herzjesu]"""
+--warp: the features' own shear, on images warped by a known rotation.
+Usage: PYTHONPATH=python python bench/mono_wall_models.py [--synthetic 32 --noise 0.12 [--shear3 0.0019]]
+       [--herzjesu] [--scene rockview] [--no-align] [--features 10000] [--warp]"""
 import argparse
 import os
 import sys
@@ -212,6 +214,38 @@ def herzjesu():
              np.max(np.abs(moves))))
 
 
+def warp_bias(scenes=("mono_wall", "rockview", "turkey")):
+    """Whether the features themselves shear: view 1 of a scene warped by a
+    known rotation about the centre (no shear; Lanczos), detected, matched
+    and aligned as reconstruct_three_view_images does, and the error against
+    the warp fitted as an affine function of the position: e_x = a + b x +
+    c y, e_y likewise (the y-slope of e_x is what a view's shear would
+    show)."""
+    cv2 = __import__("cv2")
+    from libsfm.features import align_points, detect_and_describe, match
+    for sc in scenes:
+        a = boof_images(sc)[0]
+        h, w = a.shape
+        C = np.array([[1, 0, (w - 1) / 2], [0, 1, (h - 1) / 2], [0, 0, 1]])
+        for rot in (2.0, 5.0):
+            c, s = np.cos(np.radians(rot)), np.sin(np.radians(rot))
+            H = C @ np.array([[c, -s, 0.3], [s, c, -0.2], [0, 0, 1]]) @ np.linalg.inv(C)
+            b = cv2.warpPerspective(a, H, (w, h), flags=cv2.INTER_LANCZOS4)
+            fa, da = detect_and_describe(a, max_features=5000)
+            fb, db = detect_and_describe(b, max_features=5000)
+            m = match(da, db)
+            pa, pb = fa[m[:, 0], :2].astype(float), fb[m[:, 1], :2].astype(float)
+            pb2, ok = align_points(a, pa, b, pb)
+            ph = cv2.perspectiveTransform(pa.reshape(-1, 1, 2), H).reshape(-1, 2)
+            e = pb2 - ph
+            g = ok & (np.hypot(e[:, 0], e[:, 1]) < 2)
+            A = np.c_[np.ones(g.sum()), ph[g, 0] - (w - 1) / 2, ph[g, 1] - (h - 1) / 2]
+            ex = np.linalg.lstsq(A, e[g, 0], rcond=None)[0]
+            ey = np.linalg.lstsq(A, e[g, 1], rcond=None)[0]
+            print("%-10s rotated %.0f deg: %d aligned, RMS %.3f px; e_x y-slope %+.5f, x-slope %+.5f; e_y y-slope "
+                  "%+.5f" % (sc, rot, g.sum(), np.sqrt((e[g] ** 2).sum(1).mean()), ex[2], ex[1], ey[2]))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--synthetic", type=int, default=0)
@@ -223,7 +257,11 @@ def main():
     ap.add_argument("--no-align", action="store_true", help="the detector's positions (max_focal_sigma 1)")
     ap.add_argument("--scene", default="mono_wall", help="another BoofCV triplet (the chessboard column then "
                     "means nothing): the shear's rise there")
+    ap.add_argument("--warp", action="store_true", help="the features' own shear on warped images")
     a = ap.parse_args()
+    if a.warp:
+        warp_bias()
+        return
     if a.herzjesu:
         herzjesu()
         return
