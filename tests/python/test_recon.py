@@ -630,16 +630,16 @@ def test_boofcv_mono_wall_against_the_chessboard():
     (answered since the view-2 and view-3 points are aligned onto view 1's
     patches: 729.7 px, sigma 1.5 %, RMS 0.121 px; before, 762.6 px at sigma
     3.3 % and only with the bound lifted). The chessboard focal length lies
-    within three of the reported standard deviations plus the 3 % the
-    model's centred principal point and unit aspect cost against the
-    chessboard's (+2.7 % measured: the chessboard's lens on this geometry,
-    fitted by the pipeline); the radial terms are kept and move the image
-    corners as the chessboard's do (within 30 %); the pinhole model on the
-    same triplets puts f far off and, at the default bound, is refused.
-    (With the bound lifted, max_focal_sigma = 1, the pinhole answer, 1724
-    px at sigma 3.6 %, is accepted first and the radial cascade refitted
-    from it stops at 783.9 px, k1 -0.237 alone, RMS 0.136 px: a poorer fit
-    than the default's, reached by the cascade's order.)"""
+    within three of the reported standard deviations (+4.1 % at sigma 1.5
+    %: no allowance for the centred principal point, which on these pixels
+    does not move f toward the chessboard: 732.5 px with the chessboard's
+    held, bench/mono_wall_models.py); the radial terms are kept and move
+    the image corners as the chessboard's do (within 30 %); the pinhole
+    model on the same triplets puts f far off and, at the default bound, is
+    refused. (With the bound lifted, max_focal_sigma = 1, the pinhole
+    answer, 1724 px at sigma 3.6 %, is accepted first and the radial
+    cascade refitted from it stops at 783.9 px, k1 -0.237 alone, RMS 0.136
+    px: a poorer fit than the default's, reached by the cascade's order.)"""
     imgs = boof_images("mono_wall")
     h, w = imgs[0].shape
     mw = MONO_WALL
@@ -653,7 +653,7 @@ def test_boofcv_mono_wall_against_the_chessboard():
           % (f, 100 * (f / mw["fx"] - 1), mw["fx"], 100 * rep["focal_sigma"], k1, k2, mw["k1"], mw["k2"],
              s_ours, s_cb, np.round(rep["radial_rise"], 1), rep["inliers"], rep["rms"]))
     check_physical(r, w, h)
-    assert abs(np.log(f / mw["fx"])) < 3 * rep["focal_sigma"] + 0.03
+    assert abs(np.log(f / mw["fx"])) < 3 * rep["focal_sigma"]
     assert max(rep["radial_rise"]) > 9 and k1 < 0
     assert abs(s_ours / s_cb - 1) < 0.3
     try:
@@ -697,6 +697,98 @@ def test_boofcv_mono_wall_geometry_synthetic_lens():
                                                100 * logf.std(ddof=1), 100 * s_med))
     assert abs(logf.mean()) < 3 * s_med / np.sqrt(len(logf))
     assert 0.5 * s_med < logf.std(ddof=1) < 2 * s_med
+
+
+def view3_shear_refit(r, xs, width, height, step=1e-3, rounds=3):
+    """An answer's metric bundle adjustment (Huber at 2 px, poses, points,
+    f and its radial terms free, as in the metric stage) with view 3's
+    pixels sheared, x <- x - s (y - c_y), s profiled by parabolic steps:
+    the first-order effect of a rolling shutter whose row-to-row image
+    motion differs between the frames (view 1 the reference). Returns
+    (f, s, cost rise of s = 0 over the best s in noise variances at the
+    0.2 px per-observation floor of the focal sigma)."""
+    keep = r["inliers"] & np.any(r["X"] != 0, axis=1)
+    idx = np.nonzero(keep)[0]
+    obs = np.array([[v, j, xs[v][i, 0], xs[v][i, 1]] for v in range(3) for j, i in enumerate(idx)])
+    cx, cy = (width - 1) / 2, (height - 1) / 2
+    f0, k1, k2 = r["K"][0, 0, 0], r["report"]["k1"], r["report"]["k2"]
+    v3 = obs[:, 0] == 2
+
+    def fit(sh):
+        o = obs.copy()
+        o[v3, 2] -= sh * (o[v3, 3] - cy)
+        cams = dict(rotations=r["R"].copy(), translations=r["t"].copy(),
+                    intrinsics=np.tile([f0, f0, cx, cy, k1, k2], (3, 1)))
+        q = libsfm.bundle_adjust(cams, r["X"][keep].copy(), o,
+                                 dict(intrinsics="shared", refine=["focal", "radial"], loss="huber", loss_scale=2.0,
+                                      scale_gauge="distance", scale_camera=1, scale_distance=1.0,
+                                      max_iterations=200))
+        return q["cost"], q["cameras"]["intrinsics"][0, 0]
+
+    c0, _ = fit(0.0)
+    sh = 0.0
+    for it in range(rounds):
+        h = step / (1 + it)
+        c = [fit(sh + d)[0] for d in (-h, 0.0, h)]
+        den = c[0] - 2 * c[1] + c[2]
+        if den > 0:
+            sh += float(np.clip(0.5 * h * (c[0] - c[2]) / den, -4 * h, 4 * h))
+    cs, f = fit(sh)
+    return f, sh, 2 * (c0 - cs) / 0.2 ** 2
+
+
+@pytest.mark.skipif(not os.path.isdir(BOOF), reason="SKIP: ../shared/data/boofcv-triple not found")
+def test_boofcv_mono_wall_view3_shear():
+    """A term the model lacks, measured against the chessboard: a shear of
+    view 3 against view 1 (x <- x - s (y - c_y), the first-order image of a
+    rolling shutter whose row-to-row motion differs between frames;
+    mono_wall's JPEGs are video frames, they carry libavcodec's tag) lowers
+    the cost of mono_wall's answer by far more than the 9 noise variances
+    at which the metric stage keeps a term, and with it f is within 3 % of
+    the chessboard (713 px, +1.7 %), where the principal point, the aspect
+    and the tangential terms leave it at 728-734 px
+    (bench/mono_wall_models.py). The same refit on mono_wall's geometry
+    through the chessboard's whole model (principal point off the centre,
+    fy / fx 0.997, k1, k2), 0.12 px noise: without a shear the term is not
+    significant in any draw (it would lower f there, -1.5 %: a term to
+    keep only when significant), and with the measured shear added to view
+    3 the pipeline's f is biased by more than 3 % and the refit's lands
+    within 3 % of the truth. Not in the pipeline: the term is as
+    significant on still photographs (rockview, turkey: see
+    bench/README.md), so what it stands for is not settled."""
+    cv2 = pytest.importorskip("cv2")
+    imgs = boof_images("mono_wall")
+    h, w = imgs[0].shape
+    r = libsfm.reconstruct_three_view_images(*imgs, seed=1)
+    f, sh, rise = view3_shear_refit(r, r["x"], w, h)
+    print("\nmono_wall: f %.1f px, with view 3 sheared by %+.5f: %.1f px (%+.2f %%), rise %.1f"
+          % (r["K"][0, 0, 0], sh, f, 100 * (f / MONO_WALL["fx"] - 1), rise))
+    assert rise > 9 and abs(f / MONO_WALL["fx"] - 1) < 0.03
+    g = libsfm.reconstruct_three_view_images(*imgs, seed=1, max_focal_sigma=1.0)
+    keep = g["inliers"] & np.any(g["X"] != 0, axis=1)
+    X = g["X"][keep]
+    mw = MONO_WALL
+    K = np.array([[mw["fx"], 0, mw["cx"]], [0, mw["fy"], mw["cy"]], [0, 0, 1]])
+    dist = np.array([mw["k1"], mw["k2"], 0, 0, 0])
+    rng = np.random.default_rng(2019)
+    for s_true in (0.0, sh):
+        fa, fr, rises = [], [], []
+        for _ in range(6):
+            obs = [cv2.projectPoints(X, cv2.Rodrigues(g["R"][v])[0], g["t"][v], K, dist)[0].reshape(-1, 2)
+                   + rng.normal(0, 0.12, (len(X), 2)) for v in range(3)]
+            obs[2][:, 0] += s_true * (obs[2][:, 1] - (h - 1) / 2)
+            q = libsfm.reconstruct_three_view(obs[0], obs[1], obs[2], w, h, seed=1, max_focal_sigma=1.0)
+            f_s, _, rise_s = view3_shear_refit(q, obs, w, h)
+            fa.append(q["K"][0, 0, 0])
+            fr.append(f_s)
+            rises.append(rise_s)
+        la, lr = np.log(np.array(fa) / mw["fx"]), np.log(np.array(fr) / mw["fx"])
+        print("  synthetic, view-3 shear %+.5f: pipeline mean %+.2f %%, refit mean %+.2f %%, rises %s"
+              % (s_true, 100 * la.mean(), 100 * lr.mean(), np.round(rises, 1)))
+        if s_true == 0:
+            assert max(rises) < 9
+        else:
+            assert min(rises) > 9 and la.mean() > 0.03 and abs(lr.mean()) < 0.03
 
 
 @pytest.mark.skipif(not herz_triplets(), reason="SKIP: ../shared/data/herzjesu-p8 not found")
