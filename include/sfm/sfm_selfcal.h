@@ -242,7 +242,8 @@ SFM_API size_t sfm_selfcal_workspace_size(int m, int n, int n_obs);
  * and their observations: n_obs triples (obs_camera[k], obs_point[k],
  * obs_xy[2k..2k+1] pixels). options may be NULL (defaults). Outputs
  * above; poses and Xm may be NULL. Statuses: SFM_OK; SFM_E_ARGUMENT
- * (NULL, counts, an index out of range, a bad option); SFM_E_NONFINITE;
+ * (NULL, counts, an index out of range, a (view, point) pair given twice,
+ * a bad option); SFM_E_NONFINITE;
  * SFM_E_WORKSPACE (ws NULL or smaller than sfm_selfcal_workspace_size);
  * SFM_E_SINGULAR (no start gives metric cameras, or f is not determined:
  * see report.profile_rise, focal_sigma); SFM_E_NO_CONVERGENCE (a physical
