@@ -66,10 +66,12 @@ static int image_ok(const sfm_image_u8 *im)
 static int sample(const sfm_image_u8 *im, double x, double y, int h, float *out)
 {
     const double fx = floor(x), fy = floor(y);
-    const int x0 = (int)fx - h, y0 = (int)fy - h, n = 2 * h + 1;
+    /* the bounds in doubles before any conversion: a point far outside the
+     * image (1e300, or past the int range) must not reach (int) */
     if (!(fx - h >= 0.0 && fy - h >= 0.0 && fx + h + 1.0 <= (double)(im->width - 1) &&
           fy + h + 1.0 <= (double)(im->height - 1)))
         return 0;
+    const int x0 = (int)fx - h, y0 = (int)fy - h, n = 2 * h + 1;
     const double ax = x - fx, ay = y - fy;
     const double w00 = (1.0 - ax) * (1.0 - ay), w01 = ax * (1.0 - ay), w10 = (1.0 - ax) * ay, w11 = ax * ay;
     for (int v = 0; v < n; v++) {
