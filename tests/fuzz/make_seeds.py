@@ -1,6 +1,7 @@
 """Writes the small seed corpus of each fuzz target under corpus/<target>/.
 Run from the project root: .venv/bin/python tests/fuzz/make_seeds.py
 (the seeds are committed; this records how they were made)."""
+import base64
 import os
 import struct
 
@@ -104,3 +105,7 @@ put("selfcal", "largest_model", rec(10, 4, b"\x01") + rec(10, 5, b"\x02"))
 put("selfcal", "shared_pp_sizes_differ", rec(10, 5, b"\x01") + rec(2, 4, dbl(700.0)))
 put("selfcal", "pixels_moved", rec(3, 11, dbl(1e6)) + rec(3, 40, dbl(-3.5)) + rec(6, 60))
 put("selfcal", "focal_range", rec(10, 2, dbl(1e-300)) + rec(10, 3, dbl(1e300)) + rec(11, 2, b"\xff"))
+# found by fuzz_align: the last step of a point converging onto the border
+# of a 37 x 29 image crossed it unsampled (fixed in align.c)
+put("align", "border_last_step", base64.b64decode(
+    "AC8nJ+Tk5HlCBgBQYQAADOTkDOQMDAwMDAwMDAwMDAwMDAwMDgzkRwAAAAAAAAAM5OQM5AwMDAwMDgwMDAwMDAwMDOTk5Bg="))

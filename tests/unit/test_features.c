@@ -713,6 +713,31 @@ SFM_TEST(features_align_points_hostile_inputs)
         align_hostile_call(t, "border", &ib, e, &ia, e, 4, &q);
         tried += 2;
     }
+    /* points converging onto the border: img b shows img a's world 1.3 px
+     * further down and right, the truth of each point within 0.05 px of the
+     * last position whose patch fits in b, the start 0.3 px short of it.
+     * The last Gauss-Newton step is not sampled and may cross that limit
+     * (before the fix: 43 of 1276 refined points across it on a sinusoid
+     * texture). */
+    {
+        static uint8_t moved[W * H];
+        render_blobs(moved, (const double(*)[4])blob, 0.0, -1.3, -1.3);
+        sfm_image_u8 im = {moved, W, H, W};
+        for (int r = 2; r <= SFM_FEATURES_ALIGN_MAX_RADIUS; r += 2) {
+            sfm_align_params q = p;
+            q.radius = r, q.min_zncc = 0.0, q.min_eigen_ratio = 0.0;
+            for (int s = 0; s < 100; s++) {
+                const double lim_x = W - r - 1.0, lim_y = H - r - 1.0, eps = -0.05 + 0.001 * s;
+                const double e[8] = {10.0 + 1.37 * s, lim_y - 1.3 + eps, lim_x - 1.3 + eps, 10.0 + 0.97 * s,
+                                     lim_x - 1.3 - eps, lim_y - 1.3 + 0.5 * eps, 20.0 + s, lim_y - 1.3 - eps};
+                double st[8];
+                for (int k = 0; k < 8; k++)
+                    st[k] = e[k] + (k % 2 ? 1.0 : 1.3);
+                align_hostile_call(t, "onto the border", &ia, e, &im, st, 4, &q);
+                tried++;
+            }
+        }
+    }
     /* tiny images, exact-size buffers (no padding to read into): 1 x 1 up to
      * a patch and a pixel */
     static uint8_t tiny[(2 * SFM_FEATURES_ALIGN_MAX_RADIUS + 4) * (2 * SFM_FEATURES_ALIGN_MAX_RADIUS + 4)];
