@@ -595,6 +595,26 @@ SFM_TEST(selfcal_solve_hostile_geometry)
     GEOM("rescaled P and X", MV, P2, wh, NP, X2, no, obs_cam, obs_pt, obs_xy, NULL, sws, sizeof sws);
     SFM_CHECK_MSG(st == SFM_OK && fabs(hk_K[0] / F - 1) < 0.01, "rescaled: status %d f %g", st, hk_K[0]);
 
+    /* one camera zero, or of rank 2 (its third row a copy of the first),
+     * first or later; and cameras scaled to 1e150 and 1e-150 */
+    for (int c = 0; c < 6; c++) {
+        memcpy(P2, Pp, sizeof(double) * 12 * MV);
+        const int v = c % 2 ? 2 : 0;
+        if (c < 2)
+            memset(&P2[12 * v], 0, 12 * sizeof(double));
+        else if (c < 4)
+            memcpy(&P2[12 * v + 8], &P2[12 * v], 4 * sizeof(double));
+        else
+            for (int k = 0; k < 12 * MV; k++)
+                P2[k] *= c == 4 ? 1e150 : 1e-150;
+        GEOM("degenerate or extreme camera", MV, P2, wh, NP, Xh, no, obs_cam, obs_pt, obs_xy, NULL, sws,
+             sizeof sws);
+        if (c < 4)
+            REFUSED("degenerate camera");
+        else
+            TRUTH_OR_REFUSED("extreme camera scale");
+    }
+
     /* every point a zero row: nothing to adjust */
     memset(X2, 0, sizeof(double) * 4 * NP);
     GEOM("X all zero", MV, Pp, wh, NP, X2, no, obs_cam, obs_pt, obs_xy, NULL, sws, sizeof sws);
