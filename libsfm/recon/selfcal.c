@@ -141,6 +141,26 @@ void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12
         }
 }
 
+void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps)
+{
+    const double lo = 1.0 / 1048576.0, hi = 1099511627776.0; /* 2^-20, 2^40 */
+    for (int i = 0; i < m; i++) {
+        const double *Pi = &P[12 * i];
+        double a = 0, s = 1;
+        for (int k = 0; k < 12; k++)
+            a = fmax(a, fabs(Pi[k]));
+        if (a > 0 && (a < lo || a > hi)) {
+            /* at most 1100 halvings or doublings (the double range) */
+            while (a * s < 1)
+                s *= 2;
+            while (a * s >= 2)
+                s *= 0.5;
+        }
+        for (int k = 0; k < 12; k++)
+            Ps[12 * i + k] = Pi[k] * s;
+    }
+}
+
 /* A = B^{-1} for 4x4 by LU (copy). 0 when singular. */
 int sfmi_selfcal_inv44(const double B[16], double A[16])
 {
@@ -408,6 +428,9 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     unsigned char ews[2048]; /* sfm_sym_eig for n <= 10: 1663 bytes measured */
     if (sfm_sym_eig_workspace_size(10) > sizeof ews)
         return SFM_E_WORKSPACE; /* cannot happen: the 10x10 eigensolver is small */
+    double Pscaled[12 * SFM_SELFCAL_MAX_VIEWS];
+    sfmi_selfcal_scale_cameras(m, P, Pscaled);
+    P = Pscaled;
 
     sfm_selfcal_result res;
     memset(&res, 0, sizeof res);

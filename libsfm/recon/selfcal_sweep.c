@@ -50,6 +50,7 @@ typedef struct ctx {
     double *Xw, *Xb;     /* n x 3: BA points, a copy */
     double *R, *t, *Rb, *tb; /* m x 9, m x 3 and copies */
     sfm_camera *cams;    /* m */
+    double *Ps;          /* m x 12: the cameras, scaled (sfmi_selfcal_scale_cameras) */
     void *ba_ws;
     size_t ba_size;
     /* state of the last start */
@@ -105,6 +106,7 @@ static void layout(sfmi_arena *a, int m, int n, int nobs, ctx *c)
     c->Rb = SFM_ARENA_ARRAY(a, double, 9 * (size_t)m);
     c->tb = SFM_ARENA_ARRAY(a, double, 3 * (size_t)m);
     c->cams = SFM_ARENA_ARRAY(a, sfm_camera, m);
+    c->Ps = SFM_ARENA_ARRAY(a, double, 12 * (size_t)m);
     size_t ba = 0;
     const sfm_ba_intrinsics modes[3] = {SFM_BA_INTRINSICS_FIXED, SFM_BA_INTRINSICS_SHARED,
                                         SFM_BA_INTRINSICS_PER_CAMERA};
@@ -561,6 +563,8 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     layout(&a, m, n, n_obs, &c);
     if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
+    sfmi_selfcal_scale_cameras(m, P, c.Ps);
+    P = c.Ps;
     c.m = m, c.n = n, c.nobs = n_obs, c.P = P, c.wh = wh, c.X = X;
     c.oc = obs_camera, c.op = obs_point, c.oxy = obs_xy, c.o = &o;
     for (int i = 0; i < m; i++)

@@ -585,7 +585,7 @@ SFM_TEST(selfcal_solve_hostile_geometry)
      * quantities, the same answer */
     memcpy(P2, Pp, sizeof(double) * 12 * MV);
     memcpy(X2, Xh, sizeof(double) * 4 * NP);
-    const double sc[5] = {1e-9, -3e7, 0.5, -1, 1e9};
+    const double sc[5] = {1e-200, -3e7, 0.5, -1, 1e250};
     for (int i = 0; i < MV; i++)
         for (int k = 0; k < 12; k++)
             P2[12 * i + k] *= sc[i];
@@ -596,8 +596,11 @@ SFM_TEST(selfcal_solve_hostile_geometry)
     SFM_CHECK_MSG(st == SFM_OK && fabs(hk_K[0] / F - 1) < 0.01, "rescaled: status %d f %g", st, hk_K[0]);
 
     /* one camera zero, or of rank 2 (its third row a copy of the first),
-     * first or later; and cameras scaled to 1e150 and 1e-150 */
-    for (int c = 0; c < 6; c++) {
+     * first or later; and every camera scaled by 1e150, 1e-150, 1e-15 and
+     * 1e180 (1e-15 and below were refused, 1e180 SFM_E_NONFINITE from the
+     * linear method: squared sums under- and overflowed) */
+    const double big_small[4] = {1e150, 1e-150, 1e-15, 1e180};
+    for (int c = 0; c < 8; c++) {
         memcpy(P2, Pp, sizeof(double) * 12 * MV);
         const int v = c % 2 ? 2 : 0;
         if (c < 2)
@@ -606,13 +609,21 @@ SFM_TEST(selfcal_solve_hostile_geometry)
             memcpy(&P2[12 * v + 8], &P2[12 * v], 4 * sizeof(double));
         else
             for (int k = 0; k < 12 * MV; k++)
-                P2[k] *= c == 4 ? 1e150 : 1e-150;
+                P2[k] *= big_small[c - 4];
         GEOM("degenerate or extreme camera", MV, P2, wh, NP, Xh, no, obs_cam, obs_pt, obs_xy, NULL, sws,
              sizeof sws);
-        if (c < 4)
+        if (c < 4) {
             REFUSED("degenerate camera");
-        else
-            TRUTH_OR_REFUSED("extreme camera scale");
+            continue;
+        }
+        SFM_CHECK_MSG(st == SFM_OK && fabs(hk_K[0] / F - 1) < 4 * hk_rep.focal_sigma, "scale %g: status %d f %g",
+                      big_small[c - 4], st, hk_K[0]);
+        /* the linear method alone: the same focal lengths as unscaled */
+        double K1[9 * MV], K2[9 * MV], H1[16], H2[16];
+        int s1 = sfm_selfcal_linear(MV, Pp, wh, NP, Xh, K1, H1, NULL);
+        int s2 = sfm_selfcal_linear(MV, P2, wh, NP, Xh, K2, H2, NULL);
+        SFM_CHECK_MSG(s1 == SFM_OK && s2 == SFM_OK && fabs(K2[0] / K1[0] - 1) < 1e-9,
+                      "linear at scale %g: status %d f %g (unscaled %d, %g)", big_small[c - 4], s2, K2[0], s1, K1[0]);
     }
 
     /* every point a zero row: nothing to adjust */
