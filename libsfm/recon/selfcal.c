@@ -146,18 +146,30 @@ void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps)
     const double lo = 1.0 / 1048576.0, hi = 1099511627776.0; /* 2^-20, 2^40 */
     for (int i = 0; i < m; i++) {
         const double *Pi = &P[12 * i];
-        double a = 0, s = 1;
-        for (int k = 0; k < 12; k++)
+        double *Qi = &Ps[12 * i];
+        double a = 0;
+        for (int k = 0; k < 12; k++) {
+            Qi[k] = Pi[k];
             a = fmax(a, fabs(Pi[k]));
-        if (a > 0 && (a < lo || a > hi)) {
-            /* at most 1100 halvings or doublings (the double range) */
-            while (a * s < 1)
-                s *= 2;
-            while (a * s >= 2)
-                s *= 0.5;
         }
-        for (int k = 0; k < 12; k++)
-            Ps[12 * i + k] = Pi[k] * s;
+        if (!(a > 0) || (a >= lo && a <= hi))
+            continue;
+        /* the doublings (or halvings) taking a into [1, 2): up to 1075 for
+         * a subnormal, applied 2^256 at a time (2^1074 is not a double) */
+        int e = 0;
+        for (; a < 1; a *= 2)
+            e++;
+        for (; a >= 2; a *= 0.5)
+            e--;
+        while (e != 0) {
+            const int step = e > 256 ? 256 : (e < -256 ? -256 : e);
+            double f = 1;
+            for (int k = 0; k < (step > 0 ? step : -step); k++)
+                f *= step > 0 ? 2.0 : 0.5;
+            for (int k = 0; k < 12; k++)
+                Qi[k] *= f;
+            e -= step;
+        }
     }
 }
 

@@ -599,8 +599,8 @@ SFM_TEST(selfcal_solve_hostile_geometry)
      * first or later; and every camera scaled by 1e150, 1e-150, 1e-15 and
      * 1e180 (1e-15 and below were refused, 1e180 SFM_E_NONFINITE from the
      * linear method: squared sums under- and overflowed) */
-    const double big_small[4] = {1e150, 1e-150, 1e-15, 1e180};
-    for (int c = 0; c < 8; c++) {
+    const double big_small[5] = {1e150, 1e-150, 1e-15, 1e180, 1e-318 /* subnormal entries, below 2^-1024 */};
+    for (int c = 0; c < 9; c++) {
         memcpy(P2, Pp, sizeof(double) * 12 * MV);
         const int v = c % 2 ? 2 : 0;
         if (c < 2)
@@ -614,6 +614,12 @@ SFM_TEST(selfcal_solve_hostile_geometry)
              sizeof sws);
         if (c < 4) {
             REFUSED("degenerate camera");
+            continue;
+        }
+        if (c == 8) {
+            /* about 30 significant bits left: the truth or refused, and no hang
+             * (2^1046 was one factor: infinite, then halved forever) */
+            TRUTH_OR_REFUSED("subnormal cameras");
             continue;
         }
         SFM_CHECK_MSG(st == SFM_OK && fabs(hk_K[0] / F - 1) < 4 * hk_rep.focal_sigma, "scale %g: status %d f %g",
