@@ -2,9 +2,9 @@
  * turning about two axes around 14 points, exact projections, in a
  * projective frame) is edited by the input: each 10-byte record sets one
  * entry of P, X, the image sizes or the observations' pixels to a value
- * (special values, or 8 raw bytes), moves an observation's view or point
- * index, drops observations, changes a count or an option, or shortens the
- * workspace. Any input gives a status the header lists; nothing is written
+ * (special values, or 8 raw bytes), rescales a camera, moves an
+ * observation's view or point index, drops observations, changes a count
+ * or an option, or shortens the workspace. Any input gives a status the header lists; nothing is written
  * on an argument, non-finite or workspace status, only the report on
  * SFM_E_SINGULAR or SFM_E_NO_CONVERGENCE, and on SFM_OK finite outputs
  * with every focal length positive. The workspace is an exact-size heap
@@ -100,7 +100,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const uint8_t *rec = data + at;
         const unsigned idx = rec[1];
         const double v = value(rec + 2);
-        switch (rec[0] % 12) {
+        switch (rec[0] % 13) {
         case 0: Pf[idx % (12 * M)] = v; break;
         case 1: Xf[idx % (4 * N)] = v; break;
         case 2: whf[idx % (2 * M)] = v; break;
@@ -122,6 +122,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             case 6: o.loss_scale = v; break;
             default: o.max_rms = v; break;
             }
+            break;
+        case 12: /* a whole camera rescaled: the same camera */
+            for (int k = 0; k < 12; k++)
+                Pf[12 * (idx % M) + k] *= v;
             break;
         default:
             if (idx % 4 == 0)

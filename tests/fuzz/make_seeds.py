@@ -104,6 +104,7 @@ put("selfcal", "two_views", rec(7, 2))
 put("selfcal", "largest_model", rec(10, 4, b"\x01") + rec(10, 5, b"\x02"))
 put("selfcal", "shared_pp_sizes_differ", rec(10, 5, b"\x01") + rec(2, 4, dbl(700.0)))
 put("selfcal", "pixels_moved", rec(3, 11, dbl(1e6)) + rec(3, 40, dbl(-3.5)) + rec(6, 60))
+put("selfcal", "cameras_rescaled", rec(12, 0, dbl(1e-318)) + rec(12, 1, dbl(1e180)) + rec(12, 2, dbl(-3e-20)))
 put("selfcal", "focal_range", rec(10, 2, dbl(1e-300)) + rec(10, 3, dbl(1e300)) + rec(11, 2, b"\xff"))
 # found by fuzz_align: the last step of a point converging onto the border
 # of a 37 x 29 image crossed it unsampled (fixed in align.c)
