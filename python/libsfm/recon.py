@@ -201,6 +201,14 @@ def _threshold(threshold_px):
     return v
 
 
+def _real(value, name, positive=False):
+    """A real option of the uncalibrated pipelines: > 0, or >= 0 (0: off)."""
+    v = to_float(value, name, finite=False)
+    if np.isnan(v) or (v <= 0 if positive else v < 0):
+        raise ValueError("%s must be %s, got %r" % (name, "> 0" if positive else ">= 0", v))
+    return v
+
+
 def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
                    radial=2, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
     o = ffi.new("sfm_uncal_options *")
@@ -208,22 +216,22 @@ def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_para
     o.ransac.threshold = _threshold(threshold_px)
     o.ransac.seed = to_seed(seed)
     if max_iterations is not None:
-        o.ransac.max_iterations = int(max_iterations)
+        o.ransac.max_iterations = to_int(max_iterations, "max_iterations", 1)
     if max_focal_sigma is not None:
-        o.max_focal_sigma = float(max_focal_sigma)
+        o.max_focal_sigma = _real(max_focal_sigma, "max_focal_sigma", positive=True)
     if min_parallax_deg is not None:
-        o.min_parallax_deg = float(min_parallax_deg)
+        o.min_parallax_deg = _real(min_parallax_deg, "min_parallax_deg")
     o.per_view_focal = 1 if per_view_focal else 0
     radial = int(radial)
     if radial not in (0, 1, 2):
         raise ValueError("radial must be 0, 1 or 2, got %r" % radial)
     o.radial = radial
     if principal_sigma is not None:
-        o.principal_sigma = float(principal_sigma)
+        o.principal_sigma = _real(principal_sigma, "principal_sigma")
     if aspect_sigma is not None:
-        o.aspect_sigma = float(aspect_sigma)
+        o.aspect_sigma = _real(aspect_sigma, "aspect_sigma")
     if sweep_iterations is not None:
-        o.sweep_iterations = int(sweep_iterations)
+        o.sweep_iterations = to_int(sweep_iterations, "sweep_iterations", 1, 50)
     return o
 
 
@@ -240,6 +248,7 @@ def _report(r):
 
 def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
          per_view_focal, radial=0, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
+    width, height = to_int(width, "width", 1), to_int(height, "height", 1)
     x1 = as_array(xs[0], (None, 2), "x1")
     n = x1.shape[0]
     xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
@@ -258,11 +267,11 @@ def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_si
     buf, ws, size = workspace(need)
     mp = ffi.cast("uint8_t *", ffi.from_buffer(mask))
     if nv == 3:
-        st = lib.sfm_recon_three_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), dptr(xs[2]), n, int(width),
-                                                   int(height), o, dptr(K), poses, dptr(X), mp, rep, ws, size)
+        st = lib.sfm_recon_three_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), dptr(xs[2]), n, width, height, o,
+                                                   dptr(K), poses, dptr(X), mp, rep, ws, size)
     else:
-        st = lib.sfm_recon_two_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), n, int(width), int(height), o,
-                                                 dptr(K), poses, dptr(X), mp, rep, ws, size)
+        st = lib.sfm_recon_two_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), n, width, height, o, dptr(K), poses,
+                                                 dptr(X), mp, rep, ws, size)
     try:
         check(st, "reconstruct_%s_view" % ("three" if nv == 3 else "two"))
     except Exception as e:

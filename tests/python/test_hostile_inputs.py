@@ -271,3 +271,25 @@ def test_reconstruct_three_view_images_refuses_complex_and_mismatched_images():
         libsfm.reconstruct_three_view_images(img, img.astype(np.complex128), img)
     with pytest.raises(ValueError):
         libsfm.reconstruct_three_view_images(img, img, np.zeros((64, 65), np.uint8))
+
+
+@pytest.mark.parametrize("name, value, exc", [
+    ("max_iterations", 2.5, TypeError), ("max_iterations", 0, ValueError), ("max_iterations", 2 ** 31, ValueError),
+    ("sweep_iterations", 51, ValueError), ("sweep_iterations", 8.0, TypeError),
+    ("max_focal_sigma", 0.0, ValueError), ("max_focal_sigma", 1j, TypeError), ("max_focal_sigma", np.nan, ValueError),
+    ("min_parallax_deg", -1.0, ValueError), ("principal_sigma", np.nan, ValueError),
+    ("aspect_sigma", -0.1, ValueError), ("width", 640.5, TypeError), ("width", 0, ValueError),
+    ("height", 2 ** 31, ValueError), ("height", True, TypeError),
+])
+def test_reconstruct_three_view_options_named(name, value, exc):
+    rng = np.random.default_rng(9)
+    x = views(rng, "general", m=3, n=40, sigma=0.3)
+    kw = dict(width=640, height=480)
+    kw[name] = value
+    w, h = kw.pop("width"), kw.pop("height")
+    with pytest.raises(exc, match=name):
+        libsfm.reconstruct_three_view(x[0], x[1], x[2], w, h, radial=0, **kw)
+    if name not in ("width", "height"):  # the images path passes them on
+        img = np.zeros((64, 64), np.uint8)
+        with pytest.raises(exc, match=name):
+            libsfm.reconstruct_three_view_images(img, img, img, **kw)
