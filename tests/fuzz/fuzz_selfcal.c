@@ -4,11 +4,12 @@
  * entry of P, X, the image sizes or the observations' pixels to a value
  * (special values, or 8 raw bytes), rescales a camera, moves an
  * observation's view or point index, drops observations, changes a count
- * or an option, or shortens the workspace. Any input gives a status the header lists; nothing is written
- * on an argument, non-finite or workspace status, only the report on
- * SFM_E_SINGULAR or SFM_E_NO_CONVERGENCE, and on SFM_OK finite outputs
- * with every focal length positive. The workspace is an exact-size heap
- * block (ASan sees a write past it). */
+ * or an option, or shortens the workspace. Any input gives a status the
+ * header lists; nothing is written on an argument, non-finite or
+ * workspace status, only the report on SFM_E_SINGULAR or
+ * SFM_E_NO_CONVERGENCE, and on SFM_OK finite outputs (K, H, poses,
+ * points) with every focal length positive. The workspace is an
+ * exact-size heap block (ASan sees a write past it). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -167,6 +168,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 abort();
         for (int k = 0; k < 16; k++)
             if (!isfinite(H[k]))
+                abort();
+        for (int i = 0; i < m; i++)
+            for (int k = 0; k < 9; k++)
+                if (!isfinite(poses[i].R[k]) || (k < 3 && !isfinite(poses[i].t[k])))
+                    abort();
+        for (int k = 0; k < 3 * n; k++)
+            if (!isfinite(Xm[k]))
                 abort();
     } else if (st == SFM_E_SINGULAR || st == SFM_E_NO_CONVERGENCE) {
         if (!outs || rep_kept)
