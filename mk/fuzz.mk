@@ -1,6 +1,8 @@
 # Fuzz targets (libFuzzer, clang): the PGM/PPM parser, the manifest parser
-# and each pixel-format converter of the capture library. `make test` replays
-# the committed seed corpus (tests/fuzz/corpus/<target>/) once per input;
+# and each pixel-format converter of the capture library; the point
+# alignment and the m-view self-calibration of the core (below). `make
+# test` replays the committed seed corpus (tests/fuzz/corpus/<target>/)
+# once per input;
 # `make fuzz` fuzzes each target for FUZZ_SECONDS, growing
 # build/fuzz/corpus/<target>/ (the committed seeds stay as they are) and
 # leaving any crash in build/fuzz/artifacts/.
@@ -31,3 +33,15 @@ fuzz: $(FUZZ_BINS)
 
 TEST_STEPS += test-fuzz
 .PHONY: fuzz test-fuzz
+
+# The numeric entry points sfm_features_align_points and sfm_selfcal_solve:
+# the sources they run compiled with the fuzz flags (sanitized like the
+# target itself), align.c alone, the whole core for the self-calibration.
+FUZZ_TARGETS += align selfcal
+$(BUILD)/fuzz/fuzz_align: tests/fuzz/fuzz_align.c libsfm/features/align.c $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_align.c libsfm/features/align.c -lm
+$(BUILD)/fuzz/fuzz_selfcal: tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_align $(BUILD)/fuzz/fuzz_selfcal

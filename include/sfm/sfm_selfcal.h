@@ -51,10 +51,15 @@
  * the mean of the diagonal of w*_i), H (4x4) such that P_i H ~ K_i [R_i | t_i]
  * (metric cameras) and X_metric ~ H^{-1} X.
  *
- * Memory: no workspace; a bounded stack of about 10 KiB (two 4x4 and one
- * 10x10 symmetric eigensolve, the conditioned cameras; 10.0 KiB measured
- * by gcc -fstack-usage at -O2 on x86-64: 6.7 KiB and 3.3 KiB in the
- * solve it calls). Two solves (with and without the
+ * A camera's scale is free: one whose largest |entry| lies outside
+ * [2^-20, 2^40] is first scaled by a power of two (exact) into [1, 2), so
+ * that squared sums neither underflow nor overflow (1e-15 was refused,
+ * 1e180 answered SFM_E_NONFINITE).
+ *
+ * Memory: no workspace; a bounded stack of about 13 KiB (two 4x4 and one
+ * 10x10 symmetric eigensolve, the conditioned and the scaled cameras; 13.1
+ * KiB measured by gcc -fstack-usage at -O2 on x86-64: 9.7 KiB and 3.3 KiB
+ * in the solve it calls). Two solves (with and without the
  * weak equations) run every call. sfm_selfcal_solve below, with one shared
  * focal length and the observations, determines a turntable's f.
  */
@@ -163,7 +168,7 @@ SFM_API int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, 
  * Memory: sfm_selfcal_workspace_size(m, n, n_obs) bytes (the bundle
  * adjustment's workspace and the observations compacted per candidate:
  * 1.6 MiB for the Oxford house, 10 views, 672 points, 2846 observations);
- * a bounded stack of about 17 KiB besides sfm_ba_solve's (gcc
+ * a bounded stack of about 20 KiB besides sfm_ba_solve's (gcc
  * -fstack-usage, -O2, x86-64). Deterministic: no random numbers.
  *
  * Measured (bench/README): Oxford house, f 726 px shared, sigma 0.3 %,
@@ -242,7 +247,8 @@ SFM_API size_t sfm_selfcal_workspace_size(int m, int n, int n_obs);
  * and their observations: n_obs triples (obs_camera[k], obs_point[k],
  * obs_xy[2k..2k+1] pixels). options may be NULL (defaults). Outputs
  * above; poses and Xm may be NULL. Statuses: SFM_OK; SFM_E_ARGUMENT
- * (NULL, counts, an index out of range, a bad option); SFM_E_NONFINITE;
+ * (NULL, counts, an index out of range, a (view, point) pair given twice,
+ * a bad option); SFM_E_NONFINITE;
  * SFM_E_WORKSPACE (ws NULL or smaller than sfm_selfcal_workspace_size);
  * SFM_E_SINGULAR (no start gives metric cameras, or f is not determined:
  * see report.profile_rise, focal_sigma); SFM_E_NO_CONVERGENCE (a physical

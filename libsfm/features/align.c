@@ -61,15 +61,24 @@ static int image_ok(const sfm_image_u8 *im)
     return im != NULL && im->data != NULL && im->width >= 1 && im->height >= 1 && im->stride >= im->width;
 }
 
+/* 1 when the bilinear footprint of the (2 h + 1)^2 grid centred on (x, y)
+ * lies inside the image. In doubles: a point far outside the image (1e300,
+ * or past the int range) must not reach an int conversion. */
+static int inside(const sfm_image_u8 *im, double x, double y, int h)
+{
+    const double fx = floor(x), fy = floor(y);
+    return fx - h >= 0.0 && fy - h >= 0.0 && fx + h + 1.0 <= (double)(im->width - 1) &&
+           fy + h + 1.0 <= (double)(im->height - 1);
+}
+
 /* Samples the (2 h + 1)^2 grid centred on (x, y) bilinearly into out (row
  * major). 0 when the grid's bilinear footprint leaves the image. */
 static int sample(const sfm_image_u8 *im, double x, double y, int h, float *out)
 {
+    if (!inside(im, x, y, h))
+        return 0;
     const double fx = floor(x), fy = floor(y);
     const int x0 = (int)fx - h, y0 = (int)fy - h, n = 2 * h + 1;
-    if (!(fx - h >= 0.0 && fy - h >= 0.0 && fx + h + 1.0 <= (double)(im->width - 1) &&
-          fy + h + 1.0 <= (double)(im->height - 1)))
-        return 0;
     const double ax = x - fx, ay = y - fy;
     const double w00 = (1.0 - ax) * (1.0 - ay), w01 = ax * (1.0 - ay), w10 = (1.0 - ax) * ay, w11 = ax * ay;
     for (int v = 0; v < n; v++) {
@@ -155,7 +164,9 @@ static int align_one(const sfm_image_u8 *ref, double rx, double ry, const sfm_im
             break;
         }
     }
-    if (!settled || !(zncc >= p->min_zncc))
+    /* the last step is not sampled: it may cross the border (by less than
+     * STEP_DONE), and a patch leaving the image is not an answer */
+    if (!settled || !(zncc >= p->min_zncc) || !inside(img, cx, cy, r))
         return 0;
     *ox = cx;
     *oy = cy;

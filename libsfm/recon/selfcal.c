@@ -141,6 +141,38 @@ void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12
         }
 }
 
+void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps)
+{
+    const double lo = 1.0 / 1048576.0, hi = 1099511627776.0; /* 2^-20, 2^40 */
+    for (int i = 0; i < m; i++) {
+        const double *Pi = &P[12 * i];
+        double *Qi = &Ps[12 * i];
+        double a = 0;
+        for (int k = 0; k < 12; k++) {
+            Qi[k] = Pi[k];
+            a = fmax(a, fabs(Pi[k]));
+        }
+        if (!(a > 0) || (a >= lo && a <= hi))
+            continue;
+        /* the doublings (or halvings) taking a into [1, 2): up to 1075 for
+         * a subnormal, applied 2^256 at a time (2^1074 is not a double) */
+        int e = 0;
+        for (; a < 1; a *= 2)
+            e++;
+        for (; a >= 2; a *= 0.5)
+            e--;
+        while (e != 0) {
+            const int step = e > 256 ? 256 : (e < -256 ? -256 : e);
+            double f = 1;
+            for (int k = 0; k < (step > 0 ? step : -step); k++)
+                f *= step > 0 ? 2.0 : 0.5;
+            for (int k = 0; k < 12; k++)
+                Qi[k] *= f;
+            e -= step;
+        }
+    }
+}
+
 /* A = B^{-1} for 4x4 by LU (copy). 0 when singular. */
 int sfmi_selfcal_inv44(const double B[16], double A[16])
 {
@@ -408,6 +440,9 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
     unsigned char ews[2048]; /* sfm_sym_eig for n <= 10: 1663 bytes measured */
     if (sfm_sym_eig_workspace_size(10) > sizeof ews)
         return SFM_E_WORKSPACE; /* cannot happen: the 10x10 eigensolver is small */
+    double Pscaled[12 * SFM_SELFCAL_MAX_VIEWS];
+    sfmi_selfcal_scale_cameras(m, P, Pscaled);
+    P = Pscaled;
 
     sfm_selfcal_result res;
     memset(&res, 0, sizeof res);

@@ -11,6 +11,12 @@
 
 #include "sfm/sfm_selfcal.h"
 
+/* Ps (m x 12) = P with each camera scaled by a power of two (exact) when
+ * its largest |entry| lies outside [2^-20, 2^40], into [1, 2): a projective
+ * camera's scale is arbitrary, and one of 1e-15 or 1e180 underflowed or
+ * overflowed the squared sums (refused, or SFM_E_NONFINITE for a finite
+ * input). Cameras inside the band are copied as they are (same bits). */
+void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps);
 /* Coefficients r (10) of w_ab = (P Q P^T)_ab in the 10 entries of Q. */
 void sfmi_selfcal_omega_row(const double P[12], int a, int b, double r[10]);
 /* A (10x10, lower triangle) += w^2 r r^T. */

@@ -13,6 +13,7 @@
  * of the uncalibrated pipelines do from fundamental matrices.
  */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/arena.h"
@@ -24,6 +25,8 @@
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
 #include "sfm/sfm_selfcal.h"
+
+_Static_assert(SFM_SELFCAL_MAX_VIEWS <= 32, "a view mask per point is one uint32_t");
 
 #define SWEEP_ITERS 30
 #define GOLDEN_STEPS 14
@@ -42,10 +45,12 @@ typedef struct ctx {
     int *pmap;           /* n: BA point of input point j, -1 dropped */
     int *pidx;           /* n: input point of BA point k */
     int *nseen;          /* n: observations of input point j */
-    int *flag;           /* n: scratch */
+    uint32_t *flag;      /* n: scratch (a mask of the views seeing point j
+                            while the observations are checked) */
     double *Xw, *Xb;     /* n x 3: BA points, a copy */
     double *R, *t, *Rb, *tb; /* m x 9, m x 3 and copies */
     sfm_camera *cams;    /* m */
+    double *Ps;          /* m x 12: the cameras, scaled (sfmi_selfcal_scale_cameras) */
     void *ba_ws;
     size_t ba_size;
     /* state of the last start */
@@ -93,7 +98,7 @@ static void layout(sfmi_arena *a, int m, int n, int nobs, ctx *c)
     c->pmap = SFM_ARENA_ARRAY(a, int, n);
     c->pidx = SFM_ARENA_ARRAY(a, int, n);
     c->nseen = SFM_ARENA_ARRAY(a, int, n);
-    c->flag = SFM_ARENA_ARRAY(a, int, n);
+    c->flag = SFM_ARENA_ARRAY(a, uint32_t, n);
     c->Xw = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
     c->Xb = SFM_ARENA_ARRAY(a, double, 3 * (size_t)n);
     c->R = SFM_ARENA_ARRAY(a, double, 9 * (size_t)m);
@@ -101,6 +106,7 @@ static void layout(sfmi_arena *a, int m, int n, int nobs, ctx *c)
     c->Rb = SFM_ARENA_ARRAY(a, double, 9 * (size_t)m);
     c->tb = SFM_ARENA_ARRAY(a, double, 3 * (size_t)m);
     c->cams = SFM_ARENA_ARRAY(a, sfm_camera, m);
+    c->Ps = SFM_ARENA_ARRAY(a, double, 12 * (size_t)m);
     size_t ba = 0;
     const sfm_ba_intrinsics modes[3] = {SFM_BA_INTRINSICS_FIXED, SFM_BA_INTRINSICS_SHARED,
                                         SFM_BA_INTRINSICS_PER_CAMERA};
@@ -557,10 +563,22 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     layout(&a, m, n, n_obs, &c);
     if (!sfmi_arena_ok(&a))
         return SFM_E_WORKSPACE;
+    sfmi_selfcal_scale_cameras(m, P, c.Ps);
+    P = c.Ps;
     c.m = m, c.n = n, c.nobs = n_obs, c.P = P, c.wh = wh, c.X = X;
     c.oc = obs_camera, c.op = obs_point, c.oxy = obs_xy, c.o = &o;
     for (int i = 0; i < m; i++)
         centre(&c, i, &c.pp[2 * i], &c.pp[2 * i + 1]);
+    /* a view sees a point once: a repeated (view, point) pair would count
+     * one measurement twice (the noise variance and focal_sigma with it) */
+    for (int j = 0; j < n; j++)
+        c.flag[j] = 0;
+    for (int k = 0; k < n_obs; k++) {
+        const uint32_t bit = (uint32_t)1 << obs_camera[k];
+        if (c.flag[obs_point[k]] & bit)
+            return SFM_E_ARGUMENT;
+        c.flag[obs_point[k]] |= bit;
+    }
     for (int j = 0; j < n; j++)
         c.nseen[j] = 0;
     for (int k = 0; k < n_obs; k++)

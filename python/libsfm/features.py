@@ -70,6 +70,8 @@ def _gray_view(img, name):
     arr = np.asarray(img)
     if arr.ndim != 2 or arr.dtype != np.uint8:
         raise ValueError("%s must be a 2-D uint8 array, got %s %s" % (name, arr.shape, arr.dtype))
+    if arr.size == 0:
+        raise ValueError("%s must have at least one pixel, got shape %s" % (name, arr.shape))
     arr = np.ascontiguousarray(arr)
     view = ffi.new("sfm_image_u8 *")
     view.data = ffi.cast("const uint8_t *", ffi.from_buffer(arr))
@@ -241,13 +243,19 @@ def align_points(ref, x_ref, img, x, radius=_A["radius"], max_iterations=_A["max
     p.radius = to_int(radius, "radius", 2, lib.SFM_FEATURES_ALIGN_MAX_RADIUS)
     p.max_iterations = to_int(max_iterations, "max_iterations", 1, 100)
     p.max_shift = to_float(max_shift, "max_shift")
+    if not p.max_shift > 0:
+        raise ValueError("max_shift must be > 0, got %r" % p.max_shift)
     p.min_zncc = to_float(min_zncc, "min_zncc")
+    if not -1 <= p.min_zncc <= 1:
+        raise ValueError("min_zncc must be in [-1, 1], got %r" % p.min_zncc)
     p.min_eigen_ratio = to_float(min_eigen_ratio, "min_eigen_ratio")
+    if not 0 <= p.min_eigen_ratio <= 1:
+        raise ValueError("min_eigen_ratio must be in [0, 1], got %r" % p.min_eigen_ratio)
     n = xr.shape[0]
     out = np.empty((max(n, 1), 2))
     ok = np.zeros(max(n, 1), dtype=np.uint8)
     check(lib.sfm_features_align_points(va, dptr(xr), vb, dptr(xs), n, p, dptr(out),
                                         ffi.cast("uint8_t *", ffi.from_buffer(ok))),
-          "sfm_features_align_points")
+          "sfm_features_align_points", inputs={"x_ref": xr, "x": xs})
     del a, b
     return out[:n].copy(), ok[:n].astype(bool)

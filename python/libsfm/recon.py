@@ -6,7 +6,7 @@ distortion terms, Brown k1 and k2 about the centre). Poses are
 world-to-camera, x_cam = R X + t, view 1 the world frame, |t[1]| = 1."""
 import numpy as np
 
-from ._ffi import as_array, check, dptr, ffi, lib, workspace
+from ._ffi import SfmError, as_array, check, dptr, ffi, lib, to_float, to_int, to_seed, workspace
 
 PATHS = {0: "none", 1: "linear", 2: "sweep"}
 PRINCIPAL = {"centre": 0, "shared": 1, "per_view": 2}
@@ -102,14 +102,18 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
     physical check (SFM_E_NO_CONVERGENCE); the error carries .report.
     focal_range: (min, max) multiples of (width + height) / 2.
     """
-    P = np.ascontiguousarray(np.asarray(P, dtype=np.float64))
-    if P.ndim != 3 or P.shape[1:] != (3, 4):
-        raise ValueError("P must have shape (m, 3, 4), got %s" % (P.shape,))
+    P = as_array(P, (None, 3, 4), "P")
     m = P.shape[0]
-    wh = np.asarray(image_sizes, dtype=np.float64)
-    if wh.shape == (2,):
-        wh = np.tile(wh, (m, 1))
-    wh = as_array(wh, (m, 2), "image_sizes")
+    if not 3 <= m <= lib.SFM_SELFCAL_MAX_VIEWS:
+        raise ValueError("P must hold 3..%d views, got %d" % (lib.SFM_SELFCAL_MAX_VIEWS, m))
+    if np.ndim(image_sizes) == 1:
+        wh = np.tile(as_array(image_sizes, (2,), "image_sizes"), (m, 1))
+    else:
+        wh = as_array(image_sizes, (m, 2), "image_sizes")
+    if not np.all(np.isfinite(wh)):
+        raise SfmError(lib.SFM_E_NONFINITE, "self_calibrate", "image_sizes")
+    if not np.all(wh > 0):
+        raise ValueError("image_sizes must be > 0, got %s" % (wh[~np.all(wh > 0, axis=1)][0],))
     if X is None:
         n, Xa, Xp = 0, None, ffi.NULL
     else:
@@ -120,10 +124,11 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
     if tracks is not None:
         if Xa is None:
             raise ValueError("tracks need the points X")
-        x = np.asarray(tracks, dtype=np.float64)
-        if x.shape != (m, n, 2):
-            raise ValueError("tracks must have shape (%d, %d, 2), got %s" % (m, n, x.shape))
-        cam, pt = np.nonzero(~np.isnan(x[:, :, 0]))
+        x = as_array(tracks, (m, n, 2), "tracks")
+        missing = np.isnan(x)
+        if np.any(missing[:, :, 0] != missing[:, :, 1]):
+            raise ValueError("tracks: an observation has one coordinate NaN and not the other")
+        cam, pt = np.nonzero(~missing[:, :, 0])
         oc = np.ascontiguousarray(cam, dtype=np.intc)
         op = np.ascontiguousarray(pt, dtype=np.intc)
         oxy = np.ascontiguousarray(x[cam, pt], dtype=np.float64)
@@ -137,13 +142,25 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
             raise ValueError("principal must be one of %s, got %r" % (sorted(PRINCIPAL), principal))
         o.principal = PRINCIPAL[principal]
         if sweep_steps is not None:
-            o.sweep_steps = int(sweep_steps)
+            o.sweep_steps = to_int(sweep_steps, "sweep_steps", 3, lib.SFM_SELFCAL_MAX_SWEEP)
         if focal_range is not None:
-            o.focal_min, o.focal_max = float(focal_range[0]), float(focal_range[1])
-        for name, v in (("max_rms", max_rms), ("loss_scale", loss_scale), ("max_focal_sigma", max_focal_sigma),
-                        ("min_profile", min_profile)):
-            if v is not None:
-                setattr(o, name, float(v))
+            if np.ndim(focal_range) != 1 or len(focal_range) != 2:
+                raise TypeError("focal_range must be a pair (min, max), got %r" % (focal_range,))
+            lo, hi = to_float(focal_range[0], "focal_range"), to_float(focal_range[1], "focal_range")
+            if not 0 < lo < hi:
+                raise ValueError("focal_range must satisfy 0 < min < max, got (%r, %r)" % (lo, hi))
+            o.focal_min, o.focal_max = lo, hi
+        # the C ranges (sfm_selfcal.h): max_rms and max_focal_sigma may be
+        # infinite (no check), loss_scale and min_profile not
+        for name, v, finite, lo in (("max_rms", max_rms, False, 0), ("loss_scale", loss_scale, True, 0),
+                                    ("max_focal_sigma", max_focal_sigma, False, 0),
+                                    ("min_profile", min_profile, True, None)):
+            if v is None:
+                continue
+            v = to_float(v, name, finite)
+            if np.isnan(v) or (v <= 0 if lo is not None else v < 0):
+                raise ValueError("%s must be %s, got %r" % (name, "> 0" if lo is not None else ">= 0", v))
+            setattr(o, name, v)
         need = lib.sfm_selfcal_workspace_size(m, n, len(oc))
         if need == 0:
             raise ValueError("need 3..%d views, points and observations" % lib.SFM_SELFCAL_MAX_VIEWS)
@@ -155,8 +172,8 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
                                    ffi.cast("int *", ffi.from_buffer(op)), dptr(oxy), o, dptr(K), dptr(H),
                                    poses, dptr(Xm), rep, ws, size)
         try:
-            check(st, "self_calibrate")
-        except Exception as e:
+            check(st, "self_calibrate", inputs={"P": P, "image_sizes": wh, "X": Xa, "tracks": oxy})
+        except SfmError as e:
             e.report = _selfcal_report(rep, m)
             raise
         R = np.array([list(poses[i].R) for i in range(m)]).reshape(m, 3, 3)
@@ -167,8 +184,8 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
     res = ffi.new("sfm_selfcal_result *")
     st = lib.sfm_selfcal_linear(m, dptr(P), dptr(wh), n, Xp, dptr(K), dptr(H), res)
     try:
-        check(st, "self_calibrate")
-    except Exception as e:
+        check(st, "self_calibrate", inputs={"P": P, "image_sizes": wh, "X": Xa})
+    except SfmError as e:
         e.flags = res.flags
         e.null_ratio = res.null_ratio
         e.weak_ratio = res.weak_ratio
@@ -177,29 +194,44 @@ def self_calibrate(P, image_sizes, X=None, tracks=None, per_view_focal=False, pr
                 weak_ratio=res.weak_ratio, front_fraction=res.front_fraction)
 
 
+def _threshold(threshold_px):
+    v = to_float(threshold_px, "threshold_px")
+    if not v > 0:
+        raise ValueError("threshold_px must be > 0, got %r" % v)
+    return v
+
+
+def _real(value, name, positive=False):
+    """A real option of the uncalibrated pipelines: > 0, or >= 0 (0: off)."""
+    v = to_float(value, name, finite=False)
+    if np.isnan(v) or (v <= 0 if positive else v < 0):
+        raise ValueError("%s must be %s, got %r" % (name, "> 0" if positive else ">= 0", v))
+    return v
+
+
 def _uncal_options(threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg, per_view_focal,
                    radial=2, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
     o = ffi.new("sfm_uncal_options *")
     lib.sfm_uncal_default_options(o)
-    o.ransac.threshold = float(threshold_px)
-    o.ransac.seed = int(seed) & 0xFFFFFFFFFFFFFFFF
+    o.ransac.threshold = _threshold(threshold_px)
+    o.ransac.seed = to_seed(seed)
     if max_iterations is not None:
-        o.ransac.max_iterations = int(max_iterations)
+        o.ransac.max_iterations = to_int(max_iterations, "max_iterations", 1)
     if max_focal_sigma is not None:
-        o.max_focal_sigma = float(max_focal_sigma)
+        o.max_focal_sigma = _real(max_focal_sigma, "max_focal_sigma", positive=True)
     if min_parallax_deg is not None:
-        o.min_parallax_deg = float(min_parallax_deg)
+        o.min_parallax_deg = _real(min_parallax_deg, "min_parallax_deg")
     o.per_view_focal = 1 if per_view_focal else 0
     radial = int(radial)
     if radial not in (0, 1, 2):
         raise ValueError("radial must be 0, 1 or 2, got %r" % radial)
     o.radial = radial
     if principal_sigma is not None:
-        o.principal_sigma = float(principal_sigma)
+        o.principal_sigma = _real(principal_sigma, "principal_sigma")
     if aspect_sigma is not None:
-        o.aspect_sigma = float(aspect_sigma)
+        o.aspect_sigma = _real(aspect_sigma, "aspect_sigma")
     if sweep_iterations is not None:
-        o.sweep_iterations = int(sweep_iterations)
+        o.sweep_iterations = to_int(sweep_iterations, "sweep_iterations", 1, 50)
     return o
 
 
@@ -216,6 +248,7 @@ def _report(r):
 
 def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_sigma, min_parallax_deg,
          per_view_focal, radial=0, principal_sigma=None, aspect_sigma=None, sweep_iterations=None):
+    width, height = to_int(width, "width", 1), to_int(height, "height", 1)
     x1 = as_array(xs[0], (None, 2), "x1")
     n = x1.shape[0]
     xs = [x1] + [as_array(x, (n, 2), "x%d" % (k + 2)) for k, x in enumerate(xs[1:])]
@@ -234,11 +267,11 @@ def _run(nv, xs, width, height, threshold_px, seed, max_iterations, max_focal_si
     buf, ws, size = workspace(need)
     mp = ffi.cast("uint8_t *", ffi.from_buffer(mask))
     if nv == 3:
-        st = lib.sfm_recon_three_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), dptr(xs[2]), n, int(width),
-                                                   int(height), o, dptr(K), poses, dptr(X), mp, rep, ws, size)
+        st = lib.sfm_recon_three_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), dptr(xs[2]), n, width, height, o,
+                                                   dptr(K), poses, dptr(X), mp, rep, ws, size)
     else:
-        st = lib.sfm_recon_two_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), n, int(width), int(height), o,
-                                                 dptr(K), poses, dptr(X), mp, rep, ws, size)
+        st = lib.sfm_recon_two_view_uncalibrated(dptr(xs[0]), dptr(xs[1]), n, width, height, o, dptr(K), poses,
+                                                 dptr(X), mp, rep, ws, size)
     try:
         check(st, "reconstruct_%s_view" % ("three" if nv == 3 else "two"))
     except Exception as e:
@@ -304,6 +337,10 @@ def reconstruct_three_view_images(img1, img2, img3, seed=0, max_features=5000, t
     triplets whose two points were both aligned (the others keep the
     detector's positions)."""
     from .features import align_points, associate_three_views, detect_and_describe, match
+    # checked before the detector runs: images without features would
+    # otherwise end the call before a bad seed or threshold is seen
+    seed = to_seed(seed)
+    threshold_px = _threshold(threshold_px)
     imgs = [_gray(im, "img%d" % (k + 1)) for k, im in enumerate((img1, img2, img3))]
     if not (imgs[0].shape == imgs[1].shape == imgs[2].shape):
         raise ValueError("the three images must have one size")

@@ -1,6 +1,7 @@
 """Writes the small seed corpus of each fuzz target under corpus/<target>/.
 Run from the project root: .venv/bin/python tests/fuzz/make_seeds.py
 (the seeds are committed; this records how they were made)."""
+import base64
 import os
 import struct
 
@@ -57,3 +58,55 @@ for name, im in [("gray16x8", (np.arange(128).reshape(8, 16) * 2).astype(np.uint
     h, w = im.shape[:2]
     put("convert_mjpeg", name, struct.pack("<HH", w - 1, h - 1) + jpg.tobytes())
     put("convert_mjpeg", name + "_cut", struct.pack("<HH", w - 1, h - 1) + jpg.tobytes()[: len(jpg) // 2])
+
+# sfm_features_align_points (tests/fuzz/fuzz_align.c): a parameter-selector
+# byte (and the parameters it selects), two images (w-1, h-1, row padding,
+# raw-pixel flag[, pixels]), n, then per coordinate pair a mode byte and
+# either a raw double or a position byte and hundredths.
+def image(w, h, pad, raw=b""):
+    return bytes([w - 1, h - 1, pad, 1 if raw else 0]) + raw
+
+
+def point(px, frac, dx):
+    return bytes([0, px, frac, 128 + dx])
+
+
+put("align", "empty", b"")
+put("align", "four_points", b"\x00" + image(40, 30, 3) + image(40, 30, 0) + b"\x04" +
+    b"".join(point(p, 37, d) for p, d in ((12, 10), (11, 5), (20, -20), (15, 0), (25, 3), (14, -4), (18, 9), (10, 1))))
+put("align", "raw_doubles", b"\x00" + image(48, 40, 1) + image(48, 40, 1) + b"\x02" +
+    b"\x03" + struct.pack("<dd", 1e300, 20.0) + b"\x03" + struct.pack("<dd", 2.0 ** 31, -2.0 ** 31) +
+    b"\x01" + struct.pack("<d", 20.0) + b"\x80" + b"\x02\x10\x90" + struct.pack("<d", float("nan")))
+put("align", "bad_radius", b"\x01\x0b" + image(30, 30, 0) + image(30, 30, 0) + b"\x01" + point(15, 0, 0) * 2)
+put("align", "params", b"\x1c" + struct.pack("<ddd", 0.5, -1.0, 0.0) + image(24, 20, 2) + image(24, 20, 2) + b"\x02" +
+    point(10, 50, 30) + point(9, 0, 0) + point(12, 0, -30) + point(11, 0, 0))
+put("align", "tiny_raw", b"\x00" + image(2, 1, 0, b"\x00\xff") + image(1, 1, 0, b"\x80") + b"\x01" + point(0, 0, 0) * 2)
+
+# sfm_selfcal_solve (tests/fuzz/fuzz_selfcal.c): 10-byte records (op, index,
+# 8 value bytes: a special value when the first is below 64, else a double).
+def rec(op, idx, value=b"\x00"):
+    return bytes([op, idx]) + (value + b"\x00" * 8)[:8]
+
+
+def dbl(v):
+    b = struct.pack("<d", v)
+    return b if b[0] >= 64 else bytes([64]) + b[1:]  # keep it a raw double
+
+
+put("selfcal", "empty", b"")
+put("selfcal", "p_nan", rec(0, 7, b"\x07"))
+put("selfcal", "x_zero_rows", b"".join(rec(1, k, b"\x00") for k in range(16)))
+put("selfcal", "wh_one", b"".join(rec(2, k, b"\x02") for k in range(10)))
+put("selfcal", "obs_view_out_of_range", rec(4, 3, b"\x07"))
+put("selfcal", "obs_point_negative", rec(5, 69, b"\x00"))
+put("selfcal", "ws_one_short", rec(9, 0, b"\x00"))
+put("selfcal", "two_views", rec(7, 2))
+put("selfcal", "largest_model", rec(10, 4, b"\x01") + rec(10, 5, b"\x02"))
+put("selfcal", "shared_pp_sizes_differ", rec(10, 5, b"\x01") + rec(2, 4, dbl(700.0)))
+put("selfcal", "pixels_moved", rec(3, 11, dbl(1e6)) + rec(3, 40, dbl(-3.5)) + rec(6, 60))
+put("selfcal", "cameras_rescaled", rec(12, 0, dbl(1e-318)) + rec(12, 1, dbl(1e180)) + rec(12, 2, dbl(-3e-20)))
+put("selfcal", "focal_range", rec(10, 2, dbl(1e-300)) + rec(10, 3, dbl(1e300)) + rec(11, 2, b"\xff"))
+# found by fuzz_align: the last step of a point converging onto the border
+# of a 37 x 29 image crossed it unsampled (fixed in align.c)
+put("align", "border_last_step", base64.b64decode(
+    "AC8nJ+Tk5HlCBgBQYQAADOTkDOQMDAwMDAwMDAwMDAwMDAwMDgzkRwAAAAAAAAAM5OQM5AwMDAwMDgwMDAwMDAwMDOTk5Bg="))

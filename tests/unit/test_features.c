@@ -630,3 +630,211 @@ SFM_TEST(features_brief_pattern_fits_patch)
     SFM_CHECK(distinct);
     SFM_CHECK(SFM_BRIEF_RADIUS + 1 <= SFM_FEATURES_BORDER);
 }
+
+/* Hostile inputs of sfm_features_align_points: images of 1 x 1 up, strides
+ * with padding, points on and outside the border (up to 1e300 px and the
+ * int range), parameters at and past their limits. The outputs are canaries
+ * first: nothing written on a negative status; otherwise every point
+ * written, refined[k] 0 or 1, an unrefined point at its start, a refined
+ * one finite and within max_shift of it. */
+static int align_hostile_call(sfm_test_ctx *t, const char *what, const sfm_image_u8 *a, const double *xa,
+                              const sfm_image_u8 *b, const double *xb, int n, const sfm_align_params *p)
+{
+    double out[2 * 16];
+    uint8_t ok[16];
+    sfm_test_fill_canary(out, sizeof out);
+    sfm_test_fill_canary(ok, sizeof ok);
+    const int st = sfm_features_align_points(a, xa, b, xb, n, p, out, ok);
+    if (st < 0) {
+        SFM_CHECK_MSG(st == SFM_E_ARGUMENT || st == SFM_E_NONFINITE, "%s: unlisted status %d", what, st);
+        SFM_CHECK_MSG(sfm_test_canary_intact(out, sizeof out) && sfm_test_canary_intact(ok, sizeof ok),
+                      "%s: status %d wrote an output", what, st);
+        return st;
+    }
+    int cnt = 0;
+    for (int k = 0; k < n; k++) {
+        SFM_CHECK_MSG(ok[k] == 0 || ok[k] == 1, "%s: refined[%d] = %d", what, k, ok[k]);
+        if (ok[k] == 1) {
+            cnt++;
+            SFM_CHECK_MSG(isfinite(out[2 * k]) && isfinite(out[2 * k + 1]) &&
+                              fabs(out[2 * k] - xb[2 * k]) <= p->max_shift &&
+                              fabs(out[2 * k + 1] - xb[2 * k + 1]) <= p->max_shift,
+                          "%s: point %d refined to (%g, %g) from (%g, %g)", what, k, out[2 * k], out[2 * k + 1],
+                          xb[2 * k], xb[2 * k + 1]);
+            /* the refined patch lies inside img (its bilinear footprint) */
+            SFM_CHECK_MSG(out[2 * k] >= p->radius && out[2 * k] < b->width - 1 - p->radius &&
+                              out[2 * k + 1] >= p->radius && out[2 * k + 1] < b->height - 1 - p->radius,
+                          "%s: point %d refined outside the image", what, k);
+        } else {
+            SFM_CHECK_MSG(out[2 * k] == xb[2 * k] && out[2 * k + 1] == xb[2 * k + 1],
+                          "%s: point %d not refined but moved", what, k);
+        }
+    }
+    SFM_CHECK_MSG(sfm_test_canary_intact(out + 2 * n, sizeof out - sizeof(double) * 2 * (size_t)n) &&
+                      sfm_test_canary_intact(ok + n, sizeof ok - (size_t)n),
+                  "%s: written past n", what);
+    SFM_CHECK_EQ_INT(st, cnt);
+    return st;
+}
+
+SFM_TEST(features_align_points_hostile_inputs)
+{
+    static double blob[NBLOB][4];
+    for (int k = 0; k < NBLOB; k++) {
+        blob[k][0] = sfm_test_uniform(t, -10.0, W + 10.0);
+        blob[k][1] = sfm_test_uniform(t, -10.0, H + 10.0);
+        blob[k][2] = sfm_test_uniform(t, 2.5, 5.0);
+        blob[k][3] = sfm_test_uniform(t, 40.0, 90.0) * (k % 2 ? 1.0 : -1.0);
+    }
+    render_blobs(img_a, (const double(*)[4])blob, 0.0, 0.0, 0.0);
+    render_blobs(img_b, (const double(*)[4])blob, 0.0, 0.7, -0.4);
+    sfm_image_u8 ia = {img_a, W, H, W}, ib = {img_b, W, H, W};
+    sfm_align_params p;
+    sfm_features_default_align_params(&p);
+    int tried = 0;
+    /* points far outside, on the int range and beyond: a status or a point
+     * kept, never a read outside the image (UBSan: no overflowing cast) */
+    const double far[] = {-1e300, 1e300, -2147483648.0, 2147483647.0, 2147483648.0, -2147483649.0, 4294967296.0,
+                          -1e10, 1e10, -9.0, -8.5, -0.5, (double)W, W + 0.25, 1e-300, -1e-300};
+    const int nfar = (int)(sizeof far / sizeof far[0]);
+    for (int a = 0; a < nfar; a++) {
+        double xs[4] = {far[a], 60.0, 80.0, far[a]};
+        align_hostile_call(t, "far point in img", &ia, (const double[4]){80.0, 60.0, 80.0, 60.0}, &ib, xs, 2, &p);
+        align_hostile_call(t, "far point in ref", &ia, xs, &ib, (const double[4]){80.0, 60.0, 80.0, 60.0}, 2, &p);
+        tried += 2;
+    }
+    /* the border: the last positions whose footprint fits, and just past */
+    for (int r = 2; r <= SFM_FEATURES_ALIGN_MAX_RADIUS; r++) {
+        sfm_align_params q = p;
+        q.radius = r;
+        const double e[8] = {r + 1.0, r + 1.0, W - r - 3.0, H - r - 3.0, r + 0.999, H - r - 2.001, W - r - 2.0,
+                             H - r - 2.0};
+        align_hostile_call(t, "border", &ia, e, &ib, e, 4, &q);
+        align_hostile_call(t, "border", &ib, e, &ia, e, 4, &q);
+        tried += 2;
+    }
+    /* points converging onto the border: img b shows img a's world 1.3 px
+     * further down and right, the truth of each point within 0.05 px of the
+     * last position whose patch fits in b, the start 0.3 px short of it.
+     * The last Gauss-Newton step is not sampled and may cross that limit
+     * (before the fix: 43 of 1276 refined points across it on a sinusoid
+     * texture). */
+    {
+        static uint8_t moved[W * H];
+        render_blobs(moved, (const double(*)[4])blob, 0.0, -1.3, -1.3);
+        sfm_image_u8 im = {moved, W, H, W};
+        for (int r = 2; r <= SFM_FEATURES_ALIGN_MAX_RADIUS; r += 2) {
+            sfm_align_params q = p;
+            q.radius = r, q.min_zncc = 0.0, q.min_eigen_ratio = 0.0;
+            for (int s = 0; s < 100; s++) {
+                const double lim_x = W - r - 1.0, lim_y = H - r - 1.0, eps = -0.05 + 0.001 * s;
+                const double e[8] = {10.0 + 1.37 * s, lim_y - 1.3 + eps, lim_x - 1.3 + eps, 10.0 + 0.97 * s,
+                                     lim_x - 1.3 - eps, lim_y - 1.3 + 0.5 * eps, 20.0 + s, lim_y - 1.3 - eps};
+                double st[8];
+                for (int k = 0; k < 8; k++)
+                    st[k] = e[k] + (k % 2 ? 1.0 : 1.3);
+                align_hostile_call(t, "onto the border", &ia, e, &im, st, 4, &q);
+                tried++;
+            }
+        }
+    }
+    /* tiny images, exact-size buffers (no padding to read into): 1 x 1 up to
+     * a patch and a pixel */
+    static uint8_t tiny[(2 * SFM_FEATURES_ALIGN_MAX_RADIUS + 4) * (2 * SFM_FEATURES_ALIGN_MAX_RADIUS + 4)];
+    const int sizes[][2] = {{1, 1}, {1, 40}, {40, 1}, {2, 2}, {5, 5}, {18, 18}, {19, 19}, {20, 20}};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
+        const int w = sizes[s][0], h = sizes[s][1];
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+                tiny[y * w + x] = img_a[(y + 50) * W + x + 70];
+        sfm_image_u8 ti = {tiny, w, h, w};
+        const double c[4] = {0.5 * (w - 1), 0.5 * (h - 1), 0.0, 0.0};
+        sfm_align_params q = p;
+        q.radius = 2;
+        align_hostile_call(t, "tiny image", &ti, c, &ti, c, 2, &q);
+        align_hostile_call(t, "tiny image as img", &ia, (const double[4]){80.0, 60.0, 70.0, 50.0}, &ti, c, 2, &q);
+        tried += 2;
+    }
+    /* a padded stride: the padding (set to extremes) is never sampled, the
+     * answer is the unpadded image's */
+    {
+        enum { PAD = 13 };
+        static uint8_t padded[(W + PAD) * H];
+        for (int y = 0; y < H; y++) {
+            memcpy(&padded[y * (W + PAD)], &img_b[y * W], W);
+            memset(&padded[y * (W + PAD) + W], (y & 1) ? 255 : 0, PAD);
+        }
+        sfm_image_u8 ip = {padded, W, H, W + PAD};
+        double xs[2 * 8], o1[2 * 8], o2[2 * 8];
+        uint8_t k1[8], k2[8];
+        for (int k = 0; k < 8; k++)
+            xs[2 * k] = W - 10.0 + k, xs[2 * k + 1] = 20.0 + 11 * k;
+        const int n1 = sfm_features_align_points(&ia, xs, &ib, xs, 8, &p, o1, k1);
+        const int n2 = sfm_features_align_points(&ia, xs, &ip, xs, 8, &p, o2, k2);
+        SFM_CHECK(n1 == n2 && memcmp(o1, o2, sizeof o1) == 0 && memcmp(k1, k2, sizeof k1) == 0);
+        tried++;
+    }
+    /* image views: NULL data, zero and negative sizes, stride below width */
+    const sfm_image_u8 bad_im[] = {{NULL, W, H, W}, {img_a, 0, H, W}, {img_a, W, 0, W}, {img_a, -1, H, W},
+                                   {img_a, W, -5, W}, {img_a, W, H, 0}, {img_a, W, H, -W}, {img_a, W, H, W - 1}};
+    const double xs2[4] = {80.0, 60.0, 40.0, 30.0};
+    for (size_t k = 0; k < sizeof bad_im / sizeof bad_im[0]; k++) {
+        SFM_CHECK_EQ_INT(align_hostile_call(t, "bad ref view", &bad_im[k], xs2, &ib, xs2, 2, &p), SFM_E_ARGUMENT);
+        SFM_CHECK_EQ_INT(align_hostile_call(t, "bad img view", &ia, xs2, &bad_im[k], xs2, 2, &p), SFM_E_ARGUMENT);
+        tried += 2;
+    }
+    /* parameters past each end, NaN and infinities */
+    for (int f = 0; f < 16; f++) {
+        sfm_align_params q = p;
+        switch (f) {
+        case 0: q.radius = 1; break;
+        case 1: q.radius = -2147483647 - 1; break;
+        case 2: q.radius = SFM_FEATURES_ALIGN_MAX_RADIUS + 1; break;
+        case 3: q.max_iterations = 0; break;
+        case 4: q.max_iterations = 101; break;
+        case 5: q.max_shift = 0.0; break;
+        case 6: q.max_shift = -1.0; break;
+        case 7: q.max_shift = (double)INFINITY; break;
+        case 8: q.min_zncc = -1.0000001; break;
+        case 9: q.min_zncc = (double)NAN; break;
+        case 10: q.min_eigen_ratio = -0.1; break;
+        case 11: q.min_eigen_ratio = 1.5; break;
+        case 12: q.min_eigen_ratio = (double)NAN; break;
+        case 13: q.max_shift = (double)NAN; break;
+        case 14: q.min_zncc = (double)INFINITY; break;
+        default: q.max_iterations = -2147483647 - 1; break;
+        }
+        SFM_CHECK_MSG(align_hostile_call(t, "bad params", &ia, xs2, &ib, xs2, 2, &q) == SFM_E_ARGUMENT,
+                      "params case %d accepted", f);
+        tried++;
+    }
+    /* parameters at their limits are valid */
+    {
+        sfm_align_params q = p;
+        q.radius = SFM_FEATURES_ALIGN_MAX_RADIUS, q.max_iterations = 100, q.max_shift = 1e300;
+        q.min_zncc = -1.0, q.min_eigen_ratio = 0.0;
+        SFM_CHECK(align_hostile_call(t, "loosest params", &ia, xs2, &ib, xs2, 2, &q) >= 0);
+        q.radius = 2, q.max_iterations = 1, q.max_shift = 1e-300, q.min_zncc = 1.0, q.min_eigen_ratio = 1.0;
+        SFM_CHECK(align_hostile_call(t, "tightest params", &ia, xs2, &ib, xs2, 2, &q) >= 0);
+        tried += 2;
+    }
+    /* non-finite points in either array, first or last */
+    const double bad_v[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
+    for (int k = 0; k < 3; k++)
+        for (int at = 0; at < 4; at += 3) {
+            double xb[4] = {80.0, 60.0, 40.0, 30.0};
+            xb[at] = bad_v[k];
+            SFM_CHECK_EQ_INT(align_hostile_call(t, "non-finite x", &ia, xs2, &ib, xb, 2, &p), SFM_E_NONFINITE);
+            SFM_CHECK_EQ_INT(align_hostile_call(t, "non-finite x_ref", &ia, xb, &ib, xs2, 2, &p), SFM_E_NONFINITE);
+            tried += 2;
+        }
+    /* a saturated image (all 255) and a two-level one: no structure to align on */
+    memset(img_b, 255, sizeof img_b);
+    SFM_CHECK_EQ_INT(align_hostile_call(t, "saturated", &ib, xs2, &ib, xs2, 2, &p), 0);
+    for (int k = 0; k < W * H; k++)
+        img_b[k] = (uint8_t)(k % W < W / 2 ? 0 : 255);
+    const double edge_pt[2] = {W / 2 - 0.5, 60.0};
+    SFM_CHECK_EQ_INT(align_hostile_call(t, "step edge", &ib, edge_pt, &ib, edge_pt, 1, &p), 0);
+    tried += 2;
+    SFM_TEST_LOG("%d hostile input sets", tried);
+}
