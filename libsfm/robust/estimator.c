@@ -4,6 +4,8 @@
 
 #include <math.h>
 
+#include "core/linalg_util.h"
+
 int sfmi_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
 {
     if (opt != NULL)
@@ -14,6 +16,28 @@ int sfmi_robust_options(const sfm_ransac_options *opt, sfm_ransac_options *eopt)
         return SFM_E_NONFINITE;
     if (!(eopt->threshold > 0.0))
         return SFM_E_ARGUMENT;
+    return SFM_OK;
+}
+
+int sfmi_robust_pair_inputs(const double *px1, const double *px2, int n, int sample,
+                            const sfm_camera *cam1, const sfm_camera *cam2,
+                            const sfm_ransac_options *opt, sfm_ransac_options *eopt)
+{
+    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
+        return SFM_E_ARGUMENT;
+    int st = sfmi_robust_options(opt, eopt);
+    if (st < 0)
+        return st;
+    if (cam1 != NULL) {
+        st = sfm_camera_validate(cam1);
+        if (st < 0)
+            return st;
+        st = sfm_camera_validate(cam2);
+        if (st < 0)
+            return st;
+    }
+    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
+        return SFM_E_NONFINITE;
     return SFM_OK;
 }
 

@@ -1,10 +1,8 @@
 /* Shared input handling of the fundamental and homography estimators. */
 #include "robust/pixel_pairs.h"
 
-#include <math.h>
 #include <string.h>
 
-#include "core/linalg_util.h"
 #include "robust/estimator.h"
 #include "robust/support_check.h"
 
@@ -60,21 +58,9 @@ int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sf
 {
     if (px1 == NULL || px2 == NULL || ws == NULL || (cam1 == NULL) != (cam2 == NULL))
         return SFM_E_ARGUMENT;
-    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
-        return SFM_E_ARGUMENT;
-    int st = sfmi_robust_options(opt, eopt);
+    int st = sfmi_robust_pair_inputs(px1, px2, n, sample, cam1, cam2, opt, eopt);
     if (st < 0)
         return st;
-    if (cam1 != NULL) {
-        st = sfm_camera_validate(cam1);
-        if (st < 0)
-            return st;
-        st = sfm_camera_validate(cam2);
-        if (st < 0)
-            return st;
-    }
-    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
-        return SFM_E_NONFINITE;
     size_t need = sfmi_pixel_pairs_workspace_size(n, sample, max_models, model_size);
     if (need == 0)
         return SFM_E_ARGUMENT;
