@@ -143,14 +143,6 @@ double sfmi_robust_fundamental_cost(const double *p1, const double *p2, int n, d
     return c;
 }
 
-/* Inverse of a normalisation stored as (s, a, b): (1/s, -a/s, -b/s). */
-static void inv_norm(const double *t, double *ti)
-{
-    ti[0] = 1.0 / t[0];
-    ti[1] = -t[1] / t[0];
-    ti[2] = -t[2] / t[0];
-}
-
 /* B = T2a^T A T1a for normalisations stored as (s, a, b). */
 static void congruence(const double *t2, const double *A, const double *t1, double *B)
 {
@@ -181,8 +173,8 @@ int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, doubl
      * singular vectors carry no weight, so their signs are free) */
     double ti1[3], ti2[3], Fn[9], S[3];
     double *U = N->U, *V = N->V;
-    inv_norm(N->t1, ti1);
-    inv_norm(N->t2, ti2);
+    sfmi_hartley_inverse(N->t1, ti1);
+    sfmi_hartley_inverse(N->t2, ti2);
     congruence(ti2, F, ti1, Fn);
     if (sfmi_svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
         return -1;

@@ -187,9 +187,9 @@ int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double
     N->p1 = p1;
     N->p2 = p2;
     /* H_n = T2 H T1^-1 */
-    double T1i[9], T2[9], tmp[9];
+    double ti1[3], T1i[9], T2[9], tmp[9];
     double *Hn = N->Hn;
-    const double ti1[3] = {1.0 / N->t1[0], -N->t1[1] / N->t1[0], -N->t1[2] / N->t1[0]};
+    sfmi_hartley_inverse(N->t1, ti1);
     sfmi_hartley_matrix(ti1, T1i);
     sfmi_hartley_matrix(N->t2, T2);
     sfmi_matmul3(T2, H, tmp);
@@ -222,8 +222,8 @@ int sfmi_robust_homography_lm(const double *p1, const double *p2, int n, double 
     if (st != 0)
         return st;
     /* H = T2^-1 H_n T1 */
-    double T2i[9], T1[9], Hp[9], tmp[9];
-    const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
+    double ti2[3], T2i[9], T1[9], Hp[9], tmp[9];
+    sfmi_hartley_inverse(N.t2, ti2);
     sfmi_hartley_matrix(ti2, T2i);
     sfmi_hartley_matrix(N.t1, T1);
     sfmi_matmul3(T2i, N.Hn, tmp);

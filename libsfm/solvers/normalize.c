@@ -31,6 +31,13 @@ int sfmi_hartley_2d(const double *p, int n, double t[3])
     return 0;
 }
 
+void sfmi_hartley_inverse(const double t[3], double ti[3])
+{
+    ti[0] = 1.0 / t[0];
+    ti[1] = -t[1] / t[0];
+    ti[2] = -t[2] / t[0];
+}
+
 void sfmi_hartley_matrix(const double t[3], double T[9])
 {
     T[0] = t[0]; T[1] = 0.0;  T[2] = t[1];

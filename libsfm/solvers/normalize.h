@@ -13,6 +13,10 @@
  * when all points coincide (no scale). */
 int sfmi_hartley_2d(const double *p, int n, double t[3]);
 
+/* The inverse of the normalization t, stored the same way:
+ * ti = (1/s, -a/s, -b/s) for t = (s, a, b). */
+void sfmi_hartley_inverse(const double t[3], double ti[3]);
+
 /* Full 3x3 matrix of a normalization stored as t[3]. */
 void sfmi_hartley_matrix(const double t[3], double T[9]);
 
