@@ -5,6 +5,7 @@
 
 #include "robust/estimator.h"
 #include "robust/support_check.h"
+#include "solvers/normalize.h"
 
 static void layout(sfmi_arena *a, int n, size_t es, pixel_pairs *pp)
 {
@@ -80,6 +81,18 @@ int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sf
     if (st < 0)
         return st;
     return ideal(cam2, px2, n, pp->p2);
+}
+
+void sfmi_pixel_pairs_refit(const double *p1, const double *p2, const int *inl, int n,
+                            double tau, sfmi_pair_fit_fn fit, sfmi_pair_cost_fn cost,
+                            double *g1, double *g2, double M[9])
+{
+    sfmi_robust_gather(p1, 2, inl, n, g1);
+    sfmi_robust_gather(p2, 2, inl, n, g2);
+    sfm_mat3 L;
+    if (fit(g1, g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
+        cost(g1, g2, n, tau, L.m) < cost(g1, g2, n, tau, M))
+        memcpy(M, L.m, 9 * sizeof(double));
 }
 
 int sfmi_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,
