@@ -235,6 +235,17 @@ static int32_t fixed_coord(double v, int size)
     return (int32_t)s;
 }
 
+/* Map entry m (2 int32) of the source point (x, y) in a width x height
+ * image: both fixed-point coordinates, or -1, -1 when either leaves it. */
+static void map_entry(int32_t *m, double x, double y, int width, int height)
+{
+    int32_t fx = fixed_coord(x, width), fy = fixed_coord(y, height);
+    if (fx < 0 || fy < 0)
+        fx = fy = -1;
+    m[0] = fx;
+    m[1] = fy;
+}
+
 int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
                            const sfm_stereo_rectification *rect, int view, int32_t *map,
                            size_t map_len)
@@ -269,11 +280,7 @@ int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
                 m[0] = m[1] = -1;
                 continue;
             }
-            int32_t fx = fixed_coord(px[0], src_width), fy = fixed_coord(px[1], src_height);
-            if (fx < 0 || fy < 0)
-                fx = fy = -1;
-            m[0] = fx;
-            m[1] = fy;
+            map_entry(m, px[0], px[1], src_width, src_height);
         }
     }
     return SFM_OK;
@@ -302,12 +309,7 @@ int sfm_stereo_homography_map(const sfm_mat3 *H_in, int src_width, int src_heigh
                 m[0] = m[1] = -1;
                 continue;
             }
-            int32_t fx = fixed_coord(q[0] / q[2], src_width);
-            int32_t fy = fixed_coord(q[1] / q[2], src_height);
-            if (fx < 0 || fy < 0)
-                fx = fy = -1;
-            m[0] = fx;
-            m[1] = fy;
+            map_entry(m, q[0] / q[2], q[1] / q[2], src_width, src_height);
         }
     }
     return SFM_OK;
