@@ -188,6 +188,86 @@ static inline int sfmi_r2r_unit_frame(const double a[3], double n[3], double e1[
     return 1;
 }
 
+/* The solvers with two bearings or one and distances (r2r_b1_b1_d_d.c,
+ * r2r_b1_d_d_d_d.c) write C = F Rx(theta) G^T: G a frame of {2} whose first
+ * axis is t2_1, F the frame at the point a = C t2_1 of a circle
+ * {|a| = rho, n.a = h0} (radius r), Rx(theta) the turn about their first
+ * axes left free. Then C t2_k = v0 a / rho + cos(theta) (v1 f2 + v2 f3) +
+ * sin(theta) (v1 f3 - v2 f2), v = G^T t2_k, and each distance equation is
+ * linear in (cos theta, sin theta). */
+
+/* G (columns) and its axes (rows of ax): t / rho (rho = |t| > 0), then two
+ * perpendicular axes completing it right-handed. */
+static inline void sfmi_r2r_axis_frame(const double t[3], double rho, double ax[3][3],
+                                       double G[9])
+{
+    double *g1 = ax[0], *g2 = ax[1], *g3 = ax[2], aux[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 3; i++)
+        g1[i] = t[i] / rho;
+    int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
+                                       : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
+    aux[mi] = 1.0;
+    sfmi_cross3(g1, aux, g2);
+    double n2 = sqrt(sfmi_dot3(g2, g2));
+    for (int i = 0; i < 3; i++)
+        g2[i] /= n2;
+    sfmi_cross3(g1, g2, g3);
+    for (int i = 0; i < 3; i++) {
+        G[3 * i] = g1[i];
+        G[3 * i + 1] = g2[i];
+        G[3 * i + 2] = g3[i];
+    }
+}
+
+/* F (columns a / rho, f2 = n x a / r, f3 = (rho^2 n - h0 a) / (rho r)) at
+ * the point a of the circle; n unit. */
+static inline void sfmi_r2r_circle_frame(const double n[3], const double a[3], double h0,
+                                         double r, double rho, double F[9], double f2[3],
+                                         double f3[3])
+{
+    sfmi_cross3(n, a, f2);
+    for (int i = 0; i < 3; i++) {
+        f2[i] /= r;
+        f3[i] = (rho * rho * n[i] - h0 * a[i]) / (rho * r);
+        F[3 * i] = a[i] / rho;
+        F[3 * i + 1] = f2[i];
+        F[3 * i + 2] = f3[i];
+    }
+}
+
+/* The cos and sin coefficients of |C t2_k + l u0 - t1_k|^2 = d_k^2 at the
+ * frame (f2, f3): with q = l u0 - t1_k, 2 q.(v1 f2 + v2 f3) into cs[0] and
+ * 2 q.(v1 f3 - v2 f2) into cs[1]; q out (the constant term is the
+ * caller's). */
+static inline void sfmi_r2r_distance_cs(double l, const double u0[3], const double t1[3],
+                                        const double v[3], const double f2[3],
+                                        const double f3[3], double q[3], double cs[2])
+{
+    double x[3], y[3];
+    for (int i = 0; i < 3; i++) {
+        q[i] = l * u0[i] - t1[i];
+        x[i] = v[1] * f2[i] + v[2] * f3[i];
+        y[i] = v[1] * f3[i] - v[2] * f2[i];
+    }
+    cs[0] = 2.0 * sfmi_dot3(q, x);
+    cs[1] = 2.0 * sfmi_dot3(q, y);
+}
+
+/* C = F Rx(theta) G^T, Rx(theta) = [1 0 0; 0 ct -st; 0 st ct]: the
+ * rotation taking G's axes to F's after the turn (r2r_b1_b2_d_d.c too). */
+static inline void sfmi_r2r_turn_compose(const double F[9], double ct, double st,
+                                         const double G[9], double C[9])
+{
+    double Rx[9] = {1, 0, 0, 0, ct, -st, 0, st, ct}, FR[9];
+    for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++)
+            FR[3 * r + q] = F[3 * r] * Rx[q] + F[3 * r + 1] * Rx[3 + q] + F[3 * r + 2] * Rx[6 + q];
+    for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++)
+            C[3 * r + q] = FR[3 * r] * G[3 * q] + FR[3 * r + 1] * G[3 * q + 1] +
+                           FR[3 * r + 2] * G[3 * q + 2];
+}
+
 /* A proper rotation C0 with C0 u/|u| = v/|v| (one of the circle). 0 when u
  * or v is zero. */
 static inline int sfmi_r2r_align(const double u[3], const double v[3], double C0[9])

@@ -294,15 +294,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
             Gy[3 * i + 2] = y3[i] / ny;
         }
         sfmi_sincos(th, &sn, &cs);
-        double Rx[9] = {1, 0, 0, 0, cs, -sn, 0, sn, cs}, FR[9];
         sfm_r2r_transform T;
-        for (int i = 0; i < 3; i++)
-            for (int q = 0; q < 3; q++)
-                FR[3 * i + q] = Fx[3 * i] * Rx[q] + Fx[3 * i + 1] * Rx[3 + q] + Fx[3 * i + 2] * Rx[6 + q];
-        for (int i = 0; i < 3; i++)
-            for (int q = 0; q < 3; q++)
-                T.C.m[3 * i + q] = FR[3 * i] * Gy[3 * q] + FR[3 * i + 1] * Gy[3 * q + 1] +
-                                   FR[3 * i + 2] * Gy[3 * q + 2];
+        sfmi_r2r_turn_compose(Fx, cs, sn, Gy, T.C.m);
         for (int i = 0; i < 3; i++)
             T.p.v[i] = l * g.u0[i];
         if (!sfmi_r2r_is_duplicate(out, n_out, &T, 1.0 + l, 1e-9))
