@@ -1,7 +1,8 @@
 /*
  * Internal: the frames, aligning rotations and small numerical routines the
  * robot-to-robot base-system solvers share (libsfm/solvers/r2r_*.c).
- * Header-only, static inline; no state.
+ * Header-only, static inline (but the bisection and dip search of the root
+ * scan, r2r_scan.c); no state.
  *
  * Two kinds of frame: sfmi_r2r_frame fixes all three axes from two vectors
  * (e1 along v, e2 towards w), so sfmi_r2r_align2 is the one rotation
@@ -114,35 +115,45 @@ static inline int sfmi_r2r_solve3(const double *J, const double *f, double *x)
     return 1;
 }
 
+/* The middle of [a, b] after iters halvings that keep a sign change of fn
+ * inside (fa = fn(a)); with stop_nonfinite it stops at the first value of
+ * fn that is not finite. Out of line (r2r_scan.c), as the next. */
+double sfmi_r2r_bisect(double (*fn)(const void *, double), const void *ctx, double a, double b,
+                       double fa, int iters, int stop_nonfinite);
+
 /* A dip of |f| between a and b that keeps the sign s of f at both ends may
  * hide two close roots: golden-section search (at most 40 steps) for a
  * point where s f <= 0. Returns 1 with that point in *xm (the two roots then
  * lie on either side of it), 0 when the dip stays on one side. */
-static inline int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, double a,
-                                     double b, double s, double *xm)
+int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, double a, double b,
+                       double s, double *xm);
+
+/* One step of the sampled root scan of r2r_b1_b2_d_d.c and
+ * r2r_b1_d_d_d_d.c over the last three samples (t[j], f[j]) of fn, oldest
+ * first, f not finite where there is no sample (yet): a sign change
+ * between the last two is bisected; a dip of |f| at the middle one that
+ * keeps the sign is searched, and when it crosses, both roots are bisected
+ * (iters and stop_nonfinite as sfmi_r2r_bisect). The roots go to roots[m],
+ * roots[m + 1] (the two cases exclude each other: room for two); returns
+ * the new m. Inline: it runs once a sample. */
+static inline int sfmi_r2r_scan_step(double (*fn)(const void *, double), const void *ctx,
+                                     const double t[3], const double f[3], int iters,
+                                     int stop_nonfinite, double *roots, int m)
 {
-    const double gr = 0.38196601125010515;
-    double x1 = a + gr * (b - a), x2 = b - gr * (b - a);
-    double g1 = s * fn(ctx, x1), g2 = s * fn(ctx, x2);
-    for (int it = 0; it < 40 && g1 > 0.0 && g2 > 0.0; it++) {
-        if (g1 < g2) {
-            b = x2;
-            x2 = x1;
-            g2 = g1;
-            x1 = a + gr * (b - a);
-            g1 = s * fn(ctx, x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            g1 = g2;
-            x2 = b - gr * (b - a);
-            g2 = s * fn(ctx, x2);
+    if (!(isfinite(f[1]) && isfinite(f[2])))
+        return m;
+    if ((f[1] < 0.0) != (f[2] < 0.0))
+        roots[m++] = sfmi_r2r_bisect(fn, ctx, t[1], t[2], f[1], iters, stop_nonfinite);
+    if (isfinite(f[0]) && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
+        fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
+        double xm;
+        if (sfmi_r2r_dip_cross(fn, ctx, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
+            roots[m++] = sfmi_r2r_bisect(fn, ctx, t[0], xm, f[0], iters, stop_nonfinite);
+            /* f(xm) has the other sign */
+            roots[m++] = sfmi_r2r_bisect(fn, ctx, xm, t[2], -f[2], iters, stop_nonfinite);
         }
     }
-    if (!(g1 <= 0.0) && !(g2 <= 0.0))
-        return 0;
-    *xm = g1 <= 0.0 ? x1 : x2;
-    return 1;
+    return m;
 }
 
 /* One step of a Newton polish of a root x of three equations, given their

@@ -235,22 +235,6 @@ static double resultant_cb(const void *g, double x)
     return resultant((const geo *)g, x);
 }
 
-static double bisect(const geo *g, double a, double b, double fa)
-{
-    for (int it = 0; it < 50; it++) {
-        double mid = 0.5 * (a + b), fm = resultant(g, mid);
-        if (!isfinite(fm))
-            break;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
-}
-
 /* Roots of the resultant on [lo, hi] (an interval where the circle is
  * real): Chebyshev nodes, dense near the ends where the circle shrinks to a
  * point and the resultant with it; sign changes are bisected, sign-keeping
@@ -267,18 +251,7 @@ static int scan_interval(const geo *g, double lo, double hi, int nodes, double *
         f[1] = f[2];
         t[2] = lc;
         f[2] = fc;
-        if (!(isfinite(f[1]) && isfinite(f[2])))
-            continue;
-        if ((f[1] < 0.0) != (f[2] < 0.0))
-            ls[m++] = bisect(g, t[1], t[2], f[1]);
-        if (isfinite(f[0]) && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
-            fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
-            double xm;
-            if (sfmi_r2r_dip_cross(resultant_cb, g, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
-                ls[m++] = bisect(g, t[0], xm, f[0]);
-                ls[m++] = bisect(g, xm, t[2], -f[2]);
-            }
-        }
+        m = sfmi_r2r_scan_step(resultant_cb, g, t, f, 50, 1, ls, m);
     }
     return m;
 }
