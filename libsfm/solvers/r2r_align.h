@@ -389,6 +389,40 @@ static inline void sfmi_r2r_emit(const sfm_r2r_step *steps, int n_steps, const d
     (*n)++;
 }
 
+/* The rotations of the circle C a = b (sfmi_r2r_align, axis b / |b|) on
+ * which y^T C x = c (sfmi_r2r_circle_solve), each appended with p by
+ * sfmi_r2r_emit (n_steps). Returns 0, emitting nothing, when a or b is
+ * zero; else 1. */
+static inline int sfmi_r2r_circle_emit(const sfm_r2r_step *steps, int n_steps, const double a[3],
+                                       const double b[3], const double x[3], const double y[3],
+                                       double c, const double p[3], sfm_r2r_transform *out,
+                                       int *n)
+{
+    double C0[9], axis[3], e1[3], e2[3], C[2][9];
+    if (!sfmi_r2r_align(a, b, C0) || !sfmi_r2r_unit_frame(b, axis, e1, e2))
+        return 0;
+    int m = sfmi_r2r_circle_solve(C0, axis, x, y, c, C);
+    for (int j = 0; j < m; j++)
+        sfmi_r2r_emit(steps, n_steps, C[j], p, out, n);
+    return 1;
+}
+
+/* The real roots B + sqrt(disc), B - sqrt(disc) of a quadratic into mu
+ * (one when disc is 0). Exact data tangent to the sphere can round disc to
+ * slightly below 0: above -1e-12 scale it counts as 0. Returns the count,
+ * 0 when disc is negative or not a number. */
+static inline int sfmi_r2r_quadratic_roots(double B, double disc, double scale, double mu[2])
+{
+    if (disc < 0.0 && disc > -1e-12 * scale)
+        disc = 0.0;
+    if (!(disc >= 0.0))
+        return 0;
+    double sq = sqrt(disc);
+    mu[0] = B + sq;
+    mu[1] = B - sq;
+    return sq > 0.0 ? 2 : 1;
+}
+
 /* 1 when T is already in out[0..n): every entry of C and of p / scale within
  * tol of a kept solution (two close roots polished onto one answer). */
 static inline int sfmi_r2r_is_duplicate(const sfm_r2r_transform *out, int n,
