@@ -177,6 +177,23 @@ static inline int sfmi_r2r_newton3(const double J[9], const double f[3], int las
     return -1;
 }
 
+/* Newton polish of a root x of three equations whose values f and Jacobian
+ * J at x come from fj(coef, x, f, J): two steps of sfmi_r2r_newton3, then
+ * its check. Returns 1 for a root the equations confirm, else 0. */
+static inline int sfmi_r2r_polish3(void (*fj)(const double *coef, const double *x, double f[3],
+                                              double J[9]),
+                                   const double *coef, double x[3])
+{
+    for (int it = 0; it < 3; it++) {
+        double f[3], J[9];
+        fj(coef, x, f, J);
+        int r = sfmi_r2r_newton3(J, f, it == 2, x);
+        if (r >= 0)
+            return r;
+    }
+    return 0;
+}
+
 /* Unit n and a right-handed orthonormal frame (n, e1, e2). 0 for a zero or
  * non-finite a. */
 static inline int sfmi_r2r_unit_frame(const double a[3], double n[3], double e1[3], double e2[3])
