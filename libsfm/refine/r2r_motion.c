@@ -385,36 +385,23 @@ static int stationary_directions(const lf_problem *pb, double shift, double u[3]
         return -1;
     double roots[2];
     int n, k = 0;
-    if (fabs(k0) >= fabs(k2)) {
-        /* y/x = w: k0 w^2 + k1 w + k2 = 0; x = 0 is a root only when k0 = 0
-         * (then also k2 = 0 and the form is k1 x y) */
-        if (fabs(k0) <= 1e-12 * mx) {
-            u[k][0] = 0.0;
-            u[k][1] = 1.0;
-            k++;
-        }
-        const double c[3] = {k0, k1, k2};
-        n = sfm_poly_roots2(c, roots);
-        for (int i = 0; i < n; i++) {
-            const double l = sqrt(1.0 + roots[i] * roots[i]);
-            u[k][0] = 1.0 / l;
-            u[k][1] = roots[i] / l;
-            k++;
-        }
-    } else {
-        if (fabs(k2) <= 1e-12 * mx) {
-            u[k][0] = 1.0;
-            u[k][1] = 0.0;
-            k++;
-        }
-        const double c[3] = {k2, k1, k0};
-        n = sfm_poly_roots2(c, roots);
-        for (int i = 0; i < n; i++) {
-            const double l = sqrt(1.0 + roots[i] * roots[i]);
-            u[k][0] = roots[i] / l;
-            u[k][1] = 1.0 / l;
-            k++;
-        }
+    /* w = u[j] / u[o]: j = 1 (w = y/x, k0 w^2 + k1 w + k2 = 0) when
+     * |k0| >= |k2|, else j = 0 (w = x/y, the coefficients reversed); u[o] = 0
+     * is a root only when the leading coefficient vanishes (then so does the
+     * other, and the form is k1 x y) */
+    const int j = fabs(k0) >= fabs(k2), o = 1 - j;
+    const double c[3] = {j ? k0 : k2, k1, j ? k2 : k0};
+    if (fabs(c[0]) <= 1e-12 * mx) {
+        u[k][o] = 0.0;
+        u[k][j] = 1.0;
+        k++;
+    }
+    n = sfm_poly_roots2(c, roots);
+    for (int i = 0; i < n; i++) {
+        const double l = sqrt(1.0 + roots[i] * roots[i]);
+        u[k][o] = 1.0 / l;
+        u[k][j] = roots[i] / l;
+        k++;
     }
     return k;
 }
