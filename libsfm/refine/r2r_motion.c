@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "core/dmath.h"
+#include "core/linalg_util.h"
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_r2r_motion.h"
 
@@ -55,18 +56,8 @@ static int spd3(const double P[9])
         for (int j = i + 1; j < 3; j++)
             if (fabs(P[3 * i + j] - P[3 * j + i]) > 1e-9 * mx)
                 return 0;
-    double l00 = P[0];
-    if (!(l00 > 0.0))
-        return 0;
-    l00 = sqrt(l00);
-    double l10 = P[3] / l00, l20 = P[6] / l00;
-    double d1 = P[4] - l10 * l10;
-    if (!(d1 > 0.0))
-        return 0;
-    double l11 = sqrt(d1);
-    double l21 = (P[7] - l20 * l10) / l11;
-    double d2 = P[8] - l20 * l20 - l21 * l21;
-    return d2 > 0.0;
+    double L[9];
+    return sfmi_chol3(P, L);
 }
 
 static int noise_ok(const sfm_r2r_motion_noise *n)
