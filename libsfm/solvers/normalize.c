@@ -6,6 +6,8 @@
 
 #include "solvers/normalize.h"
 
+#include "core/linalg_util.h"
+
 int sfmi_hartley_2d(const double *p, int n, double t[3])
 {
     double cx = 0.0, cy = 0.0, d = 0.0;
@@ -28,6 +30,15 @@ int sfmi_hartley_2d(const double *p, int n, double t[3])
     t[0] = s;
     t[1] = -s * cx;
     t[2] = -s * cy;
+    return 0;
+}
+
+int sfmi_hartley_pairs(const double *p1, const double *p2, int n, double t1[3], double t2[3])
+{
+    if (!sfmi_la_all_finite(p1, 2 * (size_t)n) || !sfmi_la_all_finite(p2, 2 * (size_t)n))
+        return SFM_E_NONFINITE;
+    if (sfmi_hartley_2d(p1, n, t1) || sfmi_hartley_2d(p2, n, t2))
+        return 1;
     return 0;
 }
 

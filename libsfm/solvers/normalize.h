@@ -13,6 +13,12 @@
  * when all points coincide (no scale). */
 int sfmi_hartley_2d(const double *p, int n, double t[3]);
 
+/* The finiteness check and normalizations of n pixel pairs p1, p2 ((n,2)
+ * each): SFM_E_NONFINITE when a coordinate is not finite, 1 when the points
+ * of either set coincide (sfmi_hartley_2d: no scale, no model), else 0 with
+ * t1, t2 written. */
+int sfmi_hartley_pairs(const double *p1, const double *p2, int n, double t1[3], double t2[3]);
+
 /* The inverse of the normalization t, stored the same way:
  * ti = (1/s, -a/s, -b/s) for t = (s, a, b). */
 void sfmi_hartley_inverse(const double t[3], double ti[3]);
