@@ -36,6 +36,7 @@
 #include "refine/ba_internal.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "solvers/small_math.h"
 
 #define NLOC SFMI_BA_NLOC
 
@@ -570,9 +571,7 @@ double sfmi_ba_trial(void *self)
             const double *R = w->R + 9 * ci;
             if (sfm_rot_from_axis_angle(rot, dR) != SFM_OK)
                 return HUGE_VAL;
-            for (int r = 0; r < 3; r++)
-                for (int s = 0; s < 3; s++)
-                    Rn[3 * r + s] = dR[3 * r] * R[s] + dR[3 * r + 1] * R[3 + s] + dR[3 * r + 2] * R[6 + s];
+            sfmi_matmul3(dR, R, Rn);
             memcpy(w->R2 + 9 * ci, Rn, sizeof Rn);
         }
     }

@@ -22,6 +22,7 @@
 #include "core/linalg_util.h"
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_r2r_motion.h"
+#include "solvers/small_math.h"
 
 #define PI_ 3.14159265358979323846
 
@@ -106,13 +107,8 @@ static void predict_core(const double x[3], const double P[9], const sfm_r2r_mot
     const double jex = -ey, jey = ex;
     double F[9] = {cw, sw, cw * jex + sw * jey, -sw, cw, -sw * jex + cw * jey, 0.0, 0.0, 1.0};
     double FP[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            FP[3 * i + j] = F[3 * i] * P[j] + F[3 * i + 1] * P[3 + j] + F[3 * i + 2] * P[6 + j];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Pp[3 * i + j] = FP[3 * i] * F[3 * j] + FP[3 * i + 1] * F[3 * j + 1] +
-                            FP[3 * i + 2] * F[3 * j + 2];
+    sfmi_matmul3(F, P, FP);
+    sfmi_matmul3_nt(FP, F, Pp);
     /* leader translation: R(-w) R(phi) is a rotation, so sigma^2 I on p;
      * leader rotation: phi only; follower translation: -I on p; follower
      * rotation: column (-J c, -1) */
@@ -222,13 +218,11 @@ int sfm_r2r_motion_update(const double x[3], const double P[9], int sensor, doub
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             M[3 * i + j] = (i == j ? 1.0 : 0.0) - k[i] * h[j];
+    sfmi_matmul3(M, P, MP);
+    sfmi_matmul3_nt(MP, M, Po);
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            MP[3 * i + j] = M[3 * i] * P[j] + M[3 * i + 1] * P[3 + j] + M[3 * i + 2] * P[6 + j];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Po[3 * i + j] = MP[3 * i] * M[3 * j] + MP[3 * i + 1] * M[3 * j + 1] +
-                            MP[3 * i + 2] * M[3 * j + 2] + r2 * k[i] * k[j];
+            Po[3 * i + j] += r2 * k[i] * k[j];
     for (int i = 0; i < 3; i++)
         for (int j = i + 1; j < 3; j++) {
             const double v = 0.5 * (Po[3 * i + j] + Po[3 * j + i]);

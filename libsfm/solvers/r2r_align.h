@@ -69,9 +69,7 @@ static inline int sfmi_r2r_align2(const double *v1, const double *v2, const doub
     double Fv[9], Fa[9];
     if (!sfmi_r2r_frame(v1, v2, Fv) || !sfmi_r2r_frame(a1, a2, Fa))
         return 0;
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = Fa[3 * r] * Fv[3 * c] + Fa[3 * r + 1] * Fv[3 * c + 1] + Fa[3 * r + 2] * Fv[3 * c + 2];
+    sfmi_matmul3_nt(Fa, Fv, C);
     return 1;
 }
 
@@ -287,13 +285,8 @@ static inline void sfmi_r2r_turn_compose(const double F[9], double ct, double st
                                          const double G[9], double C[9])
 {
     double Rx[9] = {1, 0, 0, 0, ct, -st, 0, st, ct}, FR[9];
-    for (int r = 0; r < 3; r++)
-        for (int q = 0; q < 3; q++)
-            FR[3 * r + q] = F[3 * r] * Rx[q] + F[3 * r + 1] * Rx[3 + q] + F[3 * r + 2] * Rx[6 + q];
-    for (int r = 0; r < 3; r++)
-        for (int q = 0; q < 3; q++)
-            C[3 * r + q] = FR[3 * r] * G[3 * q] + FR[3 * r + 1] * G[3 * q + 1] +
-                           FR[3 * r + 2] * G[3 * q + 2];
+    sfmi_matmul3(F, Rx, FR);
+    sfmi_matmul3_nt(FR, G, C);
 }
 
 /* A proper rotation C0 with C0 u/|u| = v/|v| (one of the circle). 0 when u
