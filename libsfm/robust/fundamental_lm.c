@@ -28,6 +28,7 @@
 
 #include "core/lm.h"
 #include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -121,26 +122,10 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     return 1;
 }
 
-/* The Cauchy loss of scale^2 = s2 of a squared residual; r2 when s2 <= 0. */
-static double robust_loss(double r2, double s2)
-{
-    double rho = r2, rho1;
-    if (s2 > 0.0)
-        sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
-    return rho;
-}
-
 double sfmi_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
                                    const double F[9])
 {
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double r2 = sfmi_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
-        if (r2 < SFM_ROBUST_HUGE)
-            c += robust_loss(r2, s2);
-    }
-    return c;
+    return sfmi_robust_pair_cost(p1, p2, n, scale, F, sfmi_sampson_pixel2);
 }
 
 /* B = T2a^T A T1a for normalisations stored as (s, a, b). */

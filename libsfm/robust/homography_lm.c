@@ -28,6 +28,7 @@
 #include "core/lm.h"
 #include "sfm/sfm_common.h"
 #include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "solvers/normalize.h"
 
 #define NP 8
@@ -94,18 +95,7 @@ double sfmi_robust_homography_sampson2(const double H[9], const double *x, const
 double sfmi_robust_homography_cost(const double *p1, const double *p2, int n, double scale,
                                   const double H[9])
 {
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double r2 = sfmi_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
-        if (r2 < SFM_ROBUST_HUGE) {
-            double rho = r2, rho1;
-            if (s2 > 0.0)
-                sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
-            c += rho;
-        }
-    }
-    return c;
+    return sfmi_robust_pair_cost(p1, p2, n, scale, H, sfmi_robust_homography_sampson2);
 }
 
 typedef sfmi_homography_problem hnorm;
