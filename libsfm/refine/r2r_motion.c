@@ -44,6 +44,21 @@ static double wrap_angle(double a)
     return a;
 }
 
+/* P += s v v^T, then P exactly symmetric (each off-diagonal pair replaced by
+ * its mean): the last step of a covariance propagation or update. */
+static void add_outer_symmetric(double P[9], double s, const double v[3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            P[3 * i + j] += s * v[i] * v[j];
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++) {
+            const double m = 0.5 * (P[3 * i + j] + P[3 * j + i]);
+            P[3 * i + j] = m;
+            P[3 * j + i] = m;
+        }
+}
+
 /* symmetric (to 1e-9 of its largest entry) and positive definite (3x3
  * Cholesky with strictly positive pivots) */
 static int spd3(const double P[9])
@@ -119,16 +134,7 @@ static void predict_core(const double x[3], const double P[9], const sfm_r2r_mot
     Pp[8] += n->sigma_leader_w * n->sigma_leader_w;
     const double s2 = n->sigma_follower_w * n->sigma_follower_w;
     const double g[3] = {c[1], -c[0], -1.0}; /* -J c = (c_y, -c_x) */
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Pp[3 * i + j] += s2 * g[i] * g[j];
-    /* exact symmetry */
-    for (int i = 0; i < 3; i++)
-        for (int j = i + 1; j < 3; j++) {
-            const double v = 0.5 * (Pp[3 * i + j] + Pp[3 * j + i]);
-            Pp[3 * i + j] = v;
-            Pp[3 * j + i] = v;
-        }
+    add_outer_symmetric(Pp, s2, g);
 }
 
 /* measurement Jacobian row h (3) at position q; 0 when |q| is too small */
@@ -220,15 +226,7 @@ int sfm_r2r_motion_update(const double x[3], const double P[9], int sensor, doub
             M[3 * i + j] = (i == j ? 1.0 : 0.0) - k[i] * h[j];
     sfmi_matmul3(M, P, MP);
     sfmi_matmul3_nt(MP, M, Po);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Po[3 * i + j] += r2 * k[i] * k[j];
-    for (int i = 0; i < 3; i++)
-        for (int j = i + 1; j < 3; j++) {
-            const double v = 0.5 * (Po[3 * i + j] + Po[3 * j + i]);
-            Po[3 * i + j] = v;
-            Po[3 * j + i] = v;
-        }
+    add_outer_symmetric(Po, r2, k);
     memcpy(x_out, xo, sizeof xo);
     memcpy(P_out, Po, sizeof Po);
     return SFM_OK;
