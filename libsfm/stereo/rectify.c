@@ -370,6 +370,21 @@ static int apply_h(const double *H, const double *px, double *out)
     return isfinite(out[0]) && isfinite(out[1]);
 }
 
+/* The row difference |y1 - y2| of match i after rectification (rect) or the
+ * homographies H1, H2; 0 when a point does not map. */
+static int match_dy(const sfm_camera *cam1, const sfm_camera *cam2,
+                    const sfm_stereo_rectification *rect, const double *H1, const double *H2,
+                    const double *x1, const double *x2, int i, double *dy)
+{
+    double a[2], b[2];
+    int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
+                        rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
+                  : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
+    if (ok)
+        *dy = fabs(a[1] - b[1]);
+    return ok;
+}
+
 int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam2,
                                    const sfm_stereo_rectification *rect, const sfm_mat3 *H1_in,
                                    const sfm_mat3 *H2_in, const double *x1, const double *x2, int n,
@@ -393,13 +408,9 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
     int used = 0;
     double mx = 0.0;
     for (int i = 0; i < n; i++) {
-        double a[2], b[2];
-        int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
-                            rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
-                      : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
-        if (!ok)
+        double dy;
+        if (!match_dy(cam1, cam2, rect, H1, H2, x1, x2, i, &dy))
             continue;
-        double dy = fabs(a[1] - b[1]);
         if (dy > mx)
             mx = dy;
         used++;
@@ -415,11 +426,8 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
         double midv = 0.5 * (lo + hi);
         int below = 0;
         for (int i = 0; i < n; i++) {
-            double a[2], b[2];
-            int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
-                                rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
-                          : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
-            if (ok && fabs(a[1] - b[1]) <= midv)
+            double dy;
+            if (match_dy(cam1, cam2, rect, H1, H2, x1, x2, i, &dy) && dy <= midv)
                 below++;
         }
         if (below >= k)
