@@ -2,11 +2,10 @@
  * Hartley normalization of 2D point sets and small helpers shared by the
  * solvers. See normalize.h.
  */
+#define SFMI_INLINE_EXTERN /* this file emits sfmi_hartley_pairs (core/inline.h) */
 #include <math.h>
 
 #include "solvers/normalize.h"
-
-#include "core/linalg_util.h"
 
 int sfmi_hartley_2d(const double *p, int n, double t[3])
 {
@@ -33,14 +32,9 @@ int sfmi_hartley_2d(const double *p, int n, double t[3])
     return 0;
 }
 
-int sfmi_hartley_pairs(const double *p1, const double *p2, int n, double t1[3], double t2[3])
-{
-    if (!sfmi_la_all_finite(p1, 2 * (size_t)n) || !sfmi_la_all_finite(p2, 2 * (size_t)n))
-        return SFM_E_NONFINITE;
-    if (sfmi_hartley_2d(p1, n, t1) || sfmi_hartley_2d(p2, n, t2))
-        return 1;
-    return 0;
-}
+/* the one external copy of the header's inline definition (core/inline.h) */
+extern inline int sfmi_hartley_pairs(const double *p1, const double *p2, int n, double t1[3],
+                                     double t2[3]);
 
 void sfmi_hartley_inverse(const double t[3], double ti[3])
 {
