@@ -12,3 +12,4 @@ extern inline double sfmi_la_pow2_scale(double maxabs);
 extern inline double sfmi_la_jacobi_angle(double zeta, double *c, double *s);
 extern inline void sfmi_la_rotate(double *x, double *y, int n, size_t inc, double c, double s);
 extern inline int sfmi_mat3_inverse(const double *A, double *Ai, double min_abs_det);
+extern inline int sfmi_chol3(const double *A, double *L);

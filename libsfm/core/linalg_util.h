@@ -115,4 +115,29 @@ SFMI_INLINE int sfmi_mat3_inverse(const double *A, double *Ai, double min_abs_de
     return 1;
 }
 
+/* 3x3 Cholesky A = L L^T of the lower triangle of A into L (lower,
+ * row-major); 0 (L not written) when a pivot is not strictly positive: A
+ * not positive definite. Inline for the per-point elimination of the
+ * bundle adjustment (refine/ba_schur.c). */
+SFMI_INLINE int sfmi_chol3(const double *A, double *L)
+{
+    double l00 = A[0];
+    if (!(l00 > 0.0))
+        return 0;
+    l00 = sqrt(l00);
+    double l10 = A[3] / l00, l20 = A[6] / l00;
+    double d1 = A[4] - l10 * l10;
+    if (!(d1 > 0.0))
+        return 0;
+    double l11 = sqrt(d1);
+    double l21 = (A[7] - l20 * l10) / l11;
+    double d2 = A[8] - l20 * l20 - l21 * l21;
+    if (!(d2 > 0.0))
+        return 0;
+    L[0] = l00; L[1] = 0; L[2] = 0;
+    L[3] = l10; L[4] = l11; L[5] = 0;
+    L[6] = l20; L[7] = l21; L[8] = sqrt(d2);
+    return 1;
+}
+
 #endif

@@ -35,33 +35,36 @@ static void vblend16(const uint8_t *restrict r0, const uint8_t *restrict r1, uin
         out[k] = (uint16_t)(r0[k] * w0 + r1[k] * wy);
 }
 
+/* The source taps of output coordinate i at scale r, pixel centres aligned:
+ * returns the left index, clamped to [0, size - 2], and *w the weight of the
+ * right one, clamped to [0, 1]. */
+static int tap(int i, double r, int size, double *w)
+{
+    double f = ((double)i + 0.5) * r - 0.5;
+    if (f < 0.0)
+        f = 0.0;
+    int i0 = (int)f;
+    if (i0 > size - 2)
+        i0 = size - 2;
+    double a = f - (double)i0;
+    if (a > 1.0)
+        a = 1.0;
+    *w = a;
+    return i0;
+}
+
 void sfmi_feat_resize(const uint8_t *src, int sw, int sh, int sstride,
                      uint8_t *dst, int dw, int dh, int32_t *xofs, uint16_t *xw, uint16_t *row)
 {
     const double rx = (double)sw / (double)dw, ry = (double)sh / (double)dh;
     for (int x = 0; x < dw; x++) {
-        double fx = ((double)x + 0.5) * rx - 0.5;
-        if (fx < 0.0)
-            fx = 0.0;
-        int x0 = (int)fx;
-        if (x0 > sw - 2)
-            x0 = sw - 2;
-        double a = fx - (double)x0;
-        if (a > 1.0)
-            a = 1.0;
-        xofs[x] = x0;
+        double a;
+        xofs[x] = tap(x, rx, sw, &a);
         xw[x] = (uint16_t)(a * 256.0 + 0.5);
     }
     for (int y = 0; y < dh; y++) {
-        double fy = ((double)y + 0.5) * ry - 0.5;
-        if (fy < 0.0)
-            fy = 0.0;
-        int y0 = (int)fy;
-        if (y0 > sh - 2)
-            y0 = sh - 2;
-        double b = fy - (double)y0;
-        if (b > 1.0)
-            b = 1.0;
+        double b;
+        const int y0 = tap(y, ry, sh, &b);
         const uint32_t wy = (uint32_t)(b * 256.0 + 0.5);
         const uint8_t *r0 = src + (size_t)y0 * (size_t)sstride;
         const uint8_t *r1 = r0 + sstride;

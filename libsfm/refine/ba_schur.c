@@ -31,10 +31,12 @@
 
 #include "core/camera_internal.h"
 #include "core/dmath.h"
+#include "core/linalg_util.h"
 #include "core/lm.h"
 #include "refine/ba_internal.h"
 #include "sfm/sfm_linalg.h"
 #include "sfm/sfm_rotation.h"
+#include "solvers/small_math.h"
 
 #define NLOC SFMI_BA_NLOC
 
@@ -302,30 +304,6 @@ double sfmi_ba_linearize(void *self, double *grad_max)
     return isfinite(cost) ? cost : HUGE_VAL;
 }
 
-/* 3x3 Cholesky of the lower triangle of A into L (lower, row-major). This is
- * the per-point hot path of the elimination, kept inline; returns 0 when A is
- * not positive definite. */
-static int chol3(const double *A, double *L)
-{
-    double l00 = A[0];
-    if (!(l00 > 0.0))
-        return 0;
-    l00 = sqrt(l00);
-    double l10 = A[3] / l00, l20 = A[6] / l00;
-    double d1 = A[4] - l10 * l10;
-    if (!(d1 > 0.0))
-        return 0;
-    double l11 = sqrt(d1);
-    double l21 = (A[7] - l20 * l10) / l11;
-    double d2 = A[8] - l20 * l20 - l21 * l21;
-    if (!(d2 > 0.0))
-        return 0;
-    L[0] = l00; L[1] = 0; L[2] = 0;
-    L[3] = l10; L[4] = l11; L[5] = 0;
-    L[6] = l20; L[7] = l21; L[8] = sqrt(d2);
-    return 1;
-}
-
 /* y = L^{-1} b */
 static void fwd3(const double *L, const double *b, double *y)
 {
@@ -381,7 +359,7 @@ int sfmi_ba_form_reduced(sfmi_ba_ctx *c, double mu)
             Dp[a] = mu * sfmi_lm_clamp_diag(Vd[4 * a]);
             Vd[4 * a] += Dp[a];
         }
-        if (!chol3(Vd, L))
+        if (!sfmi_chol3(Vd, L))
             return 0;
         double *z = w->zp + 3 * (size_t)j;
         fwd3(L, w->gp + 3 * (size_t)j, z);
@@ -593,9 +571,7 @@ double sfmi_ba_trial(void *self)
             const double *R = w->R + 9 * ci;
             if (sfm_rot_from_axis_angle(rot, dR) != SFM_OK)
                 return HUGE_VAL;
-            for (int r = 0; r < 3; r++)
-                for (int s = 0; s < 3; s++)
-                    Rn[3 * r + s] = dR[3 * r] * R[s] + dR[3 * r + 1] * R[3 + s] + dR[3 * r + 2] * R[6 + s];
+            sfmi_matmul3(dR, R, Rn);
             memcpy(w->R2 + 9 * ci, Rn, sizeof Rn);
         }
     }

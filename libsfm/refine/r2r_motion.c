@@ -19,8 +19,10 @@
 #include <string.h>
 
 #include "core/dmath.h"
+#include "core/linalg_util.h"
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_r2r_motion.h"
+#include "solvers/small_math.h"
 
 #define PI_ 3.14159265358979323846
 
@@ -42,6 +44,21 @@ static double wrap_angle(double a)
     return a;
 }
 
+/* P += s v v^T, then P exactly symmetric (each off-diagonal pair replaced by
+ * its mean): the last step of a covariance propagation or update. */
+static void add_outer_symmetric(double P[9], double s, const double v[3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            P[3 * i + j] += s * v[i] * v[j];
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++) {
+            const double m = 0.5 * (P[3 * i + j] + P[3 * j + i]);
+            P[3 * i + j] = m;
+            P[3 * j + i] = m;
+        }
+}
+
 /* symmetric (to 1e-9 of its largest entry) and positive definite (3x3
  * Cholesky with strictly positive pivots) */
 static int spd3(const double P[9])
@@ -55,18 +72,8 @@ static int spd3(const double P[9])
         for (int j = i + 1; j < 3; j++)
             if (fabs(P[3 * i + j] - P[3 * j + i]) > 1e-9 * mx)
                 return 0;
-    double l00 = P[0];
-    if (!(l00 > 0.0))
-        return 0;
-    l00 = sqrt(l00);
-    double l10 = P[3] / l00, l20 = P[6] / l00;
-    double d1 = P[4] - l10 * l10;
-    if (!(d1 > 0.0))
-        return 0;
-    double l11 = sqrt(d1);
-    double l21 = (P[7] - l20 * l10) / l11;
-    double d2 = P[8] - l20 * l20 - l21 * l21;
-    return d2 > 0.0;
+    double L[9];
+    return sfmi_chol3(P, L);
 }
 
 static int noise_ok(const sfm_r2r_motion_noise *n)
@@ -115,13 +122,8 @@ static void predict_core(const double x[3], const double P[9], const sfm_r2r_mot
     const double jex = -ey, jey = ex;
     double F[9] = {cw, sw, cw * jex + sw * jey, -sw, cw, -sw * jex + cw * jey, 0.0, 0.0, 1.0};
     double FP[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            FP[3 * i + j] = F[3 * i] * P[j] + F[3 * i + 1] * P[3 + j] + F[3 * i + 2] * P[6 + j];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Pp[3 * i + j] = FP[3 * i] * F[3 * j] + FP[3 * i + 1] * F[3 * j + 1] +
-                            FP[3 * i + 2] * F[3 * j + 2];
+    sfmi_matmul3(F, P, FP);
+    sfmi_matmul3_nt(FP, F, Pp);
     /* leader translation: R(-w) R(phi) is a rotation, so sigma^2 I on p;
      * leader rotation: phi only; follower translation: -I on p; follower
      * rotation: column (-J c, -1) */
@@ -132,16 +134,7 @@ static void predict_core(const double x[3], const double P[9], const sfm_r2r_mot
     Pp[8] += n->sigma_leader_w * n->sigma_leader_w;
     const double s2 = n->sigma_follower_w * n->sigma_follower_w;
     const double g[3] = {c[1], -c[0], -1.0}; /* -J c = (c_y, -c_x) */
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Pp[3 * i + j] += s2 * g[i] * g[j];
-    /* exact symmetry */
-    for (int i = 0; i < 3; i++)
-        for (int j = i + 1; j < 3; j++) {
-            const double v = 0.5 * (Pp[3 * i + j] + Pp[3 * j + i]);
-            Pp[3 * i + j] = v;
-            Pp[3 * j + i] = v;
-        }
+    add_outer_symmetric(Pp, s2, g);
 }
 
 /* measurement Jacobian row h (3) at position q; 0 when |q| is too small */
@@ -231,19 +224,9 @@ int sfm_r2r_motion_update(const double x[3], const double P[9], int sensor, doub
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             M[3 * i + j] = (i == j ? 1.0 : 0.0) - k[i] * h[j];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            MP[3 * i + j] = M[3 * i] * P[j] + M[3 * i + 1] * P[3 + j] + M[3 * i + 2] * P[6 + j];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            Po[3 * i + j] = MP[3 * i] * M[3 * j] + MP[3 * i + 1] * M[3 * j + 1] +
-                            MP[3 * i + 2] * M[3 * j + 2] + r2 * k[i] * k[j];
-    for (int i = 0; i < 3; i++)
-        for (int j = i + 1; j < 3; j++) {
-            const double v = 0.5 * (Po[3 * i + j] + Po[3 * j + i]);
-            Po[3 * i + j] = v;
-            Po[3 * j + i] = v;
-        }
+    sfmi_matmul3(M, P, MP);
+    sfmi_matmul3_nt(MP, M, Po);
+    add_outer_symmetric(Po, r2, k);
     memcpy(x_out, xo, sizeof xo);
     memcpy(P_out, Po, sizeof Po);
     return SFM_OK;
@@ -385,36 +368,23 @@ static int stationary_directions(const lf_problem *pb, double shift, double u[3]
         return -1;
     double roots[2];
     int n, k = 0;
-    if (fabs(k0) >= fabs(k2)) {
-        /* y/x = w: k0 w^2 + k1 w + k2 = 0; x = 0 is a root only when k0 = 0
-         * (then also k2 = 0 and the form is k1 x y) */
-        if (fabs(k0) <= 1e-12 * mx) {
-            u[k][0] = 0.0;
-            u[k][1] = 1.0;
-            k++;
-        }
-        const double c[3] = {k0, k1, k2};
-        n = sfm_poly_roots2(c, roots);
-        for (int i = 0; i < n; i++) {
-            const double l = sqrt(1.0 + roots[i] * roots[i]);
-            u[k][0] = 1.0 / l;
-            u[k][1] = roots[i] / l;
-            k++;
-        }
-    } else {
-        if (fabs(k2) <= 1e-12 * mx) {
-            u[k][0] = 1.0;
-            u[k][1] = 0.0;
-            k++;
-        }
-        const double c[3] = {k2, k1, k0};
-        n = sfm_poly_roots2(c, roots);
-        for (int i = 0; i < n; i++) {
-            const double l = sqrt(1.0 + roots[i] * roots[i]);
-            u[k][0] = roots[i] / l;
-            u[k][1] = 1.0 / l;
-            k++;
-        }
+    /* w = u[j] / u[o]: j = 1 (w = y/x, k0 w^2 + k1 w + k2 = 0) when
+     * |k0| >= |k2|, else j = 0 (w = x/y, the coefficients reversed); u[o] = 0
+     * is a root only when the leading coefficient vanishes (then so does the
+     * other, and the form is k1 x y) */
+    const int j = fabs(k0) >= fabs(k2), o = 1 - j;
+    const double c[3] = {j ? k0 : k2, k1, j ? k2 : k0};
+    if (fabs(c[0]) <= 1e-12 * mx) {
+        u[k][o] = 0.0;
+        u[k][j] = 1.0;
+        k++;
+    }
+    n = sfm_poly_roots2(c, roots);
+    for (int i = 0; i < n; i++) {
+        const double l = sqrt(1.0 + roots[i] * roots[i]);
+        u[k][o] = 1.0 / l;
+        u[k][j] = roots[i] / l;
+        k++;
     }
     return k;
 }

@@ -113,15 +113,10 @@ static int refine(void *ctx, const int *inl, int n, double *model)
     f_model *m = (f_model *)model;
     if (n < 8)
         return -1;
-    sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
-    sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double F[9];
     memcpy(F, m->F, sizeof F);
-    sfm_mat3 L;
-    if (sfm_fundamental_8pt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
-        sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, L.m) <
-            sfmi_robust_fundamental_cost(c->g1, c->g2, n, c->tau, F))
-        memcpy(F, L.m, sizeof F);
+    sfmi_pixel_pairs_refit(c->p1, c->p2, inl, n, c->tau, sfm_fundamental_8pt,
+                           sfmi_robust_fundamental_cost, c->g1, c->g2, F);
     (void)sfmi_robust_fundamental_lm(c->g1, c->g2, n, c->tau, F_LM_STEPS, F);
     memcpy(m->F, F, sizeof F);
     return 0;

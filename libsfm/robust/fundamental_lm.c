@@ -28,6 +28,7 @@
 
 #include "core/lm.h"
 #include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "sfm/sfm_rotation.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -121,34 +122,10 @@ static int fundamental_residual(const void *user, const double *const *x, int i,
     return 1;
 }
 
-/* The Cauchy loss of scale^2 = s2 of a squared residual; r2 when s2 <= 0. */
-static double robust_loss(double r2, double s2)
-{
-    double rho = r2, rho1;
-    if (s2 > 0.0)
-        sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
-    return rho;
-}
-
 double sfmi_robust_fundamental_cost(const double *p1, const double *p2, int n, double scale,
                                    const double F[9])
 {
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double r2 = sfmi_sampson_pixel2(F, p1 + 2 * i, p2 + 2 * i);
-        if (r2 < SFM_ROBUST_HUGE)
-            c += robust_loss(r2, s2);
-    }
-    return c;
-}
-
-/* Inverse of a normalisation stored as (s, a, b): (1/s, -a/s, -b/s). */
-static void inv_norm(const double *t, double *ti)
-{
-    ti[0] = 1.0 / t[0];
-    ti[1] = -t[1] / t[0];
-    ti[2] = -t[2] / t[0];
+    return sfmi_robust_pair_cost(p1, p2, n, scale, F, sfmi_sampson_pixel2);
 }
 
 /* B = T2a^T A T1a for normalisations stored as (s, a, b). */
@@ -181,8 +158,8 @@ int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, doubl
      * singular vectors carry no weight, so their signs are free) */
     double ti1[3], ti2[3], Fn[9], S[3];
     double *U = N->U, *V = N->V;
-    inv_norm(N->t1, ti1);
-    inv_norm(N->t2, ti2);
+    sfmi_hartley_inverse(N->t1, ti1);
+    sfmi_hartley_inverse(N->t2, ti2);
     congruence(ti2, F, ti1, Fn);
     if (sfmi_svd3(Fn, U, S, V) != 0 || !(S[0] > 0.0))
         return -1;

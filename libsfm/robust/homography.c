@@ -87,15 +87,10 @@ static int refine(void *ctx, const int *inl, int n, double *model)
     h_model *m = (h_model *)model;
     if (n < 4)
         return -1;
-    sfmi_robust_gather(c->p1, 2, inl, n, c->g1);
-    sfmi_robust_gather(c->p2, 2, inl, n, c->g2);
     double H[9];
     memcpy(H, m->H, sizeof H);
-    sfm_mat3 L;
-    if (sfm_homography_dlt(c->g1, c->g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
-        sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, L.m) <
-            sfmi_robust_homography_cost(c->g1, c->g2, n, c->tau, H))
-        memcpy(H, L.m, sizeof H);
+    sfmi_pixel_pairs_refit(c->p1, c->p2, inl, n, c->tau, sfm_homography_dlt,
+                           sfmi_robust_homography_cost, c->g1, c->g2, H);
     (void)sfmi_robust_homography_lm(c->g1, c->g2, n, 2.0 * c->tau, H_LM_STEPS, H);
     h_model tmp;
     if (!finish_model(H, &tmp))

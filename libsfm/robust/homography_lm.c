@@ -28,6 +28,7 @@
 #include "core/lm.h"
 #include "sfm/sfm_common.h"
 #include "robust/epipolar.h"
+#include "robust/estimator.h"
 #include "solvers/normalize.h"
 
 #define NP 8
@@ -94,18 +95,7 @@ double sfmi_robust_homography_sampson2(const double H[9], const double *x, const
 double sfmi_robust_homography_cost(const double *p1, const double *p2, int n, double scale,
                                   const double H[9])
 {
-    const double s2 = scale > 0.0 ? scale * scale : 0.0;
-    double c = 0.0;
-    for (int i = 0; i < n; i++) {
-        double r2 = sfmi_robust_homography_sampson2(H, p1 + 2 * i, p2 + 2 * i);
-        if (r2 < SFM_ROBUST_HUGE) {
-            double rho = r2, rho1;
-            if (s2 > 0.0)
-                sfmi_lm_loss_eval(SFMI_LM_LOSS_CAUCHY, s2, r2, &rho, &rho1);
-            c += rho;
-        }
-    }
-    return c;
+    return sfmi_robust_pair_cost(p1, p2, n, scale, H, sfmi_robust_homography_sampson2);
 }
 
 typedef sfmi_homography_problem hnorm;
@@ -187,9 +177,9 @@ int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double
     N->p1 = p1;
     N->p2 = p2;
     /* H_n = T2 H T1^-1 */
-    double T1i[9], T2[9], tmp[9];
+    double ti1[3], T1i[9], T2[9], tmp[9];
     double *Hn = N->Hn;
-    const double ti1[3] = {1.0 / N->t1[0], -N->t1[1] / N->t1[0], -N->t1[2] / N->t1[0]};
+    sfmi_hartley_inverse(N->t1, ti1);
     sfmi_hartley_matrix(ti1, T1i);
     sfmi_hartley_matrix(N->t2, T2);
     sfmi_matmul3(T2, H, tmp);
@@ -222,8 +212,8 @@ int sfmi_robust_homography_lm(const double *p1, const double *p2, int n, double 
     if (st != 0)
         return st;
     /* H = T2^-1 H_n T1 */
-    double T2i[9], T1[9], Hp[9], tmp[9];
-    const double ti2[3] = {1.0 / N.t2[0], -N.t2[1] / N.t2[0], -N.t2[2] / N.t2[0]};
+    double ti2[3], T2i[9], T1[9], Hp[9], tmp[9];
+    sfmi_hartley_inverse(N.t2, ti2);
     sfmi_hartley_matrix(ti2, T2i);
     sfmi_hartley_matrix(N.t1, T1);
     sfmi_matmul3(T2i, N.Hn, tmp);

@@ -1,12 +1,11 @@
 /* Shared input handling of the fundamental and homography estimators. */
 #include "robust/pixel_pairs.h"
 
-#include <math.h>
 #include <string.h>
 
-#include "core/linalg_util.h"
 #include "robust/estimator.h"
 #include "robust/support_check.h"
+#include "solvers/normalize.h"
 
 static void layout(sfmi_arena *a, int n, size_t es, pixel_pairs *pp)
 {
@@ -60,21 +59,9 @@ int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sf
 {
     if (px1 == NULL || px2 == NULL || ws == NULL || (cam1 == NULL) != (cam2 == NULL))
         return SFM_E_ARGUMENT;
-    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
-        return SFM_E_ARGUMENT;
-    int st = sfmi_robust_options(opt, eopt);
+    int st = sfmi_robust_pair_inputs(px1, px2, n, sample, cam1, cam2, opt, eopt);
     if (st < 0)
         return st;
-    if (cam1 != NULL) {
-        st = sfm_camera_validate(cam1);
-        if (st < 0)
-            return st;
-        st = sfm_camera_validate(cam2);
-        if (st < 0)
-            return st;
-    }
-    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
-        return SFM_E_NONFINITE;
     size_t need = sfmi_pixel_pairs_workspace_size(n, sample, max_models, model_size);
     if (need == 0)
         return SFM_E_ARGUMENT;
@@ -94,6 +81,18 @@ int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sf
     if (st < 0)
         return st;
     return ideal(cam2, px2, n, pp->p2);
+}
+
+void sfmi_pixel_pairs_refit(const double *p1, const double *p2, const int *inl, int n,
+                            double tau, sfmi_pair_fit_fn fit, sfmi_pair_cost_fn cost,
+                            double *g1, double *g2, double M[9])
+{
+    sfmi_robust_gather(p1, 2, inl, n, g1);
+    sfmi_robust_gather(p2, 2, inl, n, g2);
+    sfm_mat3 L;
+    if (fit(g1, g2, n, &L) == 1 && sfmi_normalize9(L.m) == 0 &&
+        cost(g1, g2, n, tau, L.m) < cost(g1, g2, n, tau, M))
+        memcpy(M, L.m, 9 * sizeof(double));
 }
 
 int sfmi_pixel_pairs_support(const pixel_pairs *pp, int n, int k, int m, double p, int homography,

@@ -23,6 +23,18 @@ int sfmi_pixel_pairs_setup(const double *px1, const double *px2, int n, const sf
                           int max_models, int model_size, void *ws, size_t ws_size,
                           pixel_pairs *pp, sfm_ransac_options *eopt);
 
+/* The linear refit that starts an LO step of the fundamental and homography
+ * estimators: the inliers inl[0..n) of p1, p2 are gathered into g1, g2 (n x
+ * 2 each), and M (9 entries, in and out) becomes fit's model of them when
+ * fit returns 1 with a model that scales to unit norm and whose robust cost
+ * (scale tau) is below M's; else M stays. */
+typedef int (*sfmi_pair_fit_fn)(const double *p1, const double *p2, int n, sfm_mat3 *M);
+typedef double (*sfmi_pair_cost_fn)(const double *p1, const double *p2, int n, double scale,
+                                    const double M[9]);
+void sfmi_pixel_pairs_refit(const double *p1, const double *p2, const int *inl, int n,
+                            double tau, sfmi_pair_fit_fn fit, sfmi_pair_cost_fn cost,
+                            double *g1, double *g2, double M[9]);
+
 /* The support checks of sfm_ransac.h on the inliers pp->idx[0..m) of a
  * model of sample size k over n pairs: chance (p: the probability that a
  * random pair lands in the model's inlier band), spread in each image

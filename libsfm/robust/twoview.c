@@ -56,19 +56,9 @@ int sfmi_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_optio
     const size_t ws_size = call->ws_size;
     if (px1 == NULL || px2 == NULL || cam1 == NULL || cam2 == NULL || ws == NULL)
         return SFM_E_ARGUMENT;
-    if (n < sample || n > SFM_RANSAC_MAX_POINTS)
-        return SFM_E_ARGUMENT;
-    int st = sfmi_robust_options(call->opt, eopt);
+    int st = sfmi_robust_pair_inputs(px1, px2, n, sample, cam1, cam2, call->opt, eopt);
     if (st < 0)
         return st;
-    st = sfm_camera_validate(cam1);
-    if (st < 0)
-        return st;
-    st = sfm_camera_validate(cam2);
-    if (st < 0)
-        return st;
-    if (!sfmi_la_all_finite(px1, 2 * (size_t)n) || !sfmi_la_all_finite(px2, 2 * (size_t)n))
-        return SFM_E_NONFINITE;
     size_t need = sfmi_twoview_workspace_size(n, sample, max_models);
     if (need == 0)
         return SFM_E_ARGUMENT;

@@ -9,7 +9,6 @@
  */
 #include <math.h>
 
-#include "core/linalg_util.h"
 #include "sfm/sfm_poly.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
@@ -32,11 +31,10 @@ int sfm_fundamental_7pt(const double *p1, const double *p2, sfm_mat3 *F)
 {
     if (!p1 || !p2 || !F)
         return SFM_E_ARGUMENT;
-    if (!sfmi_la_all_finite(p1, 14) || !sfmi_la_all_finite(p2, 14))
-        return SFM_E_NONFINITE;
     double t1[3], t2[3];
-    if (sfmi_hartley_2d(p1, 7, t1) || sfmi_hartley_2d(p2, 7, t2))
-        return 0;
+    int norm = sfmi_hartley_pairs(p1, p2, 7, t1, t2);
+    if (norm != 0)
+        return norm < 0 ? norm : 0; /* non-finite, or no scale: no model */
     double A[63], N[18];
     for (int i = 0; i < 7; i++) {
         double a0 = t1[0] * p1[2 * i] + t1[1], a1 = t1[0] * p1[2 * i + 1] + t1[2];

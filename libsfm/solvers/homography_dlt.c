@@ -6,7 +6,6 @@
  */
 #include <math.h>
 
-#include "core/linalg_util.h"
 #include "sfm/sfm_solvers.h"
 #include "solvers/linear9.h"
 #include "solvers/normalize.h"
@@ -29,11 +28,10 @@ int sfm_homography_dlt(const double *p1, const double *p2, int n, sfm_mat3 *H)
 {
     if (!p1 || !p2 || !H || n < 4)
         return SFM_E_ARGUMENT;
-    if (!sfmi_la_all_finite(p1, 2 * n) || !sfmi_la_all_finite(p2, 2 * n))
-        return SFM_E_NONFINITE;
     double t1[3], t2[3];
-    if (sfmi_hartley_2d(p1, n, t1) || sfmi_hartley_2d(p2, n, t2))
-        return 0;
+    int norm = sfmi_hartley_pairs(p1, p2, n, t1, t2);
+    if (norm != 0)
+        return norm < 0 ? norm : 0; /* non-finite, or no scale: no model */
     double h[9];
     if (n == 4) {
         double A[72], N[9];

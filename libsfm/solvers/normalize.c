@@ -2,6 +2,7 @@
  * Hartley normalization of 2D point sets and small helpers shared by the
  * solvers. See normalize.h.
  */
+#define SFMI_INLINE_EXTERN /* this file emits sfmi_hartley_pairs (core/inline.h) */
 #include <math.h>
 
 #include "solvers/normalize.h"
@@ -29,6 +30,17 @@ int sfmi_hartley_2d(const double *p, int n, double t[3])
     t[1] = -s * cx;
     t[2] = -s * cy;
     return 0;
+}
+
+/* the one external copy of the header's inline definition (core/inline.h) */
+extern inline int sfmi_hartley_pairs(const double *p1, const double *p2, int n, double t1[3],
+                                     double t2[3]);
+
+void sfmi_hartley_inverse(const double t[3], double ti[3])
+{
+    ti[0] = 1.0 / t[0];
+    ti[1] = -t[1] / t[0];
+    ti[2] = -t[2] / t[0];
 }
 
 void sfmi_hartley_matrix(const double t[3], double T[9])

@@ -1,7 +1,8 @@
 /*
  * Internal: the frames, aligning rotations and small numerical routines the
  * robot-to-robot base-system solvers share (libsfm/solvers/r2r_*.c).
- * Header-only, static inline; no state.
+ * Header-only, static inline (but the bisection and dip search of the root
+ * scan, r2r_scan.c); no state.
  *
  * Two kinds of frame: sfmi_r2r_frame fixes all three axes from two vectors
  * (e1 along v, e2 towards w), so sfmi_r2r_align2 is the one rotation
@@ -68,9 +69,7 @@ static inline int sfmi_r2r_align2(const double *v1, const double *v2, const doub
     double Fv[9], Fa[9];
     if (!sfmi_r2r_frame(v1, v2, Fv) || !sfmi_r2r_frame(a1, a2, Fa))
         return 0;
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++)
-            C[3 * r + c] = Fa[3 * r] * Fv[3 * c] + Fa[3 * r + 1] * Fv[3 * c + 1] + Fa[3 * r + 2] * Fv[3 * c + 2];
+    sfmi_matmul3_nt(Fa, Fv, C);
     return 1;
 }
 
@@ -114,35 +113,45 @@ static inline int sfmi_r2r_solve3(const double *J, const double *f, double *x)
     return 1;
 }
 
+/* The middle of [a, b] after iters halvings that keep a sign change of fn
+ * inside (fa = fn(a)); with stop_nonfinite it stops at the first value of
+ * fn that is not finite. Out of line (r2r_scan.c), as the next. */
+double sfmi_r2r_bisect(double (*fn)(const void *, double), const void *ctx, double a, double b,
+                       double fa, int iters, int stop_nonfinite);
+
 /* A dip of |f| between a and b that keeps the sign s of f at both ends may
  * hide two close roots: golden-section search (at most 40 steps) for a
  * point where s f <= 0. Returns 1 with that point in *xm (the two roots then
  * lie on either side of it), 0 when the dip stays on one side. */
-static inline int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, double a,
-                                     double b, double s, double *xm)
+int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, double a, double b,
+                       double s, double *xm);
+
+/* One step of the sampled root scan of r2r_b1_b2_d_d.c and
+ * r2r_b1_d_d_d_d.c over the last three samples (t[j], f[j]) of fn, oldest
+ * first, f not finite where there is no sample (yet): a sign change
+ * between the last two is bisected; a dip of |f| at the middle one that
+ * keeps the sign is searched, and when it crosses, both roots are bisected
+ * (iters and stop_nonfinite as sfmi_r2r_bisect). The roots go to roots[m],
+ * roots[m + 1] (the two cases exclude each other: room for two); returns
+ * the new m. Inline: it runs once a sample. */
+static inline int sfmi_r2r_scan_step(double (*fn)(const void *, double), const void *ctx,
+                                     const double t[3], const double f[3], int iters,
+                                     int stop_nonfinite, double *roots, int m)
 {
-    const double gr = 0.38196601125010515;
-    double x1 = a + gr * (b - a), x2 = b - gr * (b - a);
-    double g1 = s * fn(ctx, x1), g2 = s * fn(ctx, x2);
-    for (int it = 0; it < 40 && g1 > 0.0 && g2 > 0.0; it++) {
-        if (g1 < g2) {
-            b = x2;
-            x2 = x1;
-            g2 = g1;
-            x1 = a + gr * (b - a);
-            g1 = s * fn(ctx, x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            g1 = g2;
-            x2 = b - gr * (b - a);
-            g2 = s * fn(ctx, x2);
+    if (!(isfinite(f[1]) && isfinite(f[2])))
+        return m;
+    if ((f[1] < 0.0) != (f[2] < 0.0))
+        roots[m++] = sfmi_r2r_bisect(fn, ctx, t[1], t[2], f[1], iters, stop_nonfinite);
+    if (isfinite(f[0]) && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
+        fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
+        double xm;
+        if (sfmi_r2r_dip_cross(fn, ctx, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
+            roots[m++] = sfmi_r2r_bisect(fn, ctx, t[0], xm, f[0], iters, stop_nonfinite);
+            /* f(xm) has the other sign */
+            roots[m++] = sfmi_r2r_bisect(fn, ctx, xm, t[2], -f[2], iters, stop_nonfinite);
         }
     }
-    if (!(g1 <= 0.0) && !(g2 <= 0.0))
-        return 0;
-    *xm = g1 <= 0.0 ? x1 : x2;
-    return 1;
+    return m;
 }
 
 /* One step of a Newton polish of a root x of three equations, given their
@@ -166,6 +175,23 @@ static inline int sfmi_r2r_newton3(const double J[9], const double f[3], int las
     return -1;
 }
 
+/* Newton polish of a root x of three equations whose values f and Jacobian
+ * J at x come from fj(coef, x, f, J): two steps of sfmi_r2r_newton3, then
+ * its check. Returns 1 for a root the equations confirm, else 0. */
+static inline int sfmi_r2r_polish3(void (*fj)(const double *coef, const double *x, double f[3],
+                                              double J[9]),
+                                   const double *coef, double x[3])
+{
+    for (int it = 0; it < 3; it++) {
+        double f[3], J[9];
+        fj(coef, x, f, J);
+        int r = sfmi_r2r_newton3(J, f, it == 2, x);
+        if (r >= 0)
+            return r;
+    }
+    return 0;
+}
+
 /* Unit n and a right-handed orthonormal frame (n, e1, e2). 0 for a zero or
  * non-finite a. */
 static inline int sfmi_r2r_unit_frame(const double a[3], double n[3], double e1[3], double e2[3])
@@ -186,6 +212,81 @@ static inline int sfmi_r2r_unit_frame(const double a[3], double n[3], double e1[
         e1[i] /= m;
     sfmi_cross3(n, e1, e2);
     return 1;
+}
+
+/* The solvers with two bearings or one and distances (r2r_b1_b1_d_d.c,
+ * r2r_b1_d_d_d_d.c) write C = F Rx(theta) G^T: G a frame of {2} whose first
+ * axis is t2_1, F the frame at the point a = C t2_1 of a circle
+ * {|a| = rho, n.a = h0} (radius r), Rx(theta) the turn about their first
+ * axes left free. Then C t2_k = v0 a / rho + cos(theta) (v1 f2 + v2 f3) +
+ * sin(theta) (v1 f3 - v2 f2), v = G^T t2_k, and each distance equation is
+ * linear in (cos theta, sin theta). */
+
+/* G (columns) and its axes (rows of ax): t / rho (rho = |t| > 0), then two
+ * perpendicular axes completing it right-handed. */
+static inline void sfmi_r2r_axis_frame(const double t[3], double rho, double ax[3][3],
+                                       double G[9])
+{
+    double *g1 = ax[0], *g2 = ax[1], *g3 = ax[2], aux[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 3; i++)
+        g1[i] = t[i] / rho;
+    int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
+                                       : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
+    aux[mi] = 1.0;
+    sfmi_cross3(g1, aux, g2);
+    double n2 = sqrt(sfmi_dot3(g2, g2));
+    for (int i = 0; i < 3; i++)
+        g2[i] /= n2;
+    sfmi_cross3(g1, g2, g3);
+    for (int i = 0; i < 3; i++) {
+        G[3 * i] = g1[i];
+        G[3 * i + 1] = g2[i];
+        G[3 * i + 2] = g3[i];
+    }
+}
+
+/* F (columns a / rho, f2 = n x a / r, f3 = (rho^2 n - h0 a) / (rho r)) at
+ * the point a of the circle; n unit. */
+static inline void sfmi_r2r_circle_frame(const double n[3], const double a[3], double h0,
+                                         double r, double rho, double F[9], double f2[3],
+                                         double f3[3])
+{
+    sfmi_cross3(n, a, f2);
+    for (int i = 0; i < 3; i++) {
+        f2[i] /= r;
+        f3[i] = (rho * rho * n[i] - h0 * a[i]) / (rho * r);
+        F[3 * i] = a[i] / rho;
+        F[3 * i + 1] = f2[i];
+        F[3 * i + 2] = f3[i];
+    }
+}
+
+/* The cos and sin coefficients of |C t2_k + l u0 - t1_k|^2 = d_k^2 at the
+ * frame (f2, f3): with q = l u0 - t1_k, 2 q.(v1 f2 + v2 f3) into cs[0] and
+ * 2 q.(v1 f3 - v2 f2) into cs[1]; q out (the constant term is the
+ * caller's). */
+static inline void sfmi_r2r_distance_cs(double l, const double u0[3], const double t1[3],
+                                        const double v[3], const double f2[3],
+                                        const double f3[3], double q[3], double cs[2])
+{
+    double x[3], y[3];
+    for (int i = 0; i < 3; i++) {
+        q[i] = l * u0[i] - t1[i];
+        x[i] = v[1] * f2[i] + v[2] * f3[i];
+        y[i] = v[1] * f3[i] - v[2] * f2[i];
+    }
+    cs[0] = 2.0 * sfmi_dot3(q, x);
+    cs[1] = 2.0 * sfmi_dot3(q, y);
+}
+
+/* C = F Rx(theta) G^T, Rx(theta) = [1 0 0; 0 ct -st; 0 st ct]: the
+ * rotation taking G's axes to F's after the turn (r2r_b1_b2_d_d.c too). */
+static inline void sfmi_r2r_turn_compose(const double F[9], double ct, double st,
+                                         const double G[9], double C[9])
+{
+    double Rx[9] = {1, 0, 0, 0, ct, -st, 0, st, ct}, FR[9];
+    sfmi_matmul3(F, Rx, FR);
+    sfmi_matmul3_nt(FR, G, C);
 }
 
 /* A proper rotation C0 with C0 u/|u| = v/|v| (one of the circle). 0 when u
@@ -296,6 +397,40 @@ static inline void sfmi_r2r_emit(const sfm_r2r_step *steps, int n_steps, const d
     for (int i = 0; i < 3; i++)
         out[*n].p.v[i] = p[i];
     (*n)++;
+}
+
+/* The rotations of the circle C a = b (sfmi_r2r_align, axis b / |b|) on
+ * which y^T C x = c (sfmi_r2r_circle_solve), each appended with p by
+ * sfmi_r2r_emit (n_steps). Returns 0, emitting nothing, when a or b is
+ * zero; else 1. */
+static inline int sfmi_r2r_circle_emit(const sfm_r2r_step *steps, int n_steps, const double a[3],
+                                       const double b[3], const double x[3], const double y[3],
+                                       double c, const double p[3], sfm_r2r_transform *out,
+                                       int *n)
+{
+    double C0[9], axis[3], e1[3], e2[3], C[2][9];
+    if (!sfmi_r2r_align(a, b, C0) || !sfmi_r2r_unit_frame(b, axis, e1, e2))
+        return 0;
+    int m = sfmi_r2r_circle_solve(C0, axis, x, y, c, C);
+    for (int j = 0; j < m; j++)
+        sfmi_r2r_emit(steps, n_steps, C[j], p, out, n);
+    return 1;
+}
+
+/* The real roots B + sqrt(disc), B - sqrt(disc) of a quadratic into mu
+ * (one when disc is 0). Exact data tangent to the sphere can round disc to
+ * slightly below 0: above -1e-12 scale it counts as 0. Returns the count,
+ * 0 when disc is negative or not a number. */
+static inline int sfmi_r2r_quadratic_roots(double B, double disc, double scale, double mu[2])
+{
+    if (disc < 0.0 && disc > -1e-12 * scale)
+        disc = 0.0;
+    if (!(disc >= 0.0))
+        return 0;
+    double sq = sqrt(disc);
+    mu[0] = B + sq;
+    mu[1] = B - sq;
+    return sq > 0.0 ? 2 : 1;
 }
 
 /* 1 when T is already in out[0..n): every entry of C and of p / scale within

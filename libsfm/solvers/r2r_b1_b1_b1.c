@@ -25,23 +25,24 @@
 #include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
-static int polish(const double *a, const double *b, const double *c, double *x)
+/* The three quadratics in (l, m1, m2) and their Jacobian; in = (a, b, c). */
+static void equations(const double *in, const double *x, double f[3], double J[9])
 {
-    for (int it = 0; it < 3; it++) {
-        double l = x[0], m1 = x[1], m2 = x[2];
-        double f[3] = {m1 * m1 + l * l + a[0] * l * m1 + a[1] * l + a[2] * m1 + a[3],
-                       m2 * m2 + l * l + b[0] * l * m2 + b[1] * l + b[2] * m2 + b[3],
-                       l * l + c[0] * l * m1 + c[1] * l * m2 + c[2] * m1 * m2 + c[3] * l +
-                           c[4] * m1 + c[5] * m2 + c[6]};
-        double J[9] = {2 * l + a[0] * m1 + a[1], 2 * m1 + a[0] * l + a[2], 0.0,
-                       2 * l + b[0] * m2 + b[1], 0.0, 2 * m2 + b[0] * l + b[2],
-                       2 * l + c[0] * m1 + c[1] * m2 + c[3], c[0] * l + c[2] * m2 + c[4],
-                       c[1] * l + c[2] * m1 + c[5]};
-        int r = sfmi_r2r_newton3(J, f, it == 2, x);
-        if (r >= 0)
-            return r;
-    }
-    return 0;
+    const double *a = in, *b = in + 4, *c = in + 8;
+    double l = x[0], m1 = x[1], m2 = x[2];
+    f[0] = m1 * m1 + l * l + a[0] * l * m1 + a[1] * l + a[2] * m1 + a[3];
+    f[1] = m2 * m2 + l * l + b[0] * l * m2 + b[1] * l + b[2] * m2 + b[3];
+    f[2] = l * l + c[0] * l * m1 + c[1] * l * m2 + c[2] * m1 * m2 + c[3] * l + c[4] * m1 +
+           c[5] * m2 + c[6];
+    J[0] = 2 * l + a[0] * m1 + a[1];
+    J[1] = 2 * m1 + a[0] * l + a[2];
+    J[2] = 0.0;
+    J[3] = 2 * l + b[0] * m2 + b[1];
+    J[4] = 0.0;
+    J[5] = 2 * m2 + b[0] * l + b[2];
+    J[6] = 2 * l + c[0] * m1 + c[1] * m2 + c[3];
+    J[7] = c[0] * l + c[2] * m2 + c[4];
+    J[8] = c[1] * l + c[2] * m1 + c[5];
 }
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
@@ -78,7 +79,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int n_out = 0;
     for (int k = 0; k < ns; k++) {
         double *x = sol + 3 * k;
-        if (!polish(a, b, c, x))
+        if (!sfmi_r2r_polish3(equations, in, x))
             continue;
         if (!(x[0] > 0.0 && x[1] > 0.0 && x[2] > 0.0))
             continue;

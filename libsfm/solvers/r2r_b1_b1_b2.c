@@ -27,21 +27,23 @@
 #include "solvers/r2r_align.h"
 #include "solvers/r2r_internal.h"
 
-static int polish(const double *a, const double *b, const double *c, double *x)
+/* The three quadratics in (l, m, n) and their Jacobian; in = (a, b, c). */
+static void equations(const double *in, const double *x, double f[3], double J[9])
 {
-    for (int it = 0; it < 3; it++) {
-        double l = x[0], m = x[1], n = x[2];
-        double f[3] = {m * m + l * l + a[0] * l * m + a[1] * l + a[2] * m + a[3],
-                       l * l - n * n + b[0] * l + b[1] * n + b[2],
-                       l * l + c[0] * l * m + c[1] * l + c[2] * m + c[3] * n + c[4]};
-        double J[9] = {2 * l + a[0] * m + a[1], 2 * m + a[0] * l + a[2], 0.0,
-                       2 * l + b[0], 0.0, -2 * n + b[1],
-                       2 * l + c[0] * m + c[1], c[0] * l + c[2], c[3]};
-        int r = sfmi_r2r_newton3(J, f, it == 2, x);
-        if (r >= 0)
-            return r;
-    }
-    return 0;
+    const double *a = in, *b = in + 4, *c = in + 7;
+    double l = x[0], m = x[1], n = x[2];
+    f[0] = m * m + l * l + a[0] * l * m + a[1] * l + a[2] * m + a[3];
+    f[1] = l * l - n * n + b[0] * l + b[1] * n + b[2];
+    f[2] = l * l + c[0] * l * m + c[1] * l + c[2] * m + c[3] * n + c[4];
+    J[0] = 2 * l + a[0] * m + a[1];
+    J[1] = 2 * m + a[0] * l + a[2];
+    J[2] = 0.0;
+    J[3] = 2 * l + b[0];
+    J[4] = 0.0;
+    J[5] = -2 * n + b[1];
+    J[6] = 2 * l + c[0] * m + c[1];
+    J[7] = c[0] * l + c[2];
+    J[8] = c[3];
 }
 
 static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
@@ -75,7 +77,7 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     int n_out = 0;
     for (int k = 0; k < ns; k++) {
         double *x = sol + 3 * k;
-        if (!polish(a, b, c, x))
+        if (!sfmi_r2r_polish3(equations, in, x))
             continue;
         if (!(x[0] > 0.0 && x[1] > 0.0 && x[2] > 0.0))
             continue;

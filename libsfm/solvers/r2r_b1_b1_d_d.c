@@ -59,26 +59,12 @@ static void at_phi(const geo *g, double c, double s, double *lam, double *mu, do
     double m = sfmi_dot3(d, g->e2) / g->u1e2;
     double l = m * g->u1e1 - sfmi_dot3(d, g->e1);
     double f2[3], f3[3];
-    sfmi_cross3(g->n, a, f2);
-    for (int i = 0; i < 3; i++) {
-        f2[i] /= g->r;
-        f3[i] = (g->rho * g->rho * g->n[i] - g->h0 * a[i]) / (g->rho * g->r);
-        F[3 * i] = a[i] / g->rho;
-        F[3 * i + 1] = f2[i];
-        F[3 * i + 2] = f3[i];
-    }
+    sfmi_r2r_circle_frame(g->n, a, g->h0, g->r, g->rho, F, f2, f3);
     for (int k = 0; k < 2; k++) {
-        double q[3], x[3], y[3];
-        const double *v = g->v[k];
-        for (int i = 0; i < 3; i++) {
-            q[i] = l * g->u0[i] - g->t1[k][i];
-            x[i] = v[1] * f2[i] + v[2] * f3[i];
-            y[i] = v[1] * f3[i] - v[2] * f2[i];
-        }
-        abc[k][0] = 2.0 * sfmi_dot3(q, x);
-        abc[k][1] = 2.0 * sfmi_dot3(q, y);
+        double q[3];
+        sfmi_r2r_distance_cs(l, g->u0, g->t1[k], g->v[k], f2, f3, q, abc[k]);
         abc[k][2] = l * l - 2.0 * l * sfmi_dot3(g->u0, g->t1[k]) + g->K[k] +
-                    2.0 * v[0] * sfmi_dot3(q, a) / g->rho;
+                    2.0 * g->v[k][0] * sfmi_dot3(q, a) / g->rho;
     }
     *lam = l;
     *mu = m;
@@ -157,27 +143,12 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
     g.u1e1 = sfmi_dot3(g.u1, g.e1);
     g.u1e2 = sfmi_dot3(g.u1, g.e2);
     /* frame of {2}: t2_1, then any two perpendicular axes */
-    double g1[3], g2[3], g3[3], aux[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < 3; i++)
-        g1[i] = t21[i] / g.rho;
-    int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
-                                       : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
-    aux[mi] = 1.0;
-    sfmi_cross3(g1, aux, g2);
-    double n2 = sqrt(sfmi_dot3(g2, g2));
-    for (int i = 0; i < 3; i++)
-        g2[i] /= n2;
-    sfmi_cross3(g1, g2, g3);
-    for (int i = 0; i < 3; i++) {
-        g.G[3 * i] = g1[i];
-        g.G[3 * i + 1] = g2[i];
-        g.G[3 * i + 2] = g3[i];
-    }
+    double ax[3][3];
+    sfmi_r2r_axis_frame(t21, g.rho, ax, g.G);
     for (int k = 0; k < 2; k++) {
         const sfm_r2r_step *sk = &s[2 + k];
-        g.v[k][0] = sfmi_dot3(g1, sk->t2.v);
-        g.v[k][1] = sfmi_dot3(g2, sk->t2.v);
-        g.v[k][2] = sfmi_dot3(g3, sk->t2.v);
+        for (int j = 0; j < 3; j++)
+            g.v[k][j] = sfmi_dot3(ax[j], sk->t2.v);
         for (int i = 0; i < 3; i++)
             g.t1[k][i] = sk->t1.v[i];
         g.K[k] = sfmi_dot3(sk->t2.v, sk->t2.v) + sfmi_dot3(sk->t1.v, sk->t1.v) -
@@ -290,16 +261,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
         }
         if (!(res <= 1e-8 * big))
             continue;
-        /* C = F Rx(theta) G^T */
-        double Rx[9] = {1, 0, 0, 0, ct, -st, 0, st, ct}, FR[9];
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++)
-                FR[3 * r + q] = F[3 * r] * Rx[q] + F[3 * r + 1] * Rx[3 + q] + F[3 * r + 2] * Rx[6 + q];
         sfm_r2r_transform T;
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++)
-                T.C.m[3 * r + q] = FR[3 * r] * g.G[3 * q] + FR[3 * r + 1] * g.G[3 * q + 1] +
-                                   FR[3 * r + 2] * g.G[3 * q + 2];
+        sfmi_r2r_turn_compose(F, ct, st, g.G, T.C.m);
         for (int i = 0; i < 3; i++)
             T.p.v[i] = lam * g.u0[i] / nu0;
         if (!sfmi_r2r_is_duplicate(out, n_out, &T, 1.0 + lam, 1e-9))

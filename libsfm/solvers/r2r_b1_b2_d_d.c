@@ -115,24 +115,11 @@ static double elim_cb(const void *g, double x)
 
 /* Real roots of the eliminant on both halves of the real tau axis within
  * [|K| / M, M]: sign changes on a logarithmic grid of NSCAN points per half,
- * each refined by bisection. The eliminant is evaluated directly (not from
+ * each refined by bisection, and sign-keeping dips searched for a hidden
+ * pair (sfmi_r2r_scan_step). The eliminant is evaluated directly (not from
  * coefficients), so a root is as accurate as the equations allow; two roots
  * closer than the grid spacing without a sign change between them are
  * missed (the tests count how often). */
-static double bisect(const geo *g, double a, double b, double fa)
-{
-    for (int it = 0; it < 60; it++) {
-        double mid = 0.5 * (a + b), fm = elim_at(g, mid);
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
-}
-
 static int scan_roots(const geo *g, double M, double *taus)
 {
     double lo = sfmi_log(fabs(g->K) / M), hi = sfmi_log(M);
@@ -140,7 +127,8 @@ static int scan_roots(const geo *g, double M, double *taus)
         return 0;
     int m = 0;
     for (int half = 0; half < 2; half++) {
-        double sg = half ? -1.0 : 1.0, t[3] = {0.0, 0.0, 0.0}, f[3] = {0.0, 0.0, 0.0};
+        double sg = half ? -1.0 : 1.0, t[3] = {0.0, 0.0, 0.0};
+        double f[3] = {(double)NAN, (double)NAN, (double)NAN};
         for (int j = 0; j <= NSCAN && m + 2 <= MAX_ROOTS; j++) {
             double tc = sg * sfmi_exp(lo + (hi - lo) * j / NSCAN), fc = elim_at(g, tc);
             if (!isfinite(fc))
@@ -151,18 +139,7 @@ static int scan_roots(const geo *g, double M, double *taus)
             f[1] = f[2];
             t[2] = tc;
             f[2] = fc;
-            if (j >= 1 && (f[1] < 0.0) != (f[2] < 0.0))
-                taus[m++] = bisect(g, t[1], t[2], f[1]);
-            /* a dip of |f| that keeps its sign may hide two close roots:
-             * golden-section search for the extremum, bisect if it crosses */
-            if (j >= 2 && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
-                fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
-                double xm;
-                if (sfmi_r2r_dip_cross(elim_cb, g, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
-                    taus[m++] = bisect(g, t[0], xm, f[0]);
-                    taus[m++] = bisect(g, xm, t[2], -f[2]); /* f(xm) has the other sign */
-                }
-            }
+            m = sfmi_r2r_scan_step(elim_cb, g, t, f, 60, 0, taus, m);
         }
     }
     return m;
@@ -294,15 +271,8 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
             Gy[3 * i + 2] = y3[i] / ny;
         }
         sfmi_sincos(th, &sn, &cs);
-        double Rx[9] = {1, 0, 0, 0, cs, -sn, 0, sn, cs}, FR[9];
         sfm_r2r_transform T;
-        for (int i = 0; i < 3; i++)
-            for (int q = 0; q < 3; q++)
-                FR[3 * i + q] = Fx[3 * i] * Rx[q] + Fx[3 * i + 1] * Rx[3 + q] + Fx[3 * i + 2] * Rx[6 + q];
-        for (int i = 0; i < 3; i++)
-            for (int q = 0; q < 3; q++)
-                T.C.m[3 * i + q] = FR[3 * i] * Gy[3 * q] + FR[3 * i + 1] * Gy[3 * q + 1] +
-                                   FR[3 * i + 2] * Gy[3 * q + 2];
+        sfmi_r2r_turn_compose(Fx, cs, sn, Gy, T.C.m);
         for (int i = 0; i < 3; i++)
             T.p.v[i] = l * g.u0[i];
         if (!sfmi_r2r_is_duplicate(out, n_out, &T, 1.0 + l, 1e-9))

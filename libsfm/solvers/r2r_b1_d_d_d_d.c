@@ -62,25 +62,11 @@ static void at_phi(const geo *g, const circ *c, double l, double cp, double sp, 
     double f2[3], f3[3];
     for (int i = 0; i < 3; i++)
         a[i] = c->h0 * c->n[i] + c->r * (cp * g->m[i] + sp * c->e2[i]);
-    sfmi_cross3(c->n, a, f2);
-    for (int i = 0; i < 3; i++) {
-        f2[i] /= c->r;
-        f3[i] = (g->rho * g->rho * c->n[i] - c->h0 * a[i]) / (g->rho * c->r);
-        F[3 * i] = a[i] / g->rho;
-        F[3 * i + 1] = f2[i];
-        F[3 * i + 2] = f3[i];
-    }
+    sfmi_r2r_circle_frame(c->n, a, c->h0, c->r, g->rho, F, f2, f3);
     for (int k = 0; k < 3; k++) {
-        double q[3], x[3], y[3];
-        const double *v = g->v[k];
-        for (int i = 0; i < 3; i++) {
-            q[i] = l * g->u0[i] - g->t1[k][i];
-            x[i] = v[1] * f2[i] + v[2] * f3[i];
-            y[i] = v[1] * f3[i] - v[2] * f2[i];
-        }
-        abc[k][0] = 2.0 * sfmi_dot3(q, x);
-        abc[k][1] = 2.0 * sfmi_dot3(q, y);
-        abc[k][2] = sfmi_dot3(q, q) + g->K[k] + 2.0 * v[0] * sfmi_dot3(q, a) / g->rho;
+        double q[3];
+        sfmi_r2r_distance_cs(l, g->u0, g->t1[k], g->v[k], f2, f3, q, abc[k]);
+        abc[k][2] = sfmi_dot3(q, q) + g->K[k] + 2.0 * g->v[k][0] * sfmi_dot3(q, a) / g->rho;
     }
 }
 
@@ -249,22 +235,6 @@ static double resultant_cb(const void *g, double x)
     return resultant((const geo *)g, x);
 }
 
-static double bisect(const geo *g, double a, double b, double fa)
-{
-    for (int it = 0; it < 50; it++) {
-        double mid = 0.5 * (a + b), fm = resultant(g, mid);
-        if (!isfinite(fm))
-            break;
-        if ((fm < 0.0) == (fa < 0.0)) {
-            a = mid;
-            fa = fm;
-        } else {
-            b = mid;
-        }
-    }
-    return 0.5 * (a + b);
-}
-
 /* Roots of the resultant on [lo, hi] (an interval where the circle is
  * real): Chebyshev nodes, dense near the ends where the circle shrinks to a
  * point and the resultant with it; sign changes are bisected, sign-keeping
@@ -281,18 +251,7 @@ static int scan_interval(const geo *g, double lo, double hi, int nodes, double *
         f[1] = f[2];
         t[2] = lc;
         f[2] = fc;
-        if (!(isfinite(f[1]) && isfinite(f[2])))
-            continue;
-        if ((f[1] < 0.0) != (f[2] < 0.0))
-            ls[m++] = bisect(g, t[1], t[2], f[1]);
-        if (isfinite(f[0]) && (f[0] < 0.0) == (f[1] < 0.0) && (f[1] < 0.0) == (f[2] < 0.0) &&
-            fabs(f[1]) < fabs(f[0]) && fabs(f[1]) < fabs(f[2])) {
-            double xm;
-            if (sfmi_r2r_dip_cross(resultant_cb, g, t[0], t[2], f[1] < 0.0 ? -1.0 : 1.0, &xm)) {
-                ls[m++] = bisect(g, t[0], xm, f[0]);
-                ls[m++] = bisect(g, xm, t[2], -f[2]);
-            }
-        }
+        m = sfmi_r2r_scan_step(resultant_cb, g, t, f, 50, 1, ls, m);
     }
     return m;
 }
@@ -346,16 +305,8 @@ static int resid(const geo *g, double l, double phi, double th, double e[3], dou
     at_phi(g, &c, l, cp, sp, a, F, abc);
     for (int k = 0; k < 3; k++)
         e[k] = abc[k][0] * ct + abc[k][1] * st + abc[k][2];
-    if (C) {
-        double Rx[9] = {1, 0, 0, 0, ct, -st, 0, st, ct}, FR[9];
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++)
-                FR[3 * r + q] = F[3 * r] * Rx[q] + F[3 * r + 1] * Rx[3 + q] + F[3 * r + 2] * Rx[6 + q];
-        for (int r = 0; r < 3; r++)
-            for (int q = 0; q < 3; q++)
-                C[3 * r + q] = FR[3 * r] * g->G[3 * q] + FR[3 * r + 1] * g->G[3 * q + 1] +
-                               FR[3 * r + 2] * g->G[3 * q + 2];
-    }
+    if (C)
+        sfmi_r2r_turn_compose(F, ct, st, g->G, C);
     return 1;
 }
 
@@ -384,28 +335,13 @@ static int solve(const sfm_r2r_step *s, sfm_r2r_transform *out, double *ws)
             sfmi_sincos(TWO_PI * j / 7, &g.s7[j], &g.c7[j]);
         sfmi_sincos(TWO_PI * j / 9, &g.s9[j], &g.c9[j]);
     }
-    double g1[3], g2[3], g3[3], aux[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < 3; i++)
-        g1[i] = t21[i] / g.rho;
-    int mi = fabs(g1[0]) < fabs(g1[1]) ? (fabs(g1[0]) < fabs(g1[2]) ? 0 : 2)
-                                       : (fabs(g1[1]) < fabs(g1[2]) ? 1 : 2);
-    aux[mi] = 1.0;
-    sfmi_cross3(g1, aux, g2);
-    double n2 = sqrt(sfmi_dot3(g2, g2));
-    for (int i = 0; i < 3; i++)
-        g2[i] /= n2;
-    sfmi_cross3(g1, g2, g3);
-    for (int i = 0; i < 3; i++) {
-        g.G[3 * i] = g1[i];
-        g.G[3 * i + 1] = g2[i];
-        g.G[3 * i + 2] = g3[i];
-    }
+    double ax[3][3];
+    sfmi_r2r_axis_frame(t21, g.rho, ax, g.G);
     g.lmax = HUGE_VAL;
     for (int k = 0; k < 3; k++) {
         const sfm_r2r_step *sk = &s[2 + k];
-        g.v[k][0] = sfmi_dot3(g1, sk->t2.v);
-        g.v[k][1] = sfmi_dot3(g2, sk->t2.v);
-        g.v[k][2] = sfmi_dot3(g3, sk->t2.v);
+        for (int j = 0; j < 3; j++)
+            g.v[k][j] = sfmi_dot3(ax[j], sk->t2.v);
         for (int i = 0; i < 3; i++)
             g.t1[k][i] = sk->t1.v[i];
         g.K[k] = sfmi_dot3(sk->t2.v, sk->t2.v) - sk->d * sk->d;

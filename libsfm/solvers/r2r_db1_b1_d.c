@@ -29,26 +29,16 @@ static int solve_db1_b1_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, dou
     }
     sfmi_matvec3(steps[1].R1.m, steps[1].b1.v, f);
     const double *u = steps[1].t2.v, *x = steps[2].t2.v;
-    double fh = sfmi_dot3(f, h), hh = sfmi_dot3(h, h), uu = sfmi_dot3(u, u);
-    double disc = fh * fh - hh + uu;
-    /* exact data tangent to the sphere can round to a slightly negative disc */
-    if (disc < 0.0 && disc > -1e-12 * (hh + uu))
-        disc = 0.0;
-    if (!(disc >= 0.0))
-        return 0;
-    double sq = sqrt(disc), c = 0.5 * (steps[2].d * steps[2].d - sfmi_dot3(x, x) - sfmi_dot3(y, y));
-    int cnt = 0;
-    for (int r = 0; r < (sq > 0.0 ? 2 : 1); r++) {
-        double mu = fh + (r == 0 ? sq : -sq), v[3], C0[9], n[3], e1[3], e2[3], C[2][9];
+    double fh = sfmi_dot3(f, h), hh = sfmi_dot3(h, h), uu = sfmi_dot3(u, u), mus[2];
+    int nr = sfmi_r2r_quadratic_roots(fh, fh * fh - hh + uu, hh + uu, mus), cnt = 0;
+    double c = 0.5 * (steps[2].d * steps[2].d - sfmi_dot3(x, x) - sfmi_dot3(y, y));
+    for (int r = 0; r < nr; r++) {
+        double mu = mus[r], v[3];
         if (!(mu > 0.0))
             continue;
         for (int i = 0; i < 3; i++)
             v[i] = mu * f[i] - h[i];
-        if (!sfmi_r2r_align(u, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
-            continue;
-        int m = sfmi_r2r_circle_solve(C0, n, x, y, c, C);
-        for (int j = 0; j < m; j++)
-            sfmi_r2r_emit(steps, 3, C[j], p, out, &cnt);
+        sfmi_r2r_circle_emit(steps, 3, u, v, x, y, c, p, out, &cnt);
     }
     return cnt;
 }

@@ -17,20 +17,12 @@
  */
 #include "solvers/r2r_internal.h"
 
-static int solve_db1_db2(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
-{
-    (void)steps;
-    (void)out;
-    (void)ws;
-    return SFM_E_DEGENERATE;
-}
-
 const sfmi_r2r_system_desc sfmi_r2r_db1_db2 = {
     SFM_R2R_SYS_DB1_DB2,
     2,
     {SFM_R2R_D | SFM_R2R_B1, SFM_R2R_D | SFM_R2R_B2, 0, 0, 0, 0},
     0, /* a one-parameter family, not a finite set */
     0,
-    solve_db1_db2,
+    sfmi_r2r_solve_rank5,
     "db1_db2",
 };

@@ -18,19 +18,17 @@
 static int solve_db1b2_d(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
 {
     (void)ws;
-    double p[3], v[3], y[3], C0[9], n[3], e1[3], e2[3], C[2][9];
+    double p[3], v[3], y[3];
     for (int i = 0; i < 3; i++) {
         p[i] = steps[0].d * steps[0].b1.v[i];
         v[i] = -steps[0].b1.v[i];
         y[i] = p[i] - steps[1].t1.v[i];
     }
-    if (!sfmi_r2r_align(steps[0].b2.v, v, C0) || !sfmi_r2r_unit_frame(v, n, e1, e2))
-        return SFM_E_SINGULAR;
     const double *x = steps[1].t2.v;
     double c = 0.5 * (steps[1].d * steps[1].d - sfmi_dot3(x, x) - sfmi_dot3(y, y));
-    int m = sfmi_r2r_circle_solve(C0, n, x, y, c, C), cnt = 0;
-    for (int j = 0; j < m; j++)
-        sfmi_r2r_emit(steps, 2, C[j], p, out, &cnt);
+    int cnt = 0;
+    if (!sfmi_r2r_circle_emit(steps, 2, steps[0].b2.v, v, x, y, c, p, out, &cnt))
+        return SFM_E_SINGULAR;
     return cnt;
 }
 

@@ -33,6 +33,10 @@ typedef struct sfmi_r2r_system_desc {
     const char *name;          /* "db1_d_d_d", ... */
 } sfmi_r2r_system_desc;
 
+/* The solver of a base system with no finite solution set (DB1_DB1,
+ * DB1_DB2: six equations of rank 5): SFM_E_DEGENERATE, nothing written. */
+int sfmi_r2r_solve_rank5(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws);
+
 /* One descriptor per solver file; the table in r2r_solve.c lists them by id. */
 extern const sfmi_r2r_system_desc sfmi_r2r_db1b2_d;
 extern const sfmi_r2r_system_desc sfmi_r2r_b1b2_b1;

@@ -84,6 +84,14 @@
 
 /* ---- The registry -------------------------------------------------------- */
 
+int sfmi_r2r_solve_rank5(const sfm_r2r_step *steps, sfm_r2r_transform *out, double *ws)
+{
+    (void)steps;
+    (void)out;
+    (void)ws;
+    return SFM_E_DEGENERATE;
+}
+
 const sfmi_r2r_registry sfmi_r2r_table = {
     NULL,
     &sfmi_r2r_db1b2_d,

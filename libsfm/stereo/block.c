@@ -60,10 +60,9 @@ static int options_ok(int width, int height, const sfm_stereo_block_options *o)
         return 0;
     if (o->radius < 1 || o->radius > 5 || 4 * o->radius + 1 > height)
         return 0;
-    if (o->uniqueness < 0 || o->uniqueness > 100 || o->lr_max_diff > 1000 || o->texture < 0 ||
-        o->texture > 255 * 16 || (o->subpixel != 0 && o->subpixel != 1))
+    if (o->texture < 0 || o->texture > 255 * 16)
         return 0;
-    return 1;
+    return sfmi_stereo_select_options_ok(o->uniqueness, o->lr_max_diff, o->subpixel);
 }
 
 static void layout(sfmi_arena *a, bm *b, int w, int h, const sfm_stereo_block_options *o)

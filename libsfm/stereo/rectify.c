@@ -235,6 +235,17 @@ static int32_t fixed_coord(double v, int size)
     return (int32_t)s;
 }
 
+/* Map entry m (2 int32) of the source point (x, y) in a width x height
+ * image: both fixed-point coordinates, or -1, -1 when either leaves it. */
+static void map_entry(int32_t *m, double x, double y, int width, int height)
+{
+    int32_t fx = fixed_coord(x, width), fy = fixed_coord(y, height);
+    if (fx < 0 || fy < 0)
+        fx = fy = -1;
+    m[0] = fx;
+    m[1] = fy;
+}
+
 int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
                            const sfm_stereo_rectification *rect, int view, int32_t *map,
                            size_t map_len)
@@ -269,11 +280,7 @@ int sfm_stereo_rectify_map(const sfm_camera *cam, int src_width, int src_height,
                 m[0] = m[1] = -1;
                 continue;
             }
-            int32_t fx = fixed_coord(px[0], src_width), fy = fixed_coord(px[1], src_height);
-            if (fx < 0 || fy < 0)
-                fx = fy = -1;
-            m[0] = fx;
-            m[1] = fy;
+            map_entry(m, px[0], px[1], src_width, src_height);
         }
     }
     return SFM_OK;
@@ -302,12 +309,7 @@ int sfm_stereo_homography_map(const sfm_mat3 *H_in, int src_width, int src_heigh
                 m[0] = m[1] = -1;
                 continue;
             }
-            int32_t fx = fixed_coord(q[0] / q[2], src_width);
-            int32_t fy = fixed_coord(q[1] / q[2], src_height);
-            if (fx < 0 || fy < 0)
-                fx = fy = -1;
-            m[0] = fx;
-            m[1] = fy;
+            map_entry(m, q[0] / q[2], q[1] / q[2], src_width, src_height);
         }
     }
     return SFM_OK;
@@ -368,6 +370,21 @@ static int apply_h(const double *H, const double *px, double *out)
     return isfinite(out[0]) && isfinite(out[1]);
 }
 
+/* The row difference |y1 - y2| of match i after rectification (rect) or the
+ * homographies H1, H2; 0 when a point does not map. */
+static int match_dy(const sfm_camera *cam1, const sfm_camera *cam2,
+                    const sfm_stereo_rectification *rect, const double *H1, const double *H2,
+                    const double *x1, const double *x2, int i, double *dy)
+{
+    double a[2], b[2];
+    int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
+                        rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
+                  : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
+    if (ok)
+        *dy = fabs(a[1] - b[1]);
+    return ok;
+}
+
 int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam2,
                                    const sfm_stereo_rectification *rect, const sfm_mat3 *H1_in,
                                    const sfm_mat3 *H2_in, const double *x1, const double *x2, int n,
@@ -391,13 +408,9 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
     int used = 0;
     double mx = 0.0;
     for (int i = 0; i < n; i++) {
-        double a[2], b[2];
-        int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
-                            rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
-                      : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
-        if (!ok)
+        double dy;
+        if (!match_dy(cam1, cam2, rect, H1, H2, x1, x2, i, &dy))
             continue;
-        double dy = fabs(a[1] - b[1]);
         if (dy > mx)
             mx = dy;
         used++;
@@ -413,11 +426,8 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
         double midv = 0.5 * (lo + hi);
         int below = 0;
         for (int i = 0; i < n; i++) {
-            double a[2], b[2];
-            int ok = rect ? rectify_point(cam1, rect->R1, rect->K1, x1 + 2 * i, a) &&
-                                rectify_point(cam2, rect->R2, rect->K2, x2 + 2 * i, b)
-                          : apply_h(H1, x1 + 2 * i, a) && apply_h(H2, x2 + 2 * i, b);
-            if (ok && fabs(a[1] - b[1]) <= midv)
+            double dy;
+            if (match_dy(cam1, cam2, rect, H1, H2, x1, x2, i, &dy) && dy <= midv)
                 below++;
         }
         if (below >= k)

@@ -68,10 +68,7 @@ static int options_ok(int width, int height, const sfm_stereo_sgm_options *o)
     if (o->paths != SFM_STEREO_PATHS_4 && o->paths != SFM_STEREO_PATHS_5 &&
         o->paths != SFM_STEREO_PATHS_8)
         return 0;
-    if (o->uniqueness < 0 || o->uniqueness > 100 || o->lr_max_diff > 1000 ||
-        (o->subpixel != 0 && o->subpixel != 1))
-        return 0;
-    return 1;
+    return sfmi_stereo_select_options_ok(o->uniqueness, o->lr_max_diff, o->subpixel);
 }
 
 static void layout(sfmi_arena *a, sgm *s, int w, int h, const sfm_stereo_sgm_options *o)

@@ -23,6 +23,15 @@ typedef struct sfmi_stereo_scratch {
     int16_t *best_d, *best_c, *second; /* per left pixel of the row */
 } sfmi_stereo_scratch;
 
+/* The selection options both matchers take: uniqueness a percentage in
+ * [0, 100], lr_max_diff at most 1000 (negative: no left-right check),
+ * subpixel 0 or 1. */
+static inline int sfmi_stereo_select_options_ok(int uniqueness, int lr_max_diff, int subpixel)
+{
+    return uniqueness >= 0 && uniqueness <= 100 && lr_max_diff <= 1000 &&
+           (subpixel == 0 || subpixel == 1);
+}
+
 void sfmi_stereo_scratch_layout(sfmi_arena *a, sfmi_stereo_scratch *s, int w, int D, int dmin);
 
 /* Disparities of one row from its costs (w x D, index d = disparity

@@ -3,17 +3,16 @@
 #include <math.h>
 
 #include "core/dmath.h"
+#include "solvers/small_math.h"
 #include "vo/vo_internal.h"
 
 void sfmi_vo_compose(const double Ra[9], const double ta[3], const double Rb[9],
                      const double tb[3], double R[9], double t[3])
 {
     double Rt[9], tt[3];
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 3; c++)
-            Rt[3 * r + c] = Ra[3 * r] * Rb[c] + Ra[3 * r + 1] * Rb[3 + c] + Ra[3 * r + 2] * Rb[6 + c];
+    sfmi_matmul3(Ra, Rb, Rt);
+    for (int r = 0; r < 3; r++)
         tt[r] = Ra[3 * r] * tb[0] + Ra[3 * r + 1] * tb[1] + Ra[3 * r + 2] * tb[2] + ta[r];
-    }
     for (int k = 0; k < 9; k++)
         R[k] = Rt[k];
     for (int k = 0; k < 3; k++)
