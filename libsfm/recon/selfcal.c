@@ -141,6 +141,15 @@ void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12
         }
 }
 
+void sfmi_selfcal_condition(const double P[12], double cx, double cy, double s, double out[12])
+{
+    for (int k = 0; k < 4; k++) {
+        out[k] = (P[k] - cx * P[8 + k]) / s;
+        out[4 + k] = (P[4 + k] - cy * P[8 + k]) / s;
+        out[8 + k] = P[8 + k];
+    }
+}
+
 void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps)
 {
     const double lo = 1.0 / 1048576.0, hi = 1099511627776.0; /* 2^-20, 2^40 */
@@ -453,12 +462,7 @@ int sfm_selfcal_linear(int m, const double *P, const double *wh, int n, const do
         double s = 0.5 * (wh[2 * i] + wh[2 * i + 1]);
         double cx = 0.5 * (wh[2 * i] - 1), cy = 0.5 * (wh[2 * i + 1] - 1);
         sc[i] = s;
-        const double *Pi = &P[12 * i];
-        for (int c = 0; c < 4; c++) {
-            Pc[i][c] = (Pi[c] - cx * Pi[8 + c]) / s;
-            Pc[i][4 + c] = (Pi[4 + c] - cy * Pi[8 + c]) / s;
-            Pc[i][8 + c] = Pi[8 + c];
-        }
+        sfmi_selfcal_condition(&P[12 * i], cx, cy, s, Pc[i]);
     }
     double H0[16];
     int st = sfmi_selfcal_frame(m, Pc, H0, ews, sizeof ews);

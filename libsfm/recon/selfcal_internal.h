@@ -17,6 +17,9 @@
  * overflowed the squared sums (refused, or SFM_E_NONFINITE for a finite
  * input). Cameras inside the band are copied as they are (same bits). */
 void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps);
+/* out = diag(1/s, 1/s, 1) [1 0 -cx; 0 1 -cy; 0 0 1] P, the camera in the
+ * coordinates of K^{-1} x for K = [s 0 cx; 0 s cy; 0 0 1]; out may be P. */
+void sfmi_selfcal_condition(const double P[12], double cx, double cy, double s, double out[12]);
 /* Coefficients r (10) of w_ab = (P Q P^T)_ab in the 10 entries of Q. */
 void sfmi_selfcal_omega_row(const double P[12], int a, int b, double r[10]);
 /* A (10x10, lower triangle) += w^2 r r^T. */

@@ -149,12 +149,7 @@ static int known_k_upgrade(const ctx *c, double f, double H[16])
     for (int i = 0; i < m; i++) {
         double cx, cy;
         centre(c, i, &cx, &cy);
-        const double *Pi = &c->P[12 * i];
-        for (int k = 0; k < 4; k++) {
-            Pc[i][k] = (Pi[k] - cx * Pi[8 + k]) / f;
-            Pc[i][4 + k] = (Pi[4 + k] - cy * Pi[8 + k]) / f;
-            Pc[i][8 + k] = Pi[8 + k];
-        }
+        sfmi_selfcal_condition(&c->P[12 * i], cx, cy, f, Pc[i]);
     }
     int st = sfmi_selfcal_frame(m, Pc, H0, ews, sizeof ews);
     if (st < 0)
@@ -221,11 +216,7 @@ static int start_from_h(ctx *c, const double Hin[16], const double *fv)
         double Pm[12], cx, cy, M[9];
         sfmi_selfcal_mul34_44(&c->P[12 * i], Hin, Pm);
         centre(c, i, &cx, &cy);
-        /* K^{-1} Pm */
-        for (int k = 0; k < 4; k++) {
-            Pm[k] = (Pm[k] - cx * Pm[8 + k]) / fv[i];
-            Pm[4 + k] = (Pm[4 + k] - cy * Pm[8 + k]) / fv[i];
-        }
+        sfmi_selfcal_condition(Pm, cx, cy, fv[i], Pm); /* K^{-1} Pm */
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
                 M[3 * r + k] = Pm[4 * r + k];
