@@ -141,6 +141,22 @@ void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12
         }
 }
 
+void sfmi_selfcal_adq_rows(const double P[12], double r[6][10])
+{
+    double r00[10], r11[10], r22[10];
+    sfmi_selfcal_omega_row(P, 0, 0, r00);
+    sfmi_selfcal_omega_row(P, 1, 1, r11);
+    sfmi_selfcal_omega_row(P, 2, 2, r22);
+    sfmi_selfcal_omega_row(P, 0, 1, r[0]);
+    sfmi_selfcal_omega_row(P, 0, 2, r[1]);
+    sfmi_selfcal_omega_row(P, 1, 2, r[2]);
+    for (int k = 0; k < 10; k++) {
+        r[3][k] = r00[k] - r11[k];
+        r[4][k] = r00[k] - r22[k];
+        r[5][k] = r11[k] - r22[k];
+    }
+}
+
 void sfmi_selfcal_condition(const double P[12], double cx, double cy, double s, double out[12])
 {
     for (int k = 0; k < 4; k++) {
@@ -251,26 +267,14 @@ static int solve_adq(int m, double Pc[][12], const double *sc, int weak, double 
     for (int pass = 0; pass < 2; pass++) {
         double Aall[100] = {0}, Astrong[100] = {0};
         for (int i = 0; i < m; i++) {
-            double r00[10], r11[10], r22[10], r01[10], r02[10], r12[10], d[10];
-            sfmi_selfcal_omega_row(Pc[i], 0, 0, r00);
-            sfmi_selfcal_omega_row(Pc[i], 1, 1, r11);
-            sfmi_selfcal_omega_row(Pc[i], 2, 2, r22);
-            sfmi_selfcal_omega_row(Pc[i], 0, 1, r01);
-            sfmi_selfcal_omega_row(Pc[i], 0, 2, r02);
-            sfmi_selfcal_omega_row(Pc[i], 1, 2, r12);
+            double r[6][10];
+            sfmi_selfcal_adq_rows(Pc[i], r);
             double iw = 1.0 / nu[i];
-            for (int k = 0; k < 10; k++)
-                d[k] = r00[k] - r11[k];
-            sfmi_selfcal_add_row(Astrong, d, W_ASPECT * iw);
-            sfmi_selfcal_add_row(Astrong, r01, W_STRONG * iw);
-            sfmi_selfcal_add_row(Astrong, r02, W_STRONG * iw);
-            sfmi_selfcal_add_row(Astrong, r12, W_STRONG * iw);
-            for (int k = 0; k < 10; k++)
-                d[k] = r00[k] - r22[k];
-            sfmi_selfcal_add_row(Aall, d, W_WEAK * iw);
-            for (int k = 0; k < 10; k++)
-                d[k] = r11[k] - r22[k];
-            sfmi_selfcal_add_row(Aall, d, W_WEAK * iw);
+            sfmi_selfcal_add_row(Astrong, r[3], W_ASPECT * iw);
+            for (int k = 0; k < 3; k++)
+                sfmi_selfcal_add_row(Astrong, r[k], W_STRONG * iw);
+            sfmi_selfcal_add_row(Aall, r[4], W_WEAK * iw);
+            sfmi_selfcal_add_row(Aall, r[5], W_WEAK * iw);
         }
         for (int k = 0; k < 100; k++)
             Aall[k] = weak ? Aall[k] + Astrong[k] : Astrong[k];

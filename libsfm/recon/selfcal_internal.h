@@ -22,6 +22,10 @@ void sfmi_selfcal_scale_cameras(int m, const double *P, double *Ps);
 void sfmi_selfcal_condition(const double P[12], double cx, double cy, double s, double out[12]);
 /* Coefficients r (10) of w_ab = (P Q P^T)_ab in the 10 entries of Q. */
 void sfmi_selfcal_omega_row(const double P[12], int a, int b, double r[10]);
+/* The six rows of w*_i ~ diag(a, a, 1) in the 10 entries of Q: r[0..2]
+ * the off-diagonal w_01, w_02, w_12, r[3..5] the differences w_00 - w_11,
+ * w_00 - w_22, w_11 - w_22. */
+void sfmi_selfcal_adq_rows(const double P[12], double r[6][10]);
 /* A (10x10, lower triangle) += w^2 r r^T. */
 void sfmi_selfcal_add_row(double A[100], const double r[10], double w);
 /* W = P Q P^T (3x3). */

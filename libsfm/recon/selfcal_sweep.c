@@ -160,24 +160,12 @@ static int known_k_upgrade(const ctx *c, double f, double H[16])
     for (int pass = 0; pass < 2; pass++) {
         double A[100] = {0};
         for (int i = 0; i < m; i++) {
-            double r00[10], r11[10], r22[10], r[10], d[10];
-            sfmi_selfcal_omega_row(Pc[i], 0, 0, r00);
-            sfmi_selfcal_omega_row(Pc[i], 1, 1, r11);
-            sfmi_selfcal_omega_row(Pc[i], 2, 2, r22);
+            /* the rows of solve_adq (selfcal.c), all at one weight: K is known */
+            double r[6][10];
+            sfmi_selfcal_adq_rows(Pc[i], r);
             const double iw = 1.0 / nu[i];
-            for (int ab = 0; ab < 3; ab++) {
-                sfmi_selfcal_omega_row(Pc[i], ab == 2 ? 1 : 0, ab == 0 ? 1 : 2, r);
-                sfmi_selfcal_add_row(A, r, iw);
-            }
-            for (int k = 0; k < 10; k++)
-                d[k] = r00[k] - r11[k];
-            sfmi_selfcal_add_row(A, d, iw);
-            for (int k = 0; k < 10; k++)
-                d[k] = r00[k] - r22[k];
-            sfmi_selfcal_add_row(A, d, iw);
-            for (int k = 0; k < 10; k++)
-                d[k] = r11[k] - r22[k];
-            sfmi_selfcal_add_row(A, d, iw);
+            for (int k = 0; k < 6; k++)
+                sfmi_selfcal_add_row(A, r[k], iw);
         }
         double w10[10], V10[100];
         st = sfm_sym_eig(A, 10, w10, V10, ews, sizeof ews);
