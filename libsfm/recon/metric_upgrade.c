@@ -13,6 +13,7 @@
 
 #include "core/dmath.h"
 #include "core/linalg_util.h"
+#include "recon/focal_search.h"
 #include "recon/metric_upgrade.h"
 #include "recon/projective.h"
 #include "sfm/sfm_ba.h"
@@ -259,8 +260,10 @@ static int refine(sfmi_mu *c, sfm_pose poses[3], double *f, int free_focal, int 
 
 /* Fixed-focal score of f (INFINITY when no metric cameras follow); the
  * free radial terms start at 0. */
-static double score(sfmi_mu *c, double f, sfm_pose poses[3])
+static double score(void *ctx, double f)
 {
+    sfmi_mu *c = ctx;
+    sfm_pose poses[3];
     double cost, ff = f;
     c->kr[0] = c->kr[1] = 0;
     if (!start_from_focal(c, f, poses) || refine(c, poses, &ff, 0, c->sweep_iters, &cost) != SFM_OK)
@@ -671,7 +674,6 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
                       sfm_uncal_report *rep)
 {
     const int nv = c->nv;
-    sfm_pose cand[3];
     double fk[SFM_UNCAL_MAX_SWEEP], ck[SFM_UNCAL_MAX_SWEEP];
     c->radial = radial;
     c->kr[0] = c->kr[1] = 0;
@@ -698,36 +700,17 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
     }
 
     /* coarse sweep */
-    int kb = -1;
-    for (int k = 0; k < K; k++) {
+    for (int k = 0; k < K; k++)
         fk[k] = sfmi_exp(u0 + (u1 - u0) * k / (K - 1));
-        ck[k] = score(c, fk[k], cand);
-        if (ck[k] < (double)INFINITY && (kb < 0 || ck[k] < ck[kb]))
-            kb = k;
-    }
+    const int kb = sfmi_focal_sweep(score, c, fk, K, ck);
     if (kb < 0)
         return SFM_E_SINGULAR;
     /* golden-section search on log f between the neighbours of the best */
-    double a = sfmi_log(fk[kb > 0 ? kb - 1 : kb]), b = sfmi_log(fk[kb < K - 1 ? kb + 1 : kb]);
-    const double g = 0.5 * (sqrt(5.0) - 1);
-    double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double s1 = score(c, sfmi_exp(x1), cand), s2 = score(c, sfmi_exp(x2), cand);
-    for (int it = 0; it < GOLDEN_STEPS; it++) {
-        if (s1 < s2) {
-            b = x2;
-            x2 = x1;
-            s2 = s1;
-            x1 = b - g * (b - a);
-            s1 = score(c, sfmi_exp(x1), cand);
-        } else {
-            a = x1;
-            x1 = x2;
-            s1 = s2;
-            x2 = a + g * (b - a);
-            s2 = score(c, sfmi_exp(x2), cand);
-        }
-    }
-    double f_sweep = s1 < s2 ? sfmi_exp(x1) : sfmi_exp(x2);
+    double ug[2], sg[2];
+    sfmi_focal_golden(score, c, sfmi_log(fk[kb > 0 ? kb - 1 : kb]), sfmi_log(fk[kb < K - 1 ? kb + 1 : kb]),
+                      GOLDEN_STEPS, 0, ug, sg);
+    const double s1 = sg[0], s2 = sg[1];
+    double f_sweep = s1 < s2 ? sfmi_exp(ug[0]) : sfmi_exp(ug[1]);
     double c_sweep_fixed = fmin(s1, s2);
     if (ck[kb] < c_sweep_fixed) {
         f_sweep = fk[kb];

@@ -19,6 +19,7 @@
 #include "core/arena.h"
 #include "core/dmath.h"
 #include "core/linalg_util.h"
+#include "recon/focal_search.h"
 #include "recon/selfcal_internal.h"
 #include "sfm/sfm_ba.h"
 #include "sfm/sfm_camera.h"
@@ -394,8 +395,9 @@ static int adjust(ctx *c, double *fv, int mode, int max_it, double *cost)
 
 /* Fixed-focal score of a shared f from its own upgrade; HUGE_VAL when no
  * metric cameras follow. */
-static double score(ctx *c, double f)
+static double score(void *ctxp, double f)
 {
+    ctx *c = ctxp;
     double H[16], fv[SFM_SELFCAL_MAX_VIEWS], cost;
     for (int i = 0; i < c->m; i++)
         fv[i] = f;
@@ -601,37 +603,22 @@ int sfm_selfcal_solve(int m, const double *P, const double *wh, int n, const dou
     int swept = o.sweep == SFM_SELFCAL_SWEEP_ALWAYS || path == SFM_SELFCAL_PATH_NONE;
     if (swept) {
         const double u0 = sfmi_log(o.focal_min * s0), du = (sfmi_log(o.focal_max * s0) - u0) / (steps - 1);
-        int kb = -1;
-        for (int k = 0; k < steps; k++) {
+        for (int k = 0; k < steps; k++)
             rep.sweep_focal[k] = sfmi_exp(u0 + du * k);
-            rep.sweep_cost[k] = score(&c, rep.sweep_focal[k]);
-            if (rep.sweep_cost[k] < HUGE_VAL && (kb < 0 || rep.sweep_cost[k] < rep.sweep_cost[kb]))
-                kb = k;
-        }
+        const int kb = sfmi_focal_sweep(score, &c, rep.sweep_focal, steps, rep.sweep_cost);
         rep.sweep_count = steps;
         if (kb >= 0) {
-            /* golden section on log f between the neighbours */
-            const double g = 0.5 * (sqrt(5.0) - 1);
-            double lo = u0 + du * (kb > 0 ? kb - 1 : kb), hi = u0 + du * (kb < steps - 1 ? kb + 1 : kb);
-            double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-            double f1 = score(&c, sfmi_exp(x1)), f2 = score(&c, sfmi_exp(x2));
-            for (int it = 0; it < GOLDEN_STEPS; it++) {
-                if (f1 <= f2) {
-                    hi = x2, x2 = x1, f2 = f1;
-                    x1 = hi - g * (hi - lo);
-                    f1 = score(&c, sfmi_exp(x1));
-                } else {
-                    lo = x1, x1 = x2, f1 = f2;
-                    x2 = lo + g * (hi - lo);
-                    f2 = score(&c, sfmi_exp(x2));
-                }
-            }
+            /* golden section on log f between the neighbours; a tie keeps
+             * the sweep's point, then the lower one */
+            double ug[2], sg[2];
+            sfmi_focal_golden(score, &c, u0 + du * (kb > 0 ? kb - 1 : kb), u0 + du * (kb < steps - 1 ? kb + 1 : kb),
+                              GOLDEN_STEPS, 1, ug, sg);
             u_best = u0 + du * kb;
             double cb = rep.sweep_cost[kb];
-            if (f1 < cb)
-                u_best = x1, cb = f1;
-            if (f2 < cb)
-                u_best = x2;
+            if (sg[0] < cb)
+                u_best = ug[0], cb = sg[0];
+            if (sg[1] < cb)
+                u_best = ug[1];
             rep.focal_sweep = sfmi_exp(u_best);
             /* the free-focal adjustment from the best candidate */
             double Hs[16], fv[SFM_SELFCAL_MAX_VIEWS], cost;
