@@ -13,9 +13,11 @@
 #include <string.h>
 
 #include "core/arena.h"
+#include "core/linalg_util.h"
 #include "core/lm.h"
 #include "recon/projective.h"
 #include "recon/projective_ba.h"
+#include "recon/selfcal_internal.h"
 #include "sfm/sfm_common.h"
 #include "sfm/sfm_linalg.h"
 
@@ -180,26 +182,6 @@ static double linearize(void *self, double *grad_max)
     return cost;
 }
 
-/* 3x3 inverse; 0 when singular */
-static int inv3(const double A[9], double B[9])
-{
-    double c0 = A[4] * A[8] - A[5] * A[7], c1 = A[5] * A[6] - A[3] * A[8], c2 = A[3] * A[7] - A[4] * A[6];
-    double det = A[0] * c0 + A[1] * c1 + A[2] * c2;
-    if (!(fabs(det) > 0) || !isfinite(det))
-        return 0;
-    double id = 1 / det;
-    B[0] = c0 * id;
-    B[1] = (A[2] * A[7] - A[1] * A[8]) * id;
-    B[2] = (A[1] * A[5] - A[2] * A[4]) * id;
-    B[3] = c1 * id;
-    B[4] = (A[0] * A[8] - A[2] * A[6]) * id;
-    B[5] = (A[2] * A[3] - A[0] * A[5]) * id;
-    B[6] = c2 * id;
-    B[7] = (A[1] * A[6] - A[0] * A[7]) * id;
-    B[8] = (A[0] * A[4] - A[1] * A[3]) * id;
-    return 1;
-}
-
 static int solve(void *self, double mu, double *step2, double *x2, double *pred)
 {
     pba *s = self;
@@ -223,7 +205,9 @@ static int solve(void *self, double mu, double *step2, double *x2, double *pred)
         for (int a = 0; a < 3; a++)
             C[4 * a] += mu * sfmi_lm_clamp_diag(C[4 * a]);
         double *Ci = &s->Cinv[9 * j];
-        if (!inv3(C, Ci))
+        /* det C is the one sfmi_mat3_inverse divides by; an overflowed
+         * det would leave Ci = 0 */
+        if (!sfmi_mat3_inverse(C, Ci, 0) || !isfinite(sfmi_selfcal_det3(C)))
             return 0;
         /* W_k = Jc_k^T Jp_k (11x3); S -= W_a Ci W_b^T; rhs += W_a Ci gp */
         double Ciq[3];
