@@ -119,9 +119,10 @@ double sfmi_selfcal_det3(const double M[9])
            M[2] * (M[3] * M[7] - M[4] * M[6]);
 }
 
-void sfmi_selfcal_mul44(const double A[16], const double B[16], double C[16])
+/* C (rows x 4) = A (rows x 4) B (4x4) */
+static void mul_rows_44(int rows, const double *A, const double B[16], double *C)
 {
-    for (int r = 0; r < 4; r++)
+    for (int r = 0; r < rows; r++)
         for (int c = 0; c < 4; c++) {
             double s = 0;
             for (int k = 0; k < 4; k++)
@@ -130,15 +131,14 @@ void sfmi_selfcal_mul44(const double A[16], const double B[16], double C[16])
         }
 }
 
+void sfmi_selfcal_mul44(const double A[16], const double B[16], double C[16])
+{
+    mul_rows_44(4, A, B, C);
+}
+
 void sfmi_selfcal_mul34_44(const double P[12], const double H[16], double out[12])
 {
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 4; c++) {
-            double s = 0;
-            for (int k = 0; k < 4; k++)
-                s += P[4 * r + k] * H[4 * k + c];
-            out[4 * r + c] = s;
-        }
+    mul_rows_44(3, P, H, out);
 }
 
 void sfmi_selfcal_adq_rows(const double P[12], double r[6][10])
