@@ -45,3 +45,11 @@ $(BUILD)/fuzz/fuzz_selfcal: tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) $(PUBLIC_HEADE
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) -lm
 test-fuzz fuzz: $(BUILD)/fuzz/fuzz_align $(BUILD)/fuzz/fuzz_selfcal
+
+# The stereo entry points (rectification, remap, both matchers) on the
+# whole core compiled with the fuzz flags.
+FUZZ_TARGETS += stereo
+$(BUILD)/fuzz/fuzz_stereo: tests/fuzz/fuzz_stereo.c $(LIB_SRCS) $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_stereo.c $(LIB_SRCS) -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_stereo
