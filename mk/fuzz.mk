@@ -45,3 +45,19 @@ $(BUILD)/fuzz/fuzz_selfcal: tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) $(PUBLIC_HEADE
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) -lm
 test-fuzz fuzz: $(BUILD)/fuzz/fuzz_align $(BUILD)/fuzz/fuzz_selfcal
+
+# The stereo entry points (rectification, remap, both matchers) on the
+# whole core compiled with the fuzz flags.
+FUZZ_TARGETS += stereo
+$(BUILD)/fuzz/fuzz_stereo: tests/fuzz/fuzz_stereo.c $(LIB_SRCS) $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_stereo.c $(LIB_SRCS) -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_stereo
+
+# The leader-follower filter (propagate, update, cost, next) on the whole
+# core compiled with the fuzz flags.
+FUZZ_TARGETS += r2r_motion
+$(BUILD)/fuzz/fuzz_r2r_motion: tests/fuzz/fuzz_r2r_motion.c $(LIB_SRCS) $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_r2r_motion.c $(LIB_SRCS) -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_r2r_motion

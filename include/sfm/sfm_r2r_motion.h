@@ -108,7 +108,7 @@ typedef struct sfm_r2r_motion_plan {
 /* EKF propagation of (x, P) through one step u. x_out is the predicted
  * state (phi wrapped), P_out the propagated covariance Phi P Phi^T + G Q G^T.
  * Statuses: SFM_OK; SFM_E_ARGUMENT (NULL, a negative sigma, P not symmetric
- * positive definite); SFM_E_NONFINITE (NaN/Inf in any input). Nothing is
+ * positive definite); SFM_E_NONFINITE (NaN/Inf in any input, or a result that overflows). Nothing is
  * written on failure. */
 SFM_API int sfm_r2r_motion_propagate(const double x[3], const double P[9],
                                      const sfm_r2r_motion_step *u,
@@ -120,7 +120,7 @@ SFM_API int sfm_r2r_motion_propagate(const double x[3], const double P[9],
  * innovation is wrapped to (-pi, pi]; the covariance update is in Joseph
  * form. Statuses: SFM_OK; SFM_E_ARGUMENT (NULL, unknown sensor,
  * sigma_meas <= 0, P not symmetric positive definite, a range z < 0);
- * SFM_E_NONFINITE; SFM_E_SINGULAR (|p| too small for the Jacobian:
+ * SFM_E_NONFINITE (also an overflowing result); SFM_E_SINGULAR (|p| too small for the Jacobian:
  * below 1e-9 m). Nothing is written on failure. */
 SFM_API int sfm_r2r_motion_update(const double x[3], const double P[9], int sensor, double z,
                                   const sfm_r2r_motion_noise *noise,
@@ -143,7 +143,7 @@ SFM_API int sfm_r2r_motion_cost(const double x[3], const double P[9],
  * its circle and the two circles' crossings are then KKT candidates too).
  * Statuses: SFM_OK; SFM_E_ARGUMENT (NULL x, P, u, noise or out, unknown
  * sensor, radius <= 0, min_distance < 0, a negative sigma, sigma_meas <= 0,
- * P not symmetric positive definite); SFM_E_NONFINITE; SFM_E_SINGULAR
+ * P not symmetric positive definite); SFM_E_NONFINITE (also an overflowing result); SFM_E_SINGULAR
  * (min_distance 0 and the admissible disk reaches within 1e-6 m of the
  * leader's predicted position, where the measurement Jacobian is singular;
  * or no admissible translation keeps min_distance). Nothing is written on

@@ -117,7 +117,8 @@ SFM_API int sfm_stereo_rectify_uncalibrated(const sfm_mat3 *F, const double *x1,
  * vertical disparity after rectification: median and maximum |v1 - v2| in
  * rectified pixels over the matches that rectify. With `rect` NULL, H1 and
  * H2 (source -> rectified) are used instead. Returns the number of matches
- * used (>= 0) or a status (SFM_E_ARGUMENT, SFM_E_NONFINITE). */
+ * used (>= 0) or a status (SFM_E_ARGUMENT, SFM_E_NONFINITE: a NaN/Inf match,
+ * camera, rect rotation or intrinsic, or H). */
 SFM_API int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam2,
                                            const sfm_stereo_rectification *rect,
                                            const sfm_mat3 *H1, const sfm_mat3 *H2,
@@ -215,7 +216,7 @@ SFM_API int sfm_stereo_depth(const float *disp, int width, int height,
  * limit), in row-major pixel order; pixel_index (may be NULL) receives
  * y * width + x of each. With points NULL only counts. Returns the number
  * of points; SFM_E_CAPACITY (nothing written) when more exist than
- * capacity; SFM_E_ARGUMENT, SFM_E_NONFINITE (rect). */
+ * capacity; SFM_E_ARGUMENT, SFM_E_NONFINITE (rect, NaN max_depth). */
 SFM_API int sfm_stereo_points(const float *disp, int width, int height,
                               const sfm_stereo_rectification *rect, double max_depth,
                               double *points, int32_t *pixel_index, int capacity);

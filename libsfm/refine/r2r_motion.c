@@ -36,11 +36,21 @@ static int finite_n(const double *v, int n)
 
 static double wrap_angle(double a)
 {
-    /* to (-pi, pi]; inputs are a few turns at most */
-    while (a > PI_)
+    /* to (-pi, pi] in a bounded number of steps whatever the (finite)
+     * angle: a subtraction loop never ends once 2 pi is below half an ulp
+     * of a (|a| > 2^55), and takes |a| / 2 pi turns before. Beyond a few
+     * turns one floor reduction (exact to a few ulp of a), then at most one
+     * turn either way; the clamp covers the last ulp of a huge angle. */
+    if (a > 3.0 * PI_ || a < -3.0 * PI_)
+        a -= 2.0 * PI_ * floor((a + PI_) / (2.0 * PI_));
+    if (a > PI_)
         a -= 2.0 * PI_;
-    while (a <= -PI_)
+    if (a <= -PI_)
         a += 2.0 * PI_;
+    if (a > PI_)
+        a = PI_;
+    if (a <= -PI_)
+        a = PI_;
     return a;
 }
 
@@ -188,9 +198,11 @@ int sfm_r2r_motion_propagate(const double x[3], const double P[9], const sfm_r2r
         return st;
     double c[2], phi, Pp[9];
     predict_core(x, P, u, noise, c, &phi, Pp);
-    x_out[0] = c[0] - u->follower_d.v[0];
-    x_out[1] = c[1] - u->follower_d.v[1];
-    x_out[2] = phi;
+    const double xo[3] = {c[0] - u->follower_d.v[0], c[1] - u->follower_d.v[1], phi};
+    /* finite inputs can still overflow (a sigma of 1e200 squared) */
+    if (!finite_n(xo, 3) || !finite_n(Pp, 9))
+        return SFM_E_NONFINITE;
+    memcpy(x_out, xo, sizeof xo);
     memcpy(P_out, Pp, sizeof Pp);
     return SFM_OK;
 }
@@ -227,6 +239,8 @@ int sfm_r2r_motion_update(const double x[3], const double P[9], int sensor, doub
     sfmi_matmul3(M, P, MP);
     sfmi_matmul3_nt(MP, M, Po);
     add_outer_symmetric(Po, r2, k);
+    if (!finite_n(xo, 3) || !finite_n(Po, 9))
+        return SFM_E_NONFINITE; /* overflow of finite inputs */
     memcpy(x_out, xo, sizeof xo);
     memcpy(P_out, Po, sizeof Po);
     return SFM_OK;
@@ -249,7 +263,10 @@ int sfm_r2r_motion_cost(const double x[3], const double P[9], const sfm_r2r_moti
     const double q[2] = {c[0] - u->follower_d.v[0], c[1] - u->follower_d.v[1]};
     if (!meas_jacobian(sensor, q, h, &pred))
         return SFM_E_SINGULAR;
-    *trace = posterior_trace(Pp, h, noise->sigma_meas);
+    const double tr = posterior_trace(Pp, h, noise->sigma_meas);
+    if (!isfinite(tr))
+        return SFM_E_NONFINITE; /* overflow of finite inputs */
+    *trace = tr;
     return SFM_OK;
 }
 
@@ -561,11 +578,15 @@ int sfm_r2r_motion_next(const double x[3], const double P[9], const sfm_r2r_moti
     double h[3], pred;
     if (!meas_jacobian(sensor, best.q, h, &pred))
         return SFM_E_SINGULAR;
+    const double tr = posterior_trace(Pp, h, noise->sigma_meas);
+    const double fin[5] = {best.q[0], best.q[1], c[0] - best.q[0], c[1] - best.q[1], tr};
+    if (!finite_n(fin, 5) || !isfinite(Pp[0] + Pp[4] + Pp[8]) || !isfinite(mu))
+        return SFM_E_NONFINITE; /* overflow of finite inputs */
     out->q.v[0] = best.q[0];
     out->q.v[1] = best.q[1];
     out->follower_d.v[0] = c[0] - best.q[0];
     out->follower_d.v[1] = c[1] - best.q[1];
-    out->trace = posterior_trace(Pp, h, noise->sigma_meas);
+    out->trace = tr;
     out->trace_prior = Pp[0] + Pp[4] + Pp[8];
     out->multiplier = mu;
     out->on_boundary = best.boundary;

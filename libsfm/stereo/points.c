@@ -10,8 +10,14 @@
 
 static int rect_ok(const sfm_stereo_rectification *r)
 {
+    /* R2 and Q are not read here, but a NaN anywhere means a corrupted
+     * rectification: refused rather than half used. */
     for (int i = 0; i < 9; i++)
-        if (!isfinite(r->R1[i]) || !isfinite(r->K1[i]) || !isfinite(r->K2[i]))
+        if (!isfinite(r->R1[i]) || !isfinite(r->R2[i]) || !isfinite(r->K1[i]) ||
+            !isfinite(r->K2[i]))
+            return 0;
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(r->Q[i]))
             return 0;
     return isfinite(r->baseline) && r->baseline > 0.0 && r->K1[0] > 0.0;
 }
@@ -44,10 +50,10 @@ int sfm_stereo_points(const float *disp, int width, int height,
                       const sfm_stereo_rectification *rect, double max_depth, double *points,
                       int32_t *pixel_index, int capacity)
 {
-    if (!disp || !rect || width < 1 || height < 1 || capacity < 0 || isnan(max_depth) ||
+    if (!disp || !rect || width < 1 || height < 1 || capacity < 0 ||
         (size_t)width * height > 0x7fffffffu)
         return SFM_E_ARGUMENT;
-    if (!rect_ok(rect))
+    if (isnan(max_depth) || !rect_ok(rect))
         return SFM_E_NONFINITE;
     const double f = rect->K1[0], cx = rect->K1[2], cy = rect->K1[5];
     const double *R = rect->R1;

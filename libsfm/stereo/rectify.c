@@ -396,8 +396,18 @@ int sfm_stereo_rectification_error(const sfm_camera *cam1, const sfm_camera *cam
         return SFM_E_ARGUMENT;
     if (rect ? (!cam1 || !cam2) : (!H1 || !H2))
         return SFM_E_ARGUMENT;
-    if (rect && (sfm_camera_validate(cam1) < 0 || sfm_camera_validate(cam2) < 0))
-        return SFM_E_ARGUMENT;
+    if (rect) {
+        int st = sfm_camera_validate(cam1);
+        if (st == SFM_OK)
+            st = sfm_camera_validate(cam2);
+        if (st < 0)
+            return st;
+        /* A NaN rotation or intrinsic would give NaN row differences, which
+         * the max and the median's bisection would count as 0. */
+        if (!sfmi_all_finite9(rect->R1) || !sfmi_all_finite9(rect->R2) ||
+            !sfmi_all_finite9(rect->K1) || !sfmi_all_finite9(rect->K2))
+            return SFM_E_NONFINITE;
+    }
     if (!rect && (!sfmi_all_finite9(H1) || !sfmi_all_finite9(H2)))
         return SFM_E_NONFINITE;
     for (int i = 0; i < 2 * n; i++)

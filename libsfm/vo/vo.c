@@ -503,6 +503,19 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
             start_reference(vo, gravity, r);
         return SFM_OK;
     }
+    /* A frame whose every match sits exactly where it was in the reference
+     * (the same image again: a stalled capture) carries no baseline. It
+     * does not reach the relative-pose RANSAC: on correspondences with
+     * x2 = x1 the 5-point solver's root isolation need not end. */
+    double moved = 0.0;
+    for (int k = 0; k < 2 * nm; k++) {
+        double dv = fabs(vo->m_b[k] - vo->m_c[k]);
+        moved = dv > moved ? dv : moved;
+    }
+    if (!(moved > 1e-9)) {
+        r->state = SFM_VO_INSUFFICIENT_PARALLAX;
+        return SFM_OK;
+    }
     sfm_ransac_options o;
     ransac_opts(vo, t0, &o);
     sfm_pose rel;

@@ -64,6 +64,29 @@ def _steps(steps):
     return arr
 
 
+def _step_inputs(steps):
+    """{name: values} of every float field of the steps, so that an
+    SFM_E_NONFINITE from the C library names the step and field at fault."""
+    out = {}
+    if not isinstance(steps, (list, tuple)):
+        return out
+    for k, st in enumerate(steps):
+        if not isinstance(st, dict):
+            continue
+        for key in ("R1", "t1", "R2", "t2", "d", "b1", "b2"):
+            if st.get(key) is not None:
+                out["steps[%d][%r]" % (k, key)] = np.asarray(st[key], dtype=np.float64)
+    return out
+
+
+def _check_steps(status, where, steps, **extra):
+    """check(), naming the step field that holds a NaN/Inf on
+    SFM_E_NONFINITE (built only then: steps may be long)."""
+    if status == lib.SFM_E_NONFINITE:
+        return check(status, where, dict(_step_inputs(steps), **extra))
+    return check(status, where)
+
+
 def _transform(C, p):
     C = as_array(C, (3, 3), "C")
     p = as_array(p, (3,), "p")
@@ -82,7 +105,7 @@ def r2r_predict(step, C, p):
     d = ffi.new("double *")
     b1 = ffi.new("sfm_vec3 *")
     b2 = ffi.new("sfm_vec3 *")
-    check(lib.sfm_r2r_predict(arr, T, d, b1, b2), "sfm_r2r_predict")
+    _check_steps(lib.sfm_r2r_predict(arr, T, d, b1, b2), "sfm_r2r_predict", [step], C=C, p=p)
     return float(d[0]), np.array(list(b1.v)), np.array(list(b2.v))
 
 
@@ -90,7 +113,8 @@ def r2r_classify(steps):
     """The base system (name, e.g. "DB1_D_D_D") a sequence of exactly six
     scalar equations reduces to (sfm_r2r_classify)."""
     arr = _steps(steps)
-    return R2R_SYSTEMS[check(lib.sfm_r2r_classify(arr, len(arr)), "sfm_r2r_classify")]
+    return R2R_SYSTEMS[_check_steps(lib.sfm_r2r_classify(arr, len(arr)), "sfm_r2r_classify",
+                                        steps)]
 
 
 def r2r_solve(steps):
@@ -104,5 +128,5 @@ def r2r_solve(steps):
     buf, ptr, size = workspace(lib.sfm_r2r_solve_workspace_size(n))
     out = np.empty((R2R_MAX_SOLUTIONS, 12), dtype=np.float64)
     outp = ffi.cast("sfm_r2r_transform *", ffi.from_buffer(out))
-    k = check(lib.sfm_r2r_solve(arr, n, outp, ptr, size), "sfm_r2r_solve")
+    k = _check_steps(lib.sfm_r2r_solve(arr, n, outp, ptr, size), "sfm_r2r_solve", steps)
     return [(out[i, :9].reshape(3, 3).copy(), out[i, 9:].copy()) for i in range(k)]

@@ -9,7 +9,7 @@ sigma_d (distances) and sigma_b (bearings, radians).
 import numpy as np
 
 from ._ffi import check, ffi, lib, to_float, to_int, to_seed, workspace
-from .r2r import _steps, _transform
+from .r2r import _check_steps, _steps, _transform
 from .results import ransac_result
 
 __all__ = ["r2r_refine", "r2r_ransac", "R2R_LOSSES"]
@@ -56,8 +56,9 @@ def r2r_refine(steps, C, p, sigma_d, sigma_b, max_iterations=None, loss="squared
     out = ffi.new("sfm_r2r_transform *")
     cov = np.empty(36)
     st = ffi.new("sfm_r2r_refine_stats *")
-    check(lib.sfm_r2r_refine(arr, len(arr), T, o, out, ffi.cast("double *", ffi.from_buffer(cov)),
-                             st), "sfm_r2r_refine")
+    _check_steps(lib.sfm_r2r_refine(arr, len(arr), T, o, out,
+                                    ffi.cast("double *", ffi.from_buffer(cov)), st),
+                 "sfm_r2r_refine", steps, C=C, p=p)
     Cr, pr = _unpack(out)
     res = (Cr, pr, cov.reshape(6, 6))
     if return_stats:
@@ -99,8 +100,8 @@ def r2r_ransac(steps, sigma_d, sigma_b, threshold=3.0, seed=None, confidence=Non
     inl = ffi.new("unsigned[]", n)
     cov = np.empty(36)
     st = ffi.new("sfm_ransac_stats *")
-    check(lib.sfm_r2r_ransac(arr, n, o, out, inl, ffi.cast("double *", ffi.from_buffer(cov)), st,
-                             ptr, size), "sfm_r2r_ransac")
+    _check_steps(lib.sfm_r2r_ransac(arr, n, o, out, inl, ffi.cast("double *", ffi.from_buffer(cov)),
+                                    st, ptr, size), "sfm_r2r_ransac", steps)
     mask = np.array([[(inl[k] >> b) & 1 for b in range(3)] for k in range(n)], dtype=np.uint8)
     C, p = _unpack(out)
     return ransac_result(st, mask, "sfm_r2r_ransac", C=C, p=p)

@@ -28,6 +28,17 @@ def _gray(img, name):
     return np.ascontiguousarray(a)
 
 
+def _disparity(disparity):
+    """A 2-D float32 disparity image; complex and non-numeric input refused
+    (numpy's cast would drop an imaginary part)."""
+    a = np.asarray(disparity)
+    if np.iscomplexobj(a) or a.dtype.kind not in "biuf":
+        raise TypeError("disparity must hold real numbers, got dtype %s" % a.dtype)
+    if a.ndim != 2:
+        raise ValueError("disparity must be a 2-D image, got shape %s" % (a.shape,))
+    return np.ascontiguousarray(a, dtype=np.float32)
+
+
 def _size(size, name="size"):
     w, h = size
     return to_int(w, name + "[0]", 0, 32767), to_int(h, name + "[1]", 0, 32767)
@@ -120,7 +131,17 @@ def remap(image, maps, view=1, fill=0):
     """Apply a remap table (one of rectify_pair(...)["maps"], or a map
     directly) to a uint8 image: bilinear, identical on every target."""
     src = _gray(image, "image")
-    m = maps[view - 1] if isinstance(maps, (tuple, list)) else maps
+    if isinstance(maps, (tuple, list)):
+        if len(maps) != 2:
+            raise ValueError("maps must be a pair of remap tables, got %d" % len(maps))
+        m = maps[to_int(view, "view", 1, 2) - 1]  # view 0 would pick maps[-1]
+    else:
+        m = maps
+    m = np.asarray(m)
+    if m.dtype.kind not in "iu":  # a float or complex map would be truncated
+        raise TypeError("map must hold integers (1/256 pixel), got dtype %s" % m.dtype)
+    if m.size and (m.min() < -2 ** 31 or m.max() > 2 ** 31 - 1):
+        raise ValueError("map entries must fit int32")
     m = np.ascontiguousarray(m, dtype=np.int32)
     if m.ndim != 3 or m.shape[2] != 2:
         raise ValueError("map must have shape (h, w, 2), got %s" % (m.shape,))
@@ -245,8 +266,8 @@ def _rect_from(rect=None, K=None, baseline=None, doffs=0.0, Q=None):
     for i, v in enumerate(K.ravel()):
         r.K1[i] = v
         r.K2[i] = v
-    r.K2[2] = K[0, 2] - float(doffs)
-    r.baseline = float(baseline)
+    r.K2[2] = K[0, 2] - to_float(doffs, "doffs")
+    r.baseline = to_float(baseline, "baseline")
     return r
 
 
@@ -255,7 +276,7 @@ def disparity_to_depth(disparity, rect=None, K=None, baseline=None, doffs=0.0, Q
     NaN invalid. Give a rectify_pair result, a Q matrix (4x4, as
     rectify_pair's or OpenCV's stereoRectify's), or K and baseline (and
     doffs = cx1 - cx2)."""
-    d = np.ascontiguousarray(disparity, dtype=np.float32)
+    d = _disparity(disparity)
     r = _rect_from(rect, K, baseline, doffs, Q)
     out = np.empty_like(d)
     check(lib.sfm_stereo_depth(ffi.cast("float *", ffi.from_buffer(d)), d.shape[1], d.shape[0], r,
@@ -268,10 +289,11 @@ def disparity_to_points(disparity, rect=None, K=None, baseline=None, doffs=0.0, 
     """3-D points (n x 3) of the valid pixels in camera 1's original frame
     (rectified camera 1's when given Q, or K and baseline) and their pixel
     index (n,) = y * width + x."""
-    d = np.ascontiguousarray(disparity, dtype=np.float32)
+    d = _disparity(disparity)
+    max_depth = to_float(max_depth, "max_depth")
     r = _rect_from(rect, K, baseline, doffs, Q)
     dp = ffi.cast("float *", ffi.from_buffer(d))
-    n = check(lib.sfm_stereo_points(dp, d.shape[1], d.shape[0], r, float(max_depth), ffi.NULL,
+    n = check(lib.sfm_stereo_points(dp, d.shape[1], d.shape[0], r, max_depth, ffi.NULL,
                                     ffi.NULL, 0), "sfm_stereo_points")
     pts = np.empty((n, 3))
     idx = np.empty(n, dtype=np.int32)

@@ -13,7 +13,9 @@ import time
 
 import numpy as np
 
-from ._ffi import check, ffi, lib
+from ._ffi import as_array, check, ffi, lib, to_float, to_int, to_seed
+
+INT64_MIN, INT64_MAX = -2 ** 63, 2 ** 63 - 1
 
 STATES = {
     lib.SFM_VO_INITIALISING: "initialising",
@@ -97,8 +99,10 @@ class VisualOdometry:
     def __init__(self, width, height, camera, max_features=1000, window=5, model="pinhole",
                  timing=True, n_levels=None, fast_threshold=None, focal_guess=None, **params):
         dims = ffi.new("sfm_vo_dims *")
-        dims.width, dims.height = int(width), int(height)
-        dims.max_features, dims.window = int(max_features), int(window)
+        # range checks of the sizes themselves are the C library's (dims_ok)
+        dims.width, dims.height = to_int(width, "width"), to_int(height, "height")
+        dims.max_features = to_int(max_features, "max_features")
+        dims.window = to_int(window, "window")
         p = ffi.new("sfm_vo_params *")
         check(lib.sfm_vo_default_params(dims, p), "sfm_vo_default_params")
         if camera is None:
@@ -115,6 +119,15 @@ class VisualOdometry:
         for k, v in params.items():
             if not hasattr(p, k) or k in ("camera", "features", "clock", "clock_ctx"):
                 raise TypeError("unknown VO parameter %r" % k)
+            cur = getattr(p, k)
+            if k == "seed":
+                v = to_seed(v, k)
+            elif k == "use_trifocal" and isinstance(v, (bool, np.bool_)):
+                v = int(v)  # a flag: True / False read as they say
+            elif isinstance(cur, int):
+                v = to_int(v, k)
+            else:
+                v = to_float(v, k)
             setattr(p, k, v)
         if timing or p.frame_budget > 0:
             p.clock = _clock
@@ -126,12 +139,12 @@ class VisualOdometry:
         self._dims = dims
         self._params = p
         check(lib.sfm_vo_init(dims, p, self._vo, ffi.from_buffer(self._ws), size), "sfm_vo_init")
-        self.width, self.height = int(width), int(height)
+        self.width, self.height = dims.width, dims.height
         self.workspace_bytes = int(size)
         self._img = ffi.new("sfm_image_u8 *")
         self._res = ffi.new("sfm_vo_frame_result *")
         self._grav = ffi.new("double[3]")
-        self._cap = int(max_features) * int(window)
+        self._cap = dims.max_features * dims.window
         self._xyz = np.empty((self._cap, 3))
         self._ids = np.empty(self._cap, np.uint32)
         self._px = np.empty((self._cap, 2))
@@ -145,13 +158,13 @@ class VisualOdometry:
         self._img.width, self._img.height, self._img.stride = self.width, self.height, self.width
         g = ffi.NULL
         if gravity is not None:
-            gv = np.asarray(gravity, float).ravel()
-            if gv.shape != (3,):
-                raise ValueError("gravity must be a 3-vector")
+            gv = as_array(np.asarray(gravity).ravel() if not isinstance(gravity, complex) else gravity,
+                          (3,), "gravity")
             for i in range(3):
                 self._grav[i] = gv[i]
             g = self._grav
-        check(lib.sfm_vo_push_frame(self._vo[0], self._img, int(timestamp_ns), g,
+        ts = to_int(timestamp_ns, "timestamp_ns", INT64_MIN, INT64_MAX)
+        check(lib.sfm_vo_push_frame(self._vo[0], self._img, ts, g,
                                     1 if covariance else 0, self._res), "sfm_vo_push_frame")
         return FrameResult(self._res)
 

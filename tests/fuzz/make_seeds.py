@@ -110,3 +110,27 @@ put("selfcal", "focal_range", rec(10, 2, dbl(1e-300)) + rec(10, 3, dbl(1e300)) +
 # of a 37 x 29 image crossed it unsampled (fixed in align.c)
 put("align", "border_last_step", base64.b64decode(
     "AC8nJ+Tk5HlCBgBQYQAADOTkDOQMDAwMDAwMDAwMDAwMDAwMDgzkRwAAAAAAAAAM5OQM5AwMDAwMDgwMDAwMDAwMDOTk5Bg="))
+
+# the stereo entry points (tests/fuzz/fuzz_stereo.c): byte 0 picks the call
+def cam(model, f, cx, cy):
+    return bytes([model]) + struct.pack("<dddd", f, f, cx, cy) + b"\x00" * 5
+
+
+def rect_seed(t, alpha=0.0, w=40, h=30, R=(1, 0, 0, 0, 1, 0, 0, 0, 1)):
+    return (b"\x00" + cam(0, 40.0, 19.5, 14.5) * 2 + struct.pack("<9d", *R) +
+            struct.pack("<3d", *t) + struct.pack("<d", alpha) + bytes([w, h, 0, 0]))
+
+
+put("stereo", "rectify_horizontal", rect_seed((-0.1, 0.0, 0.0)))
+put("stereo", "rectify_vertical", rect_seed((0.0, -0.1, 0.0), alpha=1.0))
+put("stereo", "rectify_coincident", rect_seed((0.0, 0.0, 0.0)))
+put("stereo", "rectify_nan", rect_seed((float("nan"), 0.0, 0.0)))
+put("stereo", "rectify_1x1", rect_seed((-0.1, 0.0, 0.0), w=1, h=1))
+put("stereo", "remap_small", b"\x01" + bytes([7, 5, 1, 4, 3, 1, 0]) + bytes(range(64)) * 4)
+put("stereo", "remap_1x1_far", b"\x01" + bytes([0, 0, 0, 1, 1, 0, 0, 0x50]) + b"\x01" +
+    struct.pack("<i", 2 ** 31 - 1) + b"\x01" + struct.pack("<i", -2 ** 31))
+put("stereo", "sgm_noise", b"\x02" + bytes([8, 4, 1, 0, 2, 1, 5, 60, 2]) + rng.bytes(2 * 24 * 20))
+put("stereo", "sgm_wide_range", b"\x02" + bytes([0, 0, 1, 0xf0, 4, 0, 5, 60, 2]) + rng.bytes(2 * 16 * 16))
+put("stereo", "block_flat", b"\x03" + bytes([4, 4, 1, 0, 2]) + b"\x80" * (2 * 20 * 20) + bytes([2, 8, 2]))
+put("stereo", "block_negative", b"\x03" + bytes([0, 0, 1, 0xf8, 1]) + rng.bytes(2 * 16 * 16) + bytes([1, 0, 0]))
+put("stereo", "empty", b"")
