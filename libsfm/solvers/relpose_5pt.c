@@ -475,10 +475,14 @@ static int sturm_roots(const double *c, int d, double *roots)
         const int eb = (int)((u >> 52) & 0x7ff);
         if (eb == 0)
             continue;
+        if (eb == 0x7ff)
+            return 0; /* a coefficient Inf or NaN: no root can be told */
         const int L = eb - 1023 - (i == d), f0 = (u & 0xfffffffffffffULL) == 0;
         const int k = (L + 2520 + i - f0) / i - 2520 / i;
         kmax = k > kmax ? k : kmax;
     }
+    if (kmax > 1021)
+        return 0; /* the bound 2^(kmax + 1) is not a finite double */
     double B;
     {
         const uint64_t ub = (uint64_t)(kmax + 1 + 1023) << 52;
@@ -511,7 +515,11 @@ static int sturm_roots(const double *c, int d, double *roots)
             }
         }
         double m = 0.5 * (a + b);
-        if (b - a <= 1e-14 * (fabs(a) + fabs(b))) {
+        /* the absolute floor ends a bisection towards a cluster at 0,
+         * which the relative test alone never stops: its midpoint reaches
+         * the subnormals and then equals an end (a hang on degenerate
+         * samples); with a finite bound every path is now bounded */
+        if (b - a <= 1e-14 * (fabs(a) + fabs(b)) + 1e-300) {
             for (int j = 0; j < k && nr < d; j++)
                 roots[nr++] = m; /* a cluster below resolution */
             continue;
