@@ -38,7 +38,7 @@ TEST_STEPS += test-fuzz
 # the sources they run compiled with the fuzz flags (sanitized like the
 # target itself), align.c alone, the whole core for the self-calibration.
 FUZZ_TARGETS += align selfcal
-$(BUILD)/fuzz/fuzz_align: tests/fuzz/fuzz_align.c libsfm/features/align.c $(PUBLIC_HEADERS)
+$(BUILD)/fuzz/fuzz_align: tests/fuzz/fuzz_align.c tests/fuzz/fuzz_reader.h libsfm/features/align.c $(PUBLIC_HEADERS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_align.c libsfm/features/align.c -lm
 $(BUILD)/fuzz/fuzz_selfcal: tests/fuzz/fuzz_selfcal.c $(LIB_SRCS) $(PUBLIC_HEADERS)
@@ -49,7 +49,7 @@ test-fuzz fuzz: $(BUILD)/fuzz/fuzz_align $(BUILD)/fuzz/fuzz_selfcal
 # The stereo entry points (rectification, remap, both matchers) on the
 # whole core compiled with the fuzz flags.
 FUZZ_TARGETS += stereo
-$(BUILD)/fuzz/fuzz_stereo: tests/fuzz/fuzz_stereo.c $(LIB_SRCS) $(PUBLIC_HEADERS)
+$(BUILD)/fuzz/fuzz_stereo: tests/fuzz/fuzz_stereo.c tests/fuzz/fuzz_reader.h $(LIB_SRCS) $(PUBLIC_HEADERS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_stereo.c $(LIB_SRCS) -lm
 test-fuzz fuzz: $(BUILD)/fuzz/fuzz_stereo

@@ -13,31 +13,9 @@
 
 #include "sfm/sfm_features.h"
 
+#include "fuzz_reader.h"
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-typedef struct reader {
-    const uint8_t *p;
-    size_t n;
-} reader;
-
-static unsigned take_u8(reader *r)
-{
-    if (r->n == 0)
-        return 0;
-    r->n--;
-    return *r->p++;
-}
-
-static double take_f64(reader *r)
-{
-    double v = 0.0;
-    if (r->n >= sizeof v) {
-        memcpy(&v, r->p, sizeof v);
-        r->p += sizeof v;
-        r->n -= sizeof v;
-    }
-    return v;
-}
 
 /* A view of w x h with `pad` bytes of padding per row but the last; pixels
  * from the input when `raw`, else blobs of period 7 and 11 pixels. */

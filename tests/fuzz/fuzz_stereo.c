@@ -16,53 +16,20 @@
 
 #include "sfm/sfm_stereo.h"
 
+#include "fuzz_reader.h"
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-typedef struct reader {
-    const uint8_t *p;
-    size_t n;
-} reader;
-
-static unsigned u8(reader *r)
-{
-    if (r->n == 0)
-        return 0;
-    r->n--;
-    return *r->p++;
-}
-
-static double f64(reader *r)
-{
-    double v = 0.0;
-    if (r->n >= sizeof v) {
-        memcpy(&v, r->p, sizeof v);
-        r->p += sizeof v;
-        r->n -= sizeof v;
-    }
-    return v;
-}
-
-static int32_t i32(reader *r)
-{
-    int32_t v = 0;
-    if (r->n >= sizeof v) {
-        memcpy(&v, r->p, sizeof v);
-        r->p += sizeof v;
-        r->n -= sizeof v;
-    }
-    return v;
-}
 
 static void camera(reader *r, sfm_camera *c)
 {
     memset(c, 0, sizeof *c);
-    c->model = (int)(u8(r) % 4);
-    c->fx = f64(r);
-    c->fy = f64(r);
-    c->cx = f64(r);
-    c->cy = f64(r);
+    c->model = (int)(take_u8(r) % 4);
+    c->fx = take_f64(r);
+    c->fy = take_f64(r);
+    c->cx = take_f64(r);
+    c->cy = take_f64(r);
     for (int i = 0; i < 5; i++)
-        c->dist[i] = u8(r) & 1 ? f64(r) : 0.0;
+        c->dist[i] = take_u8(r) & 1 ? take_f64(r) : 0.0;
 }
 
 static void op_rectify(reader *r)
@@ -72,12 +39,12 @@ static void op_rectify(reader *r)
     camera(r, &c2);
     double R[9], t[3];
     for (int i = 0; i < 9; i++)
-        R[i] = f64(r);
+        R[i] = take_f64(r);
     for (int i = 0; i < 3; i++)
-        t[i] = f64(r);
-    double alpha = f64(r);
-    int w = (int)(u8(r) % 64), h = (int)(u8(r) % 64);
-    int ow = (int)(u8(r) % 64) - 8, oh = (int)(u8(r) % 64) - 8;
+        t[i] = take_f64(r);
+    double alpha = take_f64(r);
+    int w = (int)(take_u8(r) % 64), h = (int)(take_u8(r) % 64);
+    int ow = (int)(take_u8(r) % 64) - 8, oh = (int)(take_u8(r) % 64) - 8;
     sfm_stereo_rectification out, canary;
     memset(&canary, 0x5a, sizeof canary);
     out = canary;
@@ -103,9 +70,9 @@ static void op_rectify(reader *r)
 
 static void op_remap(reader *r)
 {
-    int sw = (int)(u8(r) % 40) + 1, sh = (int)(u8(r) % 40) + 1, pad = (int)(u8(r) % 4);
-    int ow = (int)(u8(r) % 20), oh = (int)(u8(r) % 20), dpad = (int)(u8(r) % 4);
-    int ss = sw + pad - (int)(u8(r) % 2); /* sometimes one short of the width */
+    int sw = (int)(take_u8(r) % 40) + 1, sh = (int)(take_u8(r) % 40) + 1, pad = (int)(take_u8(r) % 4);
+    int ow = (int)(take_u8(r) % 20), oh = (int)(take_u8(r) % 20), dpad = (int)(take_u8(r) % 4);
+    int ss = sw + pad - (int)(take_u8(r) % 2); /* sometimes one short of the width */
     size_t sn = (size_t)(ss > 0 ? ss : 1) * (size_t)(sh - 1) + (size_t)sw;
     uint8_t *src = malloc(sn);
     int32_t *map = malloc(2u * (size_t)(ow ? ow : 1) * (size_t)(oh ? oh : 1) * sizeof *map);
@@ -114,9 +81,9 @@ static void op_remap(reader *r)
     uint8_t *dst = malloc(dn);
     if (src && map && dst) {
         for (size_t i = 0; i < sn; i++)
-            src[i] = (uint8_t)u8(r);
+            src[i] = (uint8_t)take_u8(r);
         for (size_t i = 0; i < 2u * (size_t)ow * (size_t)oh; i++)
-            map[i] = u8(r) & 1 ? i32(r) : (int32_t)(u8(r) * 16);
+            map[i] = take_u8(r) & 1 ? take_i32(r) : (int32_t)(take_u8(r) * 16);
         memset(dst, 0xa5, dn);
         int st = sfm_stereo_remap(src, sw, sh, ss, map, ow, oh, 7, dst, ds);
         if (st != SFM_OK) {
@@ -140,17 +107,17 @@ static void op_remap(reader *r)
 
 static void op_match(reader *r, int block)
 {
-    int w = (int)(u8(r) % 25) + 16, h = (int)(u8(r) % 25) + 16;
-    int stride = w + (int)(u8(r) % 3) - 1;
-    int mind = (int)(int8_t)u8(r), nd = (int)(u8(r) % 5) * 8;
+    int w = (int)(take_u8(r) % 25) + 16, h = (int)(take_u8(r) % 25) + 16;
+    int stride = w + (int)(take_u8(r) % 3) - 1;
+    int mind = (int)(int8_t)take_u8(r), nd = (int)(take_u8(r) % 5) * 8;
     size_t n = (size_t)(stride > w ? stride : w) * (size_t)h;
     uint8_t *L = malloc(n), *R = malloc(n);
     float *disp = malloc((size_t)w * h * sizeof *disp);
     if (!L || !R || !disp)
         goto done;
     for (size_t i = 0; i < n; i++) {
-        L[i] = (uint8_t)u8(r);
-        R[i] = (uint8_t)u8(r);
+        L[i] = (uint8_t)take_u8(r);
+        R[i] = (uint8_t)take_u8(r);
     }
     memset(disp, 0x7b, (size_t)w * h * sizeof *disp);
     size_t need;
@@ -161,9 +128,9 @@ static void op_match(reader *r, int block)
         sfm_stereo_block_default_options(&o);
         o.min_disparity = mind;
         o.num_disparities = nd;
-        o.radius = (int)(u8(r) % 7);
-        o.texture = (int)(u8(r) % 16);
-        o.lr_max_diff = (int)(u8(r) % 4) - 1;
+        o.radius = (int)(take_u8(r) % 7);
+        o.texture = (int)(take_u8(r) % 16);
+        o.lr_max_diff = (int)(take_u8(r) % 4) - 1;
         need = sfm_stereo_block_workspace_size(w, h, &o);
         ws = malloc(need ? need : 1);
         st = ws ? sfm_stereo_block(L, R, w, h, stride, &o, disp, ws, need) : SFM_OK;
@@ -172,11 +139,11 @@ static void op_match(reader *r, int block)
         sfm_stereo_sgm_default_options(&o);
         o.min_disparity = mind;
         o.num_disparities = nd;
-        unsigned pth = u8(r) % 4;
+        unsigned pth = take_u8(r) % 4;
         o.paths = pth == 0 ? 4 : pth == 1 ? 5 : pth == 2 ? 8 : 3;
-        o.p1 = (int)(u8(r) % 20);
-        o.p2 = (int)(u8(r) % 200);
-        o.lr_max_diff = (int)(u8(r) % 4) - 1;
+        o.p1 = (int)(take_u8(r) % 20);
+        o.p2 = (int)(take_u8(r) % 200);
+        o.lr_max_diff = (int)(take_u8(r) % 4) - 1;
         need = sfm_stereo_sgm_workspace_size(w, h, &o);
         ws = malloc(need ? need : 1);
         st = ws ? sfm_stereo_sgm(L, R, w, h, stride, &o, disp, ws, need) : SFM_OK;
@@ -214,7 +181,7 @@ done:
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     reader r = {data, size};
-    switch (u8(&r) % 4) {
+    switch (take_u8(&r) % 4) {
     case 0: op_rectify(&r); break;
     case 1: op_remap(&r); break;
     case 2: op_match(&r, 0); break;
