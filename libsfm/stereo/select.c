@@ -48,6 +48,27 @@ void sfmi_stereo_scan_begin(const sfmi_stereo_scratch *s, const sfmi_stereo_sele
         }
 }
 
+/* The match range [*dlo, *dhi] of left pixel x; 0, with x marked as
+ * having no winner, when no disparity of x has a match. */
+static inline __attribute__((always_inline)) int pixel_range(const sfmi_stereo_scratch *s, int w,
+                                                              int D, int dmin, int x, int *dlo,
+                                                              int *dhi)
+{
+    valid_range(x, w, D, dmin, dlo, dhi);
+    if (*dlo > *dhi) {
+        s->best_d[x] = -1;
+        return 0;
+    }
+    return 1;
+}
+
+/* The right-winner slot of left pixel x at disparity index 0 in the array
+ * r (that of index d is d further on). */
+static inline int16_t *right_slot(int16_t *r, int off, int w, int x, int dmin)
+{
+    return r + off + w - 1 - (x - dmin);
+}
+
 /* One left pixel of scan_row; partial and lr are constants where it is
  * inlined, so that each of the four loops is free of their tests. */
 static inline __attribute__((always_inline)) void scan_pixel(const int16_t *c, int D, int dlo,
@@ -80,13 +101,10 @@ static void scan_row(const sfmi_stereo_scratch *s, const sfmi_stereo_select_para
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
         int dlo, dhi;
-        valid_range(x, w, D, dmin, &dlo, &dhi);
-        if (dlo > dhi) {
-            s->best_d[x] = -1;
+        if (!pixel_range(s, w, D, dmin, x, &dlo, &dhi))
             continue;
-        }
-        int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin);
-        int16_t *rd = s->best_r_d + off + w - 1 - (x - dmin);
+        int16_t *rc = right_slot(s->best_r_cost, off, w, x, dmin);
+        int16_t *rd = right_slot(s->best_r_d, off, w, x, dmin);
         int16_t *bd = s->best_d + x, *bc = s->best_c + x, *sc = s->second + x;
         if (dlo > 0 || dhi < D - 1) {
             if (lr)
@@ -106,13 +124,10 @@ void sfmi_stereo_scan_pixel(const sfmi_stereo_scratch *s, const sfmi_stereo_sele
 {
     const int D = p->D, dmin = p->dmin, off = span_of(D, dmin);
     int dlo, dhi;
-    valid_range(x, w, D, dmin, &dlo, &dhi);
-    if (dlo > dhi) {
-        s->best_d[x] = -1;
+    if (!pixel_range(s, w, D, dmin, x, &dlo, &dhi))
         return;
-    }
-    int16_t *rc = s->best_r_cost + off + w - 1 - (x - dmin);
-    int16_t *rd = s->best_r_d + off + w - 1 - (x - dmin);
+    int16_t *rc = right_slot(s->best_r_cost, off, w, x, dmin);
+    int16_t *rd = right_slot(s->best_r_d, off, w, x, dmin);
     scan_pixel(c, D, dlo, dhi, rc, rd, dlo > 0 || dhi < D - 1, p->lr_max_diff >= 0,
                s->best_d + x, s->best_c + x, s->second + x);
 }
@@ -136,12 +151,9 @@ static void scan_row_keyed(const sfmi_stereo_scratch *s, const sfmi_stereo_selec
     for (int x = 0; x < w; x++) {
         const int16_t *c = cost + (size_t)x * D;
         int dlo, dhi;
-        valid_range(x, w, D, dmin, &dlo, &dhi);
-        if (dlo > dhi) {
-            s->best_d[x] = -1;
+        if (!pixel_range(s, w, D, dmin, x, &dlo, &dhi))
             continue;
-        }
-        int16_t *rk = s->best_r_cost + off + w - 1 - (x - dmin);
+        int16_t *rk = right_slot(s->best_r_cost, off, w, x, dmin);
         const int partial = dlo > 0 || dhi < D - 1;
         const sfmi_v16 vlo = sfmi_v16_splat(dlo), vhi = sfmi_v16_splat(dhi);
         sfmi_v16 m1 = none, m2 = none, idx = lane_index;
