@@ -58,7 +58,23 @@ def _check(status, where):
     return status
 
 
-class Source:
+class _Closing:
+    """`with` support and close() at collection for a class with close()."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+
+class Source(_Closing):
     """A frame source: iterate for Frame tuples; close() (or `with`) when done.
 
     Each frame's image is copied out of the source's buffer, so it stays
@@ -127,18 +143,6 @@ class Source:
         if self._c is not None:
             self._lib.sfm_capture_close(self._c)
             self._c = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
 
 
 def open_replay(directory, rate="max", speed=1.0, loop=False, timeout_ms=-1):
@@ -218,7 +222,7 @@ def list_libcamera():
     return [ffi.string(ids + 256 * k).decode() for k in range(n)]
 
 
-class Recorder:
+class Recorder(_Closing):
     """Writes frames to a replay directory (created; must not hold a manifest).
 
     image_format: "pgm" (default, lossless), "png" (lossless) or "jpg".
@@ -276,15 +280,3 @@ class Recorder:
         if self._r is not None:
             r, self._r = self._r, None
             _check(self._lib.sfm_recorder_close(r), "Recorder.close")
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
