@@ -127,17 +127,24 @@ int sfmi_r2r_dip_cross(double (*fn)(const void *, double), const void *ctx, doub
                        double s, double *xm);
 
 /* One step of the sampled root scan of r2r_b1_b2_d_d.c and
- * r2r_b1_d_d_d_d.c over the last three samples (t[j], f[j]) of fn, oldest
- * first, f not finite where there is no sample (yet): a sign change
- * between the last two is bisected; a dip of |f| at the middle one that
+ * r2r_b1_d_d_d_d.c: the new sample (tn, fv) of fn enters the window of the
+ * last three samples (t[j], f[j]), oldest first, f not finite where there
+ * is no sample (yet), and the oldest leaves it. Then a sign change between
+ * the last two is bisected; a dip of |f| at the middle one that
  * keeps the sign is searched, and when it crosses, both roots are bisected
  * (iters and stop_nonfinite as sfmi_r2r_bisect). The roots go to roots[m],
  * roots[m + 1] (the two cases exclude each other: room for two); returns
  * the new m. Inline: it runs once a sample. */
 static inline int sfmi_r2r_scan_step(double (*fn)(const void *, double), const void *ctx,
-                                     const double t[3], const double f[3], int iters,
+                                     double t[3], double f[3], double tn, double fv, int iters,
                                      int stop_nonfinite, double *roots, int m)
 {
+    t[0] = t[1];
+    f[0] = f[1];
+    t[1] = t[2];
+    f[1] = f[2];
+    t[2] = tn;
+    f[2] = fv;
     if (!(isfinite(f[1]) && isfinite(f[2])))
         return m;
     if ((f[1] < 0.0) != (f[2] < 0.0))

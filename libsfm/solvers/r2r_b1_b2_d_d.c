@@ -133,13 +133,7 @@ static int scan_roots(const geo *g, double M, double *taus)
             double tc = sg * sfmi_exp(lo + (hi - lo) * j / NSCAN), fc = elim_at(g, tc);
             if (!isfinite(fc))
                 return SFM_E_SINGULAR;
-            t[0] = t[1];
-            f[0] = f[1];
-            t[1] = t[2];
-            f[1] = f[2];
-            t[2] = tc;
-            f[2] = fc;
-            m = sfmi_r2r_scan_step(elim_cb, g, t, f, 60, 0, taus, m);
+            m = sfmi_r2r_scan_step(elim_cb, g, t, f, tc, fc, 60, 0, taus, m);
         }
     }
     return m;

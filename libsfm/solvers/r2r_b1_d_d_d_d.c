@@ -245,13 +245,7 @@ static int scan_interval(const geo *g, double lo, double hi, int nodes, double *
     for (int j = 0; j < nodes && m + 2 <= MAX_ROOTS; j++) {
         double lc = 0.5 * (lo + hi) - 0.5 * (hi - lo) * sfmi_cos(0.5 * TWO_PI * (j + 0.5) / nodes);
         double fc = resultant(g, lc);
-        t[0] = t[1];
-        f[0] = f[1];
-        t[1] = t[2];
-        f[1] = f[2];
-        t[2] = lc;
-        f[2] = fc;
-        m = sfmi_r2r_scan_step(resultant_cb, g, t, f, 50, 1, ls, m);
+        m = sfmi_r2r_scan_step(resultant_cb, g, t, f, lc, fc, 50, 1, ls, m);
     }
     return m;
 }
