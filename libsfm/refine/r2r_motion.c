@@ -186,19 +186,34 @@ static int common_checks(const double x[3], const double P[9], const sfm_r2r_mot
     return SFM_OK;
 }
 
-int sfm_r2r_motion_propagate(const double x[3], const double P[9], const sfm_r2r_motion_step *u,
-                             const sfm_r2r_motion_noise *noise, double x_out[3], double P_out[9])
+/* The checks of propagate and cost (a status) and, when they pass, the
+ * prediction: the leader's position q in the follower's new frame, the
+ * heading phi and the propagated covariance Pp. */
+static int predict_step(const double x[3], const double P[9], const sfm_r2r_motion_step *u,
+                        const sfm_r2r_motion_noise *noise, double q[2], double *phi, double Pp[9])
 {
-    if (!x || !P || !u || !noise || !x_out || !P_out)
-        return SFM_E_ARGUMENT;
     if (!step_finite(u))
         return SFM_E_NONFINITE;
     int st = common_checks(x, P, noise);
     if (st != SFM_OK)
         return st;
-    double c[2], phi, Pp[9];
-    predict_core(x, P, u, noise, c, &phi, Pp);
-    const double xo[3] = {c[0] - u->follower_d.v[0], c[1] - u->follower_d.v[1], phi};
+    double c[2];
+    predict_core(x, P, u, noise, c, phi, Pp);
+    q[0] = c[0] - u->follower_d.v[0];
+    q[1] = c[1] - u->follower_d.v[1];
+    return SFM_OK;
+}
+
+int sfm_r2r_motion_propagate(const double x[3], const double P[9], const sfm_r2r_motion_step *u,
+                             const sfm_r2r_motion_noise *noise, double x_out[3], double P_out[9])
+{
+    if (!x || !P || !u || !noise || !x_out || !P_out)
+        return SFM_E_ARGUMENT;
+    double q[2], phi, Pp[9];
+    int st = predict_step(x, P, u, noise, q, &phi, Pp);
+    if (st != SFM_OK)
+        return st;
+    const double xo[3] = {q[0], q[1], phi};
     /* finite inputs can still overflow (a sigma of 1e200 squared) */
     if (!finite_n(xo, 3) || !finite_n(Pp, 9))
         return SFM_E_NONFINITE;
@@ -253,14 +268,10 @@ int sfm_r2r_motion_cost(const double x[3], const double P[9], const sfm_r2r_moti
         return SFM_E_ARGUMENT;
     if (sensor != SFM_R2R_MOTION_RANGE && sensor != SFM_R2R_MOTION_BEARING)
         return SFM_E_ARGUMENT;
-    if (!step_finite(u))
-        return SFM_E_NONFINITE;
-    int st = common_checks(x, P, noise);
+    double q[2], phi, Pp[9], h[3], pred;
+    int st = predict_step(x, P, u, noise, q, &phi, Pp);
     if (st != SFM_OK)
         return st;
-    double c[2], phi, Pp[9], h[3], pred;
-    predict_core(x, P, u, noise, c, &phi, Pp);
-    const double q[2] = {c[0] - u->follower_d.v[0], c[1] - u->follower_d.v[1]};
     if (!meas_jacobian(sensor, q, h, &pred))
         return SFM_E_SINGULAR;
     const double tr = posterior_trace(Pp, h, noise->sigma_meas);
