@@ -600,7 +600,8 @@ static int polish(engine *e, int rounds, int best_inl)
     return done;
 }
 
-/* e->spare (ninl inliers at tau) becomes the best model.
+/* e->spare (ninl inliers at tau, MSAC cost score) becomes the best model,
+ * replacing one of cost old_score, and votes (votes_new_basin, vote).
  * SPRT (which tests consistency at tau) is re-tuned with the inlier ratio at
  * tau, the stopping rule with the ratio in the wide band: with noise near
  * tau, the count at tau misses a third or more of the true inliers, and
@@ -608,7 +609,7 @@ static int polish(engine *e, int rounds, int best_inl)
  * The ratio the rule used goes to *share. Returns the samples the
  * confidence now needs (counted by the caller from this sample on). */
 static double new_best(engine *e, const sfm_ransac_options *opt, sfmi_sprt *sprt, int ninl,
-                       double *share)
+                       double score, double old_score, double *share)
 {
     memcpy(e->best, e->spare, sizeof(double) * (size_t)e->s);
     double eps = (double)ninl / (double)e->n;
@@ -618,9 +619,12 @@ static double new_best(engine *e, const sfm_ransac_options *opt, sfmi_sprt *sprt
         e->wide > 1.0 ? (double)collect_within(e, e->best, e->tau2 * e->wide * e->wide, NULL) / (double)e->n
                       : eps;
     *share = eps_stop;
-    return needed_iterations(eps_stop, e->k,
-                             opt->use_sprt ? sfmi_sprt_pass_probability(sprt) : 1.0,
-                             opt->confidence);
+    const double k = needed_iterations(eps_stop, e->k,
+                                       opt->use_sprt ? sfmi_sprt_pass_probability(sprt) : 1.0,
+                                       opt->confidence);
+    votes_new_basin(e, score, old_score);
+    vote(e, e->best);
+    return k;
 }
 
 int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_options *opt,
@@ -779,9 +783,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             }
             if (!(sc < best_score))
                 continue;
-            k_needed = new_best(&e, opt, &sprt, ci, &stop_share);
-            votes_new_basin(&e, sc, best_score);
-            vote(&e, e.best);
+            k_needed = new_best(&e, opt, &sprt, ci, sc, best_score, &stop_share);
             it_best = it;
             best_score = sc;
             best_inl = ci;
@@ -809,9 +811,7 @@ int sfm_ransac_run(const sfm_ransac_estimator *est, int n, const sfm_ransac_opti
             if (inner_ransac(&e, use_sprt, &rng, e.spare, &sc, &ci)) {
                 refits(&e, opt->lo_rounds, e.spare, &sc, &ci);
                 if (sc < best_score) {
-                    k_needed = new_best(&e, opt, &sprt, ci, &stop_share);
-                    votes_new_basin(&e, sc, best_score);
-                    vote(&e, e.best);
+                    k_needed = new_best(&e, opt, &sprt, ci, sc, best_score, &stop_share);
                     it_best = it;
                     best_score = sc;
                     best_inl = ci;
