@@ -110,15 +110,22 @@ def lu_factor(A):
     return LU, piv
 
 
-def lu_solve(A, B):
-    """X with A X = B (B of shape (n,) or (n, k)) by LU with partial pivoting."""
-    A = _matrix(A, square=True)
-    n = A.shape[0]
+def _rhs(B, n):
+    """(X, vec): a writable (n, k) float64 copy of the right-hand side B, of
+    shape (n,) or (n, k) with k >= 1, and whether B was a vector."""
     Barr = np.asarray(B, dtype=np.float64)
     vec = Barr.ndim == 1
     X = as_array(Barr.reshape(-1, 1) if vec else Barr, (n, None), "B").copy()
     if X.shape[1] < 1:
         raise ValueError("B must have at least one column")
+    return X, vec
+
+
+def lu_solve(A, B):
+    """X with A X = B (B of shape (n,) or (n, k)) by LU with partial pivoting."""
+    A = _matrix(A, square=True)
+    n = A.shape[0]
+    X, vec = _rhs(B, n)
     LU, piv = lu_factor(A)
     check(lib.sfm_lu_solve(dptr(LU), iptr(piv), n, dptr(X), X.shape[1]), "sfm_lu_solve", {"B": X})
     return X[:, 0] if vec else X
@@ -138,11 +145,7 @@ def cholesky_solve(L, B):
     B's shape."""
     L = _matrix(L, "L", square=True)
     n = L.shape[0]
-    Barr = np.asarray(B, dtype=np.float64)
-    vec = Barr.ndim == 1
-    X = as_array(Barr.reshape(-1, 1) if vec else Barr, (n, None), "B").copy()
-    if X.shape[1] < 1:
-        raise ValueError("B must have at least one column")
+    X, vec = _rhs(B, n)
     check(lib.sfm_cholesky_solve(dptr(L), n, dptr(X), X.shape[1]), "sfm_cholesky_solve", {"L": L, "B": X})
     return X[:, 0] if vec else X
 
