@@ -300,6 +300,21 @@ static void column(bm *b, const sfmi_stereo_select_params *sp, int x, const uint
     }
 }
 
+/* columns_fused over [xa, xb) when not empty, with partial a constant and
+ * lr turned into one, so that each call is one of its four loops. */
+static inline __attribute__((always_inline)) void
+fused_span(bm *b, const sfmi_stereo_select_params *sp, int xa, int xb, const uint8_t *Ln,
+           const int16_t *rn, const uint8_t *Lo, const int16_t *ro, int16_t *out,
+           const int16_t *wc, const int16_t *wu, const int partial, int lr)
+{
+    if (xb <= xa)
+        return;
+    if (lr)
+        columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, partial, 1);
+    else
+        columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, partial, 0);
+}
+
 /* Window sums of row yy into ring slot yy % ring, in one pass over x: when
  * Ln is given, column x first takes row (Ln, rn) in and row (Lo, ro) out;
  * the horizontal running sum trails r columns behind. Then the texture
@@ -330,24 +345,9 @@ static int window_row(bm *b, int yy, const uint8_t *Ln, const int16_t *rn, const
     const int lr = sp->lr_max_diff >= 0;
     for (int x = 0; x < xs; x++)
         column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
-    if (xa > xs) {
-        if (lr)
-            columns_fused(b, sp, xs, xa, Ln, rn, Lo, ro, out, wc, wu, 1, 1);
-        else
-            columns_fused(b, sp, xs, xa, Ln, rn, Lo, ro, out, wc, wu, 1, 0);
-    }
-    if (xb > xa) {
-        if (lr)
-            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0, 1);
-        else
-            columns_fused(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0, 0);
-    }
-    if (xe > xb) {
-        if (lr)
-            columns_fused(b, sp, xb, xe, Ln, rn, Lo, ro, out, wc, wu, 1, 1);
-        else
-            columns_fused(b, sp, xb, xe, Ln, rn, Lo, ro, out, wc, wu, 1, 0);
-    }
+    fused_span(b, sp, xs, xa, Ln, rn, Lo, ro, out, wc, wu, 1, lr);
+    fused_span(b, sp, xa, xb, Ln, rn, Lo, ro, out, wc, wu, 0, lr);
+    fused_span(b, sp, xb, xe, Ln, rn, Lo, ro, out, wc, wu, 1, lr);
     for (int x = xe; x < xend; x++)
         column(b, sp, x, Ln, rn, Lo, ro, out, yo, wc, wu, wd);
     uint8_t *flat = b->flat + (size_t)(yy % b->ring) * w;
