@@ -348,6 +348,22 @@ static inline void accumulate_row(double *H, double *g, double *J, double r, dou
     }
 }
 
+/* accumulate_row for the row J[0], J[stride], ... of a batch (core/lm.h),
+ * the same terms in the same order; J is left as it is. */
+static inline void accumulate_col(double *H, double *g, const double *J, int stride, double r,
+                                  double rho1, int nt)
+{
+#pragma GCC unroll 8
+    for (int a = nt - 1; a >= 0; a--) {
+        const double wj = rho1 * J[a * stride];
+        g[a] += wj * r;
+        double *Hrow = H + (size_t)a * nt;
+#pragma GCC unroll 8
+        for (int b = 0; b <= a; b++)
+            Hrow[b] += wj * J[b * stride];
+    }
+}
+
 /* 2^CAUCHY_SPLIT: the bound of the running product of Cauchy factors
  * (each below it too, so the product stays below 2^(2 CAUCHY_SPLIT)). */
 #define CAUCHY_SPLIT 256
@@ -409,11 +425,11 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
         for (int q = 0; q < cnt; q++) {
         const int ok = okb[q];
         const double *r = rv + q;
-        double *J = Jv + (size_t)q * nt;
+        double *J = Jv;
         if (ok < 0)
             return HUGE_VAL;
         if (ok == 0) {
-            if (lin)
+            if (lin && !batch)
                 memset(J, 0, sizeof(double) * jn);
             continue;
         }
@@ -438,10 +454,17 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
             continue;
         const double rho1 = loss_rho1(p->loss, c->a2, s);
         if (rho1 == 0.0) {
-            memset(J, 0, sizeof(double) * jn);
+            if (!batch)
+                memset(J, 0, sizeof(double) * jn);
             continue;
         }
-        if (rs == 1 && nt == 5) /* the Sampson refits: free, upright */
+        if (batch && nt == 5) /* the Sampson refits: free, upright */
+            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 5);
+        else if (batch && nt == 3)
+            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 3);
+        else if (batch)
+            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, nt);
+        else if (rs == 1 && nt == 5)
             accumulate_row(w->H, w->g, J, r[0], rho1, 5);
         else if (rs == 1 && nt == 3)
             accumulate_row(w->H, w->g, J, r[0], rho1, 3);

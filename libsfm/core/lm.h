@@ -198,9 +198,9 @@ typedef int (*sfmi_lm_residual_fn)(const void *user, const double *const *x, int
  * parameters: residual blocks i0 .. i0 + count - 1 (1 <= count <=
  * SFMI_LM_BATCH) at once, as residual would give them one by one, bit for
  * bit: ok[k] its return value, r[k] the residual and, when J is not NULL,
- * J + k * n_tangent the whole Jacobian row (every entry written when ok[k]
- * is 1). Lets a problem compute its blocks in one loop the compiler can
- * vectorise. Only where the target has double-precision vector units
+ * the Jacobian row by columns, entry c at J[c * SFMI_LM_BATCH + k] (every
+ * entry written when ok[k] is 1; the driver does not zero J). Lets a
+ * problem compute its blocks in loops over k the compiler can vectorise. Only where the target has double-precision vector units
  * (SFMI_LM_HAVE_BATCH): elsewhere a batch saves nothing but costs stack.
  */
 #if defined(__SSE2__) || defined(__aarch64__)

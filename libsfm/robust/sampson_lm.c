@@ -183,8 +183,9 @@ static void sampson_batch(const void *user, const double *const *x, int i0, int 
         ib[l] = 0.5 * C[l] / (D[l] * sD[l]);
     }
     const int free_t = dat->blocks[1].manifold != SFMI_LM_CONSTANT;
-    const int nr = dat->axis ? 1 : 3, nt = nr + (free_t ? 2 : 0);
-    double jr[5][LANES];
+    const int nr = dat->axis ? 1 : 3;
+    /* the Jacobian by columns, as the driver reads it */
+    double (*jr)[LANES] = (double (*)[LANES])J;
     if (dat->axis) {
         const double x0 = dat->axis[0], x1 = dat->axis[1], x2 = dat->axis[2];
         for (int l = 0; l < LANES; l++)
@@ -213,9 +214,6 @@ static void sampson_batch(const void *user, const double *const *x, int i0, int 
                                  ib[l] * (e0 * gDt[0][l] + e1 * gDt[1][l] + e2 * gDt[2][l]);
         }
     }
-    for (int l = 0; l < count; l++)
-        for (int cc = 0; cc < nt; cc++)
-            J[l * nt + cc] = jr[cc][l];
 }
 #endif
 

@@ -318,7 +318,8 @@ SFM_TEST(refiner_sampson_batch_matches_per_pair)
                             continue;
                         SFM_CHECK(memcmp(&rb[k], &r1, sizeof r1) == 0);
                         SFM_CHECK(memcmp(&rn[k], &r1, sizeof r1) == 0);
-                        SFM_CHECK(memcmp(Jb + k * nt, J1, sizeof(double) * (size_t)nt) == 0);
+                        for (int c = 0; c < nt; c++)
+                            SFM_CHECK(memcmp(&Jb[c * SFMI_LM_BATCH + k], &J1[c], sizeof(double)) == 0);
                         compared++;
                     }
                 }
