@@ -413,64 +413,62 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
      * residual; then each in order, as if one by one */
     for (int i0 = 0, cnt = 1; i0 < p->n_residuals; i0 += cnt) {
         const double *rv = w->r;
-        double *Jv = w->J;
         if (batch) {
             cnt = p->n_residuals - i0 < SFMI_LM_BATCH ? p->n_residuals - i0 : SFMI_LM_BATCH;
             p->batch(p->user, xp, i0, cnt, okb, rb, lin ? Jb : NULL);
             rv = rb;
-            Jv = Jb;
         } else {
             okb[0] = p->residual(p->user, xp, i0, w->r, lin ? w->J : NULL);
         }
         for (int q = 0; q < cnt; q++) {
-        const int ok = okb[q];
-        const double *r = rv + q;
-        double *J = Jv;
-        if (ok < 0)
-            return HUGE_VAL;
-        if (ok == 0) {
-            if (lin && !batch)
-                memset(J, 0, sizeof(double) * jn);
-            continue;
-        }
-        double s = 0.0;
-        for (int k = 0; k < rs; k++)
-            s += r[k] * r[k];
-        if (cauchy) {
-            const double f = 1.0 + s / c->a2;
-            if (f < CAUCHY_SPLIT_POW) {
-                prod *= f;
-                if (prod >= CAUCHY_SPLIT_POW) {
-                    prod *= 1.0 / CAUCHY_SPLIT_POW;
-                    split++;
+            const int ok = okb[q];
+            const double *r = rv + q;
+            double *J = w->J; /* per block only; a batch's rows are in Jb */
+            if (ok < 0)
+                return HUGE_VAL;
+            if (ok == 0) {
+                if (lin && !batch)
+                    memset(J, 0, sizeof(double) * jn);
+                continue;
+            }
+            double s = 0.0;
+            for (int k = 0; k < rs; k++)
+                s += r[k] * r[k];
+            if (cauchy) {
+                const double f = 1.0 + s / c->a2;
+                if (f < CAUCHY_SPLIT_POW) {
+                    prod *= f;
+                    if (prod >= CAUCHY_SPLIT_POW) {
+                        prod *= 1.0 / CAUCHY_SPLIT_POW;
+                        split++;
+                    }
+                } else {
+                    cost += loss_rho(p->loss, c->a2, s);
                 }
-            } else {
+            } else if (!known) {
                 cost += loss_rho(p->loss, c->a2, s);
             }
-        } else if (!known) {
-            cost += loss_rho(p->loss, c->a2, s);
-        }
-        if (!lin)
-            continue;
-        const double rho1 = loss_rho1(p->loss, c->a2, s);
-        if (rho1 == 0.0) {
-            if (!batch)
-                memset(J, 0, sizeof(double) * jn);
-            continue;
-        }
-        if (batch && nt == 5) /* the Sampson refits: free, upright */
-            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 5);
-        else if (batch && nt == 3)
-            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 3);
-        else if (batch)
-            accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, nt);
-        else if (rs == 1 && nt == 5)
-            accumulate_row(w->H, w->g, J, r[0], rho1, 5);
-        else if (rs == 1 && nt == 3)
-            accumulate_row(w->H, w->g, J, r[0], rho1, 3);
-        else
-            for (int k = 0; k < rs; k++)
-                accumulate_row(w->H, w->g, J + (size_t)k * nt, r[k], rho1, nt);
+            if (!lin)
+                continue;
+            const double rho1 = loss_rho1(p->loss, c->a2, s);
+            if (rho1 == 0.0) {
+                if (!batch)
+                    memset(J, 0, sizeof(double) * jn);
+                continue;
+            }
+            if (batch && nt == 5) /* the Sampson refits: free, upright */
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 5);
+            else if (batch && nt == 3)
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 3);
+            else if (batch)
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, nt);
+            else if (rs == 1 && nt == 5)
+                accumulate_row(w->H, w->g, J, r[0], rho1, 5);
+            else if (rs == 1 && nt == 3)
+                accumulate_row(w->H, w->g, J, r[0], rho1, 3);
+            else
+                for (int k = 0; k < rs; k++)
+                    accumulate_row(w->H, w->g, J + (size_t)k * nt, r[k], rho1, nt);
         }
     }
     if (lin) {

@@ -318,8 +318,10 @@ SFM_TEST(refiner_sampson_batch_matches_per_pair)
                             continue;
                         SFM_CHECK(memcmp(&rb[k], &r1, sizeof r1) == 0);
                         SFM_CHECK(memcmp(&rn[k], &r1, sizeof r1) == 0);
-                        for (int c = 0; c < nt; c++)
-                            SFM_CHECK(memcmp(&Jb[c * SFMI_LM_BATCH + k], &J1[c], sizeof(double)) == 0);
+                        for (int c = 0; c < nt; c++) {
+                            const double *jb = &Jb[c * SFMI_LM_BATCH + k];
+                            SFM_CHECK(memcmp(jb, &J1[c], sizeof(double)) == 0);
+                        }
                         compared++;
                     }
                 }
