@@ -200,7 +200,8 @@ typedef int (*sfmi_lm_residual_fn)(const void *user, const double *const *x, int
  * bit: ok[k] its return value, r[k] the residual and, when J is not NULL,
  * the Jacobian row by columns, entry c at J[c * SFMI_LM_BATCH + k] (every
  * entry written when ok[k] is 1; the driver does not zero J). Lets a
- * problem compute its blocks in loops over k the compiler can vectorise. Only where the target has double-precision vector units
+ * problem compute its blocks in loops over k the compiler can vectorise.
+ * Used only where the target has double-precision vector units
  * (SFMI_LM_HAVE_BATCH): elsewhere a batch saves nothing but costs stack.
  */
 #if defined(__SSE2__) || defined(__aarch64__)
