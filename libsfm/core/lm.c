@@ -348,6 +348,22 @@ static inline void accumulate_row(double *H, double *g, double *J, double r, dou
     }
 }
 
+/* accumulate_row for the row J[0], J[stride], ... of a batch (core/lm.h),
+ * the same terms in the same order; J is left as it is. */
+static inline void accumulate_col(double *H, double *g, const double *J, int stride, double r,
+                                  double rho1, int nt)
+{
+#pragma GCC unroll 8
+    for (int a = nt - 1; a >= 0; a--) {
+        const double wj = rho1 * J[a * stride];
+        g[a] += wj * r;
+        double *Hrow = H + (size_t)a * nt;
+#pragma GCC unroll 8
+        for (int b = 0; b <= a; b++)
+            Hrow[b] += wj * J[b * stride];
+    }
+}
+
 /* 2^CAUCHY_SPLIT: the bound of the running product of Cauchy factors
  * (each below it too, so the product stays below 2^(2 CAUCHY_SPLIT)). */
 #define CAUCHY_SPLIT 256
@@ -384,46 +400,76 @@ static double dense_eval(dense_ctx *c, const double *v, int lin, int known, doub
     const int cauchy = !known && p->loss == SFMI_LM_LOSS_CAUCHY;
     double prod = 1.0;
     int split = 0;
-    for (int i = 0; i < p->n_residuals; i++) {
-        int ok = p->residual(p->user, xp, i, w->r, lin ? w->J : NULL);
-        if (ok < 0)
-            return HUGE_VAL;
-        if (ok == 0) {
-            if (lin)
-                memset(w->J, 0, sizeof(double) * jn);
-            continue;
+#if SFMI_LM_HAVE_BATCH
+    const int batch = p->batch != NULL && rs == 1 && nt <= SFMI_LM_BATCH_TANGENT;
+    int okb[SFMI_LM_BATCH];
+    double rb[SFMI_LM_BATCH], Jb[SFMI_LM_BATCH * SFMI_LM_BATCH_TANGENT];
+#else
+    const int batch = 0;
+    int okb[1];
+    double *rb = w->r, *Jb = w->J;
+#endif
+    /* blocks i0 .. i0 + cnt - 1 from one batch call, or one block through
+     * residual; then each in order, as if one by one */
+    for (int i0 = 0, cnt = 1; i0 < p->n_residuals; i0 += cnt) {
+        const double *rv = w->r;
+        if (batch) {
+            cnt = p->n_residuals - i0 < SFMI_LM_BATCH ? p->n_residuals - i0 : SFMI_LM_BATCH;
+            p->batch(p->user, xp, i0, cnt, okb, rb, lin ? Jb : NULL);
+            rv = rb;
+        } else {
+            okb[0] = p->residual(p->user, xp, i0, w->r, lin ? w->J : NULL);
         }
-        double s = 0.0;
-        for (int k = 0; k < rs; k++)
-            s += w->r[k] * w->r[k];
-        if (cauchy) {
-            const double f = 1.0 + s / c->a2;
-            if (f < CAUCHY_SPLIT_POW) {
-                prod *= f;
-                if (prod >= CAUCHY_SPLIT_POW) {
-                    prod *= 1.0 / CAUCHY_SPLIT_POW;
-                    split++;
+        for (int q = 0; q < cnt; q++) {
+            const int ok = okb[q];
+            const double *r = rv + q;
+            double *J = w->J; /* per block only; a batch's rows are in Jb */
+            if (ok < 0)
+                return HUGE_VAL;
+            if (ok == 0) {
+                if (lin && !batch)
+                    memset(J, 0, sizeof(double) * jn);
+                continue;
+            }
+            double s = 0.0;
+            for (int k = 0; k < rs; k++)
+                s += r[k] * r[k];
+            if (cauchy) {
+                const double f = 1.0 + s / c->a2;
+                if (f < CAUCHY_SPLIT_POW) {
+                    prod *= f;
+                    if (prod >= CAUCHY_SPLIT_POW) {
+                        prod *= 1.0 / CAUCHY_SPLIT_POW;
+                        split++;
+                    }
+                } else {
+                    cost += loss_rho(p->loss, c->a2, s);
                 }
-            } else {
+            } else if (!known) {
                 cost += loss_rho(p->loss, c->a2, s);
             }
-        } else if (!known) {
-            cost += loss_rho(p->loss, c->a2, s);
+            if (!lin)
+                continue;
+            const double rho1 = loss_rho1(p->loss, c->a2, s);
+            if (rho1 == 0.0) {
+                if (!batch)
+                    memset(J, 0, sizeof(double) * jn);
+                continue;
+            }
+            if (batch && nt == 5) /* the Sampson refits: free, upright */
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 5);
+            else if (batch && nt == 3)
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, 3);
+            else if (batch)
+                accumulate_col(w->H, w->g, Jb + q, SFMI_LM_BATCH, r[0], rho1, nt);
+            else if (rs == 1 && nt == 5)
+                accumulate_row(w->H, w->g, J, r[0], rho1, 5);
+            else if (rs == 1 && nt == 3)
+                accumulate_row(w->H, w->g, J, r[0], rho1, 3);
+            else
+                for (int k = 0; k < rs; k++)
+                    accumulate_row(w->H, w->g, J + (size_t)k * nt, r[k], rho1, nt);
         }
-        if (!lin)
-            continue;
-        const double rho1 = loss_rho1(p->loss, c->a2, s);
-        if (rho1 == 0.0) {
-            memset(w->J, 0, sizeof(double) * jn);
-            continue;
-        }
-        if (rs == 1 && nt == 5) /* the Sampson refits: free, upright */
-            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 5);
-        else if (rs == 1 && nt == 3)
-            accumulate_row(w->H, w->g, w->J, w->r[0], rho1, 3);
-        else
-            for (int k = 0; k < rs; k++)
-                accumulate_row(w->H, w->g, w->J + (size_t)k * nt, w->r[k], rho1, nt);
     }
     if (lin) {
         double m = 0.0;

@@ -193,6 +193,27 @@ typedef struct sfmi_lm_block {
 typedef int (*sfmi_lm_residual_fn)(const void *user, const double *const *x, int i, double *r,
                                     double *J);
 
+/*
+ * Optional, for residual_size 1 and at most SFMI_LM_BATCH_TANGENT free
+ * parameters: residual blocks i0 .. i0 + count - 1 (1 <= count <=
+ * SFMI_LM_BATCH) at once, as residual would give them one by one, bit for
+ * bit: ok[k] its return value, r[k] the residual and, when J is not NULL,
+ * the Jacobian row by columns, entry c at J[c * SFMI_LM_BATCH + k] (every
+ * entry written when ok[k] is 1; the driver does not zero J). Lets a
+ * problem compute its blocks in loops over k the compiler can vectorise.
+ * Used only where the target has double-precision vector units
+ * (SFMI_LM_HAVE_BATCH): elsewhere a batch saves nothing but costs stack.
+ */
+#if defined(__SSE2__) || defined(__aarch64__)
+#define SFMI_LM_HAVE_BATCH 1
+#else
+#define SFMI_LM_HAVE_BATCH 0
+#endif
+#define SFMI_LM_BATCH 8
+#define SFMI_LM_BATCH_TANGENT 5
+typedef void (*sfmi_lm_batch_fn)(const void *user, const double *const *x, int i0, int count,
+                                 int *ok, double *r, double *J);
+
 typedef struct sfmi_lm_problem {
     const sfmi_lm_block *blocks;
     int n_blocks;      /* 1..SFMI_LM_DENSE_MAX_BLOCKS */
@@ -202,6 +223,7 @@ typedef struct sfmi_lm_problem {
     const void *user;
     sfmi_lm_loss loss;
     double loss_scale; /* > 0 for the robust losses */
+    sfmi_lm_batch_fn batch; /* optional (NULL): see above */
 } sfmi_lm_problem;
 
 /* Workspace bytes for a dense problem with n_values values in all, n_tangent

@@ -240,7 +240,7 @@ int sfm_r2r_refine(const sfm_r2r_step *steps, int n_steps, const sfm_r2r_transfo
     static const sfmi_lm_loss losses[3] = {SFMI_LM_LOSS_SQUARED, SFMI_LM_LOSS_HUBER,
                                            SFMI_LM_LOSS_CAUCHY};
     const sfmi_lm_problem prob = {blocks, 2, 3 * n_steps, 2, r2r_residual, &user,
-                                  losses[o.loss], o.loss_scale};
+                                  losses[o.loss], o.loss_scale, NULL};
     sfmi_lm_options lo;
     sfmi_lm_default_options(&lo);
     lo.max_iterations = o.max_iterations;

@@ -177,7 +177,7 @@ int sfmi_fundamental_lm_problem(const double *p1, const double *p2, int n, doubl
                                      {N->cs, 2, SFMI_LM_SPHERE, 0, NULL, NULL}};
     memcpy(N->blocks, blocks, sizeof blocks);
     const sfmi_lm_problem prob = {N->blocks, 3, n, 1, fundamental_residual, N,
-                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale, NULL};
     N->prob = prob;
     return 0;
 }

@@ -196,7 +196,7 @@ int sfmi_homography_lm_problem(const double *p1, const double *p2, int n, double
     const sfmi_lm_block block = {Hn, 9, SFMI_LM_CUSTOM, NP, entries_plus, N};
     N->block = block;
     const sfmi_lm_problem prob = {&N->block, 1, n, 2, homography_residual, N,
-                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale, NULL};
     N->prob = prob;
     return 0;
 }

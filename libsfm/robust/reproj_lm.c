@@ -73,7 +73,7 @@ void sfmi_reproj_lm_problem(const double *b, const double *X, const int *idx, in
     rp->blocks[0] = rb;
     rp->blocks[1] = tb;
     const sfmi_lm_problem prob = {rp->blocks, 2, n, 2, reproj_residual, rp,
-                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale};
+                                  scale > 0.0 ? SFMI_LM_LOSS_CAUCHY : SFMI_LM_LOSS_SQUARED, scale, NULL};
     rp->prob = prob;
 }
 

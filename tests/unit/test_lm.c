@@ -60,7 +60,7 @@ SFM_TEST(lm_dense_recovers_an_exponential_from_a_far_start)
     }
     double ab[2] = {1.0, 0.0};
     sfmi_lm_block blk = {ab, 2, SFMI_LM_EUCLIDEAN, 0, NULL, NULL};
-    sfmi_lm_problem p = {&blk, 1, d.n, 1, exp_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
+    sfmi_lm_problem p = {&blk, 1, d.n, 1, exp_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.function_tolerance = 0.0;
@@ -98,7 +98,7 @@ SFM_TEST(lm_dense_line_fit_covariance_is_the_inverse_normal_matrix)
     double b0 = 0.0, b1 = 0.0;
     sfmi_lm_block blk[2] = {{&b0, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL},
                             {&b1, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
-    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
+    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.want_covariance = 1;
@@ -162,7 +162,7 @@ SFM_TEST(lm_dense_so3_block_finds_the_rotation)
     sfm_rot_from_axis_angle(w, dR);
     sfmi_matmul3(dR, Rt, R);
     sfmi_lm_block blk = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
-    sfmi_lm_problem p = {&blk, 1, d.n, 3, rot_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
+    sfmi_lm_problem p = {&blk, 1, d.n, 3, rot_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.function_tolerance = 0.0;
@@ -223,7 +223,7 @@ SFM_TEST(lm_dense_sphere_block_finds_the_null_vector)
     }
     double x[4] = {0.5, -0.5, 0.5, 0.5};
     sfmi_lm_block blk = {x, 4, SFMI_LM_SPHERE, 0, NULL, NULL};
-    sfmi_lm_problem p = {&blk, 1, d.n, 1, null_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
+    sfmi_lm_problem p = {&blk, 1, d.n, 1, null_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.function_tolerance = 0.0;
@@ -267,7 +267,7 @@ SFM_TEST(lm_dense_cauchy_loss_ignores_gross_outliers)
     double b0 = 0.0, b1 = 0.0;
     sfmi_lm_block blk[2] = {{&b0, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL},
                             {&b1, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
-    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_CAUCHY, 0.05};
+    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_CAUCHY, 0.05, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.max_iterations = 200;
@@ -302,7 +302,7 @@ SFM_TEST(lm_dense_cauchy_cost_matches_sum_of_log1p)
     double b0 = 0.0, b1 = 0.0;
     sfmi_lm_block blk[2] = {{&b0, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL},
                             {&b1, 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
-    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_CAUCHY, a};
+    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_CAUCHY, a, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     o.max_iterations = 0;
@@ -329,7 +329,7 @@ SFM_TEST(lm_dense_contract_statuses_and_nothing_written)
     double b[2] = {0.0, 0.0};
     sfmi_lm_block blk[2] = {{&b[0], 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL},
                             {&b[1], 1, SFMI_LM_EUCLIDEAN, 0, NULL, NULL}};
-    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0};
+    sfmi_lm_problem p = {blk, 2, d.n, 1, line_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
     sfmi_lm_options o;
     sfmi_lm_default_options(&o);
     double ws[SFMI_LM_DENSE_WS_DOUBLES(2, 2, 1)];

@@ -267,3 +267,69 @@ SFM_TEST(refiner_jacobian_trifocal_point_and_cameras)
     }
     JLOG("worst relative Jacobian error %.3g", worst);
 }
+
+/* The batch callback of the Sampson problem gives the per-pair callback's
+ * values bit for bit: every count from 1 to SFMI_LM_BATCH (the lanes past
+ * count repeat a pair and are dropped), free and upright rotation, t free
+ * and held, with and without the Jacobian, and a pair at the epipole (D = 0:
+ * left out). */
+SFM_TEST(refiner_sampson_batch_matches_per_pair)
+{
+#if SFMI_LM_HAVE_BATCH
+    double b1[3 * NPT], b2[3 * NPT], X[3 * NPT], R[9], tr[3];
+    int idx[NPT];
+    int compared = 0;
+    for (int it = 0; it < SFM_TEST_ITERS(10); it++) {
+        two_view(t, b1, b2, X, R, tr);
+        for (int i = 0; i < NPT; i++)
+            idx[i] = (7 * i + it) % NPT;
+        double R0[9], t0[3] = {tr[0] + 0.05, tr[1] - 0.03, tr[2]};
+        nudge_rotation(t, R, 2.0, R0);
+        normalize3(t0);
+        /* pair 3 at the epipoles of (R0, t0): b1 = R0^T t0, b2 = t0 */
+        double e1[3] = {R0[0] * t0[0] + R0[3] * t0[1] + R0[6] * t0[2],
+                        R0[1] * t0[0] + R0[4] * t0[1] + R0[7] * t0[2],
+                        R0[2] * t0[0] + R0[5] * t0[1] + R0[8] * t0[2]};
+        memcpy(b1 + 3 * 3, e1, sizeof e1);
+        memcpy(b2 + 3 * 3, t0, sizeof t0);
+        for (int mode = 0; mode < 4; mode++) {
+            const int up = mode & 1, held = mode >> 1;
+            double axis[3] = {0.0, 1.0, 0.0}, d2[3];
+            matvec(R0, axis, d2);
+            sfmi_sampson_problem sp;
+            sfmi_sampson_lm_problem(b1, b2, idx, NPT, up ? d2 : NULL, 0.0, R0, t0, &sp);
+            if (held)
+                sp.blocks[1].manifold = SFMI_LM_CONSTANT;
+            SFM_CHECK(sp.prob.batch != NULL);
+            const int nt = (up ? 1 : 3) + (held ? 0 : 2);
+            const double *xp[2] = {R0, t0};
+            for (int count = 1; count <= SFMI_LM_BATCH; count++) {
+                for (int i0 = 0; i0 + count <= NPT; i0 += count) {
+                    int okb[SFMI_LM_BATCH];
+                    double rb[SFMI_LM_BATCH], Jb[SFMI_LM_BATCH * SFMI_LM_BATCH_TANGENT];
+                    double rn[SFMI_LM_BATCH];
+                    sp.prob.batch(&sp, xp, i0, count, okb, rb, Jb);
+                    sp.prob.batch(&sp, xp, i0, count, okb, rn, NULL);
+                    for (int k = 0; k < count; k++) {
+                        double r1 = 0.0, J1[5] = {0};
+                        int ok = sp.prob.residual(&sp, xp, i0 + k, &r1, J1);
+                        SFM_CHECK_EQ_INT(okb[k], ok);
+                        if (ok != 1)
+                            continue;
+                        SFM_CHECK(memcmp(&rb[k], &r1, sizeof r1) == 0);
+                        SFM_CHECK(memcmp(&rn[k], &r1, sizeof r1) == 0);
+                        for (int c = 0; c < nt; c++) {
+                            const double *jb = &Jb[c * SFMI_LM_BATCH + k];
+                            SFM_CHECK(memcmp(jb, &J1[c], sizeof(double)) == 0);
+                        }
+                        compared++;
+                    }
+                }
+            }
+        }
+    }
+    SFM_CHECK(compared > 0);
+#else
+    SFM_CHECK(1);
+#endif
+}
