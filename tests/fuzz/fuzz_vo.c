@@ -193,7 +193,13 @@ static void check_result(const sfm_vo_frame_result *r, const sfm_vo_params *p, c
     CHECK(all_finite(r->R_cw, 9) && all_finite(r->t_cw, 3) && all_finite(r->R_wc, 9) &&
           all_finite(r->c_w, 3) && all_finite(r->stage_seconds, SFM_VO_STAGES));
     CHECK(isfinite(r->median_parallax_deg) && r->median_parallax_deg >= 0);
-    CHECK(isfinite(r->focal) && r->focal >= 0);
+    /* a calibrated camera's fx (any sign but zero: sfm_camera_validate), or
+     * 0 / the self-calibrated focal length */
+    CHECK(isfinite(r->focal));
+    if (p->calibrated)
+        CHECK(r->focal == p->camera.fx);
+    else
+        CHECK(r->focal >= 0);
     if (r->has_pose) {
         check_rotation(r->R_cw);
         double tn = fabs(r->t_cw[0]) + fabs(r->t_cw[1]) + fabs(r->t_cw[2]);
@@ -220,8 +226,6 @@ static void check_result(const sfm_vo_frame_result *r, const sfm_vo_params *p, c
                            SFM_VO_DEGRADED_TRIFOCAL_SKIPPED)) == 0);
     for (int s = 0; s < SFM_VO_STAGES; s++)
         CHECK(have_clock ? r->stage_seconds[s] >= 0 : r->stage_seconds[s] == 0);
-    if (p->calibrated)
-        CHECK(r->focal == p->camera.fx);
     CHECK(r->segment >= last_segment);
 }
 

@@ -202,6 +202,9 @@ put("vo", "bad_time_gravity", vo_seed([vo_frame(1, b"\x00\x00"), vo_frame(1, b"\
                                        vo_frame(1, b"\x0c\x00", read=3 | 128)]))
 put("vo", "camera_nan", vo_seed(slide(4, n=2), cam_flags=1, cam=struct.pack("<d", float("nan"))))
 put("vo", "camera_zero_focal", vo_seed(slide(4, n=2), cam_flags=1, cam=struct.pack("<d", 0.0)))
+# a mirrored camera (negative fx) is valid: reported focal -96 (fuzz_vo's
+# first run took focal >= 0 for an invariant)
+put("vo", "camera_negative_focal", vo_seed(slide(4), cam_flags=1, cam=struct.pack("<d", -96.0), recs=[SHARP]))
 put("vo", "camera_huge_focal", vo_seed(slide(4), model=1, cam_flags=1 | 32 | 64, cam=struct.pack("<d", 1e300)))
 put("vo", "camera_unknown_model", vo_seed(slide(4, n=2), model=3))
 put("vo", "brown_not_self_calibrated", vo_seed(slide(4, n=2), model=1, calibrated=1))
