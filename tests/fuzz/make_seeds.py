@@ -186,7 +186,7 @@ put("vo", "empty", b"")
 put("vo", "scene_slide", vo_seed(slide(4), recs=[SHARP]))
 put("vo", "scene_gravity_covariance", vo_seed(slide(4, flags=32, gravity=b"\x00"), recs=[SHARP]))
 put("vo", "scene_clock_budget", vo_seed(slide(4), clock=5, recs=[SHARP, vo_rec("frame_budget", 0.01)]))
-put("vo", "scene_self_calibration", vo_seed(slide(5), calibrated=1, recs=[SHARP]))
+put("vo", "scene_self_calibration", vo_seed(slide(5, n=4), calibrated=1, recs=[SHARP]))
 put("vo", "scene_fisheye", vo_seed(slide(4), model=2, cam_flags=32 | 64, recs=[SHARP]))
 put("vo", "identical_frames", vo_seed([vo_frame(1, b"\x00\x00")] + [vo_frame(2)] * 5))
 put("vo", "tiles_flat_small", vo_seed([vo_frame(0, bytes([7, 7]) + rng.bytes(64), pad=3),
