@@ -1,6 +1,7 @@
 # Fuzz targets (libFuzzer, clang): the PGM/PPM parser, the manifest parser
 # and each pixel-format converter of the capture library; the point
-# alignment and the m-view self-calibration of the core (below). `make
+# alignment, the m-view self-calibration, stereo, the leader-follower filter
+# and the sequence pipeline of the core (below). `make
 # test` replays the committed seed corpus (tests/fuzz/corpus/<target>/)
 # once per input;
 # `make fuzz` fuzzes each target for FUZZ_SECONDS, growing
@@ -61,3 +62,11 @@ $(BUILD)/fuzz/fuzz_r2r_motion: tests/fuzz/fuzz_r2r_motion.c $(LIB_SRCS) $(PUBLIC
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_r2r_motion.c $(LIB_SRCS) -lm
 test-fuzz fuzz: $(BUILD)/fuzz/fuzz_r2r_motion
+
+# The sequence pipeline (init, push_frame, the map read-outs, reset) on the
+# whole core compiled with the fuzz flags.
+FUZZ_TARGETS += vo
+$(BUILD)/fuzz/fuzz_vo: tests/fuzz/fuzz_vo.c tests/fuzz/fuzz_reader.h $(LIB_SRCS) $(PUBLIC_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ tests/fuzz/fuzz_vo.c $(LIB_SRCS) -lm
+test-fuzz fuzz: $(BUILD)/fuzz/fuzz_vo

@@ -5,14 +5,18 @@
 
 #include "vo/vo_internal.h"
 
+/* Clamped in double before the cast: a search radius of 1e300 (finite,
+ * accepted by sfm_vo_init) puts uv +- radius far outside the int range,
+ * where the conversion is undefined (x86 gives INT_MIN, which clamped the
+ * upper edge to cell 0 and searched one cell instead of all). */
 static int cell_of(double v, int n_cells)
 {
-    int c = (int)floor(v / VO_GRID_CELL);
-    if (c < 0)
-        c = 0;
-    if (c >= n_cells)
-        c = n_cells - 1;
-    return c;
+    double c = floor(v / VO_GRID_CELL);
+    if (!(c >= 0.0))
+        return 0;
+    if (c >= (double)n_cells)
+        return n_cells - 1;
+    return (int)c;
 }
 
 void sfmi_vo_grid_build(vo_grid *g, const double *px, const uint8_t *valid, int n)

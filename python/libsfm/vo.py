@@ -13,7 +13,8 @@ import time
 
 import numpy as np
 
-from ._ffi import as_array, check, ffi, lib, to_float, to_int, to_seed
+from .camera import Camera
+from ._ffi import SfmError, as_array, check, ffi, lib, to_float, to_int, to_seed
 
 INT64_MIN, INT64_MAX = -2 ** 63, 2 ** 63 - 1
 
@@ -28,8 +29,6 @@ QUALITIES = {lib.SFM_VO_QUALITY_NONE: "none", lib.SFM_VO_QUALITY_GOOD: "good",
              lib.SFM_VO_QUALITY_DEGRADED: "degraded"}
 STAGES = ("features", "tracking", "mapping", "trifocal", "ba")
 
-_MODELS = {"pinhole": lib.SFM_CAMERA_PINHOLE, "brown": lib.SFM_CAMERA_BROWN,
-           "fisheye": lib.SFM_CAMERA_FISHEYE}
 
 
 class FrameResult:
@@ -69,23 +68,44 @@ def _clock(_ctx):
     return time.perf_counter()
 
 
+def _model(model):
+    if not isinstance(model, str) or model not in Camera.MODELS:
+        raise ValueError("model must be one of %s, got %r" % (", ".join(Camera.MODELS), model))
+    return model
+
+
 def _camera(camera, model="pinhole"):
-    c = ffi.new("sfm_camera *")
-    vals = [float(v) for v in camera]
-    if len(vals) < 4:
-        raise ValueError("camera must be fx, fy, cx, cy[, dist...]")
-    c.model = _MODELS[model] if len(vals) == 4 or model != "pinhole" else lib.SFM_CAMERA_BROWN
-    c.fx, c.fy, c.cx, c.cy = vals[:4]
-    for i, d in enumerate(vals[4:9]):
-        c.dist[i] = d
-    return c
+    """The C camera of a libsfm.Camera, or of a sequence (fx, fy, cx, cy[,
+    dist...]) read under model (a "pinhole" with distortion is Brown), under
+    the Camera constructor's rules: TypeError for complex or non-numbers,
+    ValueError for a wrong length or model, SfmError naming the entry
+    (camera.fx, ...) for a zero focal length or a NaN."""
+    model = _model(model)
+    if isinstance(camera, Camera):
+        if model not in ("pinhole", camera.model):
+            raise ValueError("camera is a %s Camera, model=%r contradicts it" % (camera.model, model))
+        return camera._c
+    vals = as_array(camera, (None,), "camera")
+    if model == "pinhole" and vals.shape[0] > 4:
+        model = "brown"
+    most = 4 + Camera.NDIST[model]
+    if not 4 <= vals.shape[0] <= most:
+        raise ValueError("camera must be (fx, fy, cx, cy%s) for model %r, got %d values"
+                         % (", up to %d distortion coefficients" % Camera.NDIST[model]
+                            if Camera.NDIST[model] else "", model, vals.shape[0]))
+    try:
+        return Camera(model, *vals[:4], dist=vals[4:])._c
+    except SfmError as e:
+        raise SfmError(e.status, "VisualOdometry",
+                       "camera.%s" % e.argument if e.argument else "camera") from None
 
 
 class VisualOdometry:
     """The C pipeline on a workspace this object owns.
 
-    camera: (fx, fy, cx, cy) or (fx, fy, cx, cy, k1, k2, p1, p2, k3) (Brown,
-    as OpenCV's), with model="fisheye" for (fx, fy, cx, cy, k1, k2, k3, k4).
+    camera: a libsfm.Camera, or (fx, fy, cx, cy) or (fx, fy, cx, cy, k1, k2,
+    p1, p2, k3) (Brown, as OpenCV's; fewer coefficients are padded with
+    zeros), with model="fisheye" for (fx, fy, cx, cy, k1, k2, k3, k4).
     camera=None asks for self-calibration (a pinhole camera, principal point
     at the image centre, focal length found on the first good keyframe triple
     and refined by the windowed BA; FrameResult.focal reports it, 0 until
@@ -107,15 +127,18 @@ class VisualOdometry:
         check(lib.sfm_vo_default_params(dims, p), "sfm_vo_default_params")
         if camera is None:
             p.calibrated = 0
-            p.camera.model = _MODELS[model]
+            p.camera.model = Camera.MODELS[_model(model)]
             if focal_guess is not None:
-                p.camera.fx = p.camera.fy = float(focal_guess)
+                p.camera.fx = p.camera.fy = to_float(focal_guess, "focal_guess")
         else:
+            if focal_guess is not None:
+                raise ValueError("focal_guess is for self-calibration (camera=None); a camera was given")
             p.camera = _camera(camera, model)[0]
+        # the ranges of sfm_features_params, as detect_and_describe checks them
         if n_levels is not None:
-            p.features.n_levels = int(n_levels)
+            p.features.n_levels = to_int(n_levels, "n_levels", 1, lib.SFM_FEATURES_MAX_LEVELS)
         if fast_threshold is not None:
-            p.features.fast_threshold = int(fast_threshold)
+            p.features.fast_threshold = to_int(fast_threshold, "fast_threshold", 1, 254)
         for k, v in params.items():
             if not hasattr(p, k) or k in ("camera", "features", "clock", "clock_ctx"):
                 raise TypeError("unknown VO parameter %r" % k)

@@ -134,3 +134,83 @@ put("stereo", "sgm_wide_range", b"\x02" + bytes([0, 0, 1, 0xf0, 4, 0, 5, 60, 2])
 put("stereo", "block_flat", b"\x03" + bytes([4, 4, 1, 0, 2]) + b"\x80" * (2 * 20 * 20) + bytes([2, 8, 2]))
 put("stereo", "block_negative", b"\x03" + bytes([0, 0, 1, 0xf8, 1]) + rng.bytes(2 * 16 * 16) + bytes([1, 0, 0]))
 put("stereo", "empty", b"")
+
+# the sequence pipeline (tests/fuzz/fuzz_vo.c): dims, workspace mode, camera
+# (model / calibrated byte, flags, raw doubles), parameter records, clock,
+# texture seed, frames (mode, flags, stride pad, timestamp step, content,
+# gravity, read-out selector)
+VO_FIELDS = {"track_radius": 0, "init_radius": 1, "ratio": 3, "threshold": 4, "max_iterations": 6,
+             "min_inliers": 7, "min_parallax_deg": 9, "ba_iterations": 14, "use_trifocal": 15,
+             "seed": 16, "frame_budget": 17, "max_features": 18, "window": 19, "n_levels": 20,
+             "scale_factor": 21, "calibrated": 24}
+
+
+def vo_rec(field, value):
+    f = VO_FIELDS[field]
+    if isinstance(value, float):
+        return bytes([f]) + struct.pack("<d", value)
+    return bytes([f]) + struct.pack("<q", value)
+
+
+def vo_frame(mode, content=b"", flags=0, pad=0, dts=33, gravity=None, read=0):
+    """mode 0 tile (content: pw-1, ph-1, pixels), 1 scene (content: offset,
+    dy as int8), 2 the previous frame, 3 flat (content: gray); flags: 1 NULL
+    image, 2 NULL data, 4 NULL result, 8 another size, 16 short stride, 32
+    covariance, 64 reset first, 128 gravity (then gravity: an even byte, down
+    the y axis tilted by its bits 1-3 and 4-6 in hundredths, or b"\\x01" + 3
+    doubles)."""
+    g = b""
+    if gravity is not None:
+        flags |= 128
+        g = gravity
+    return bytes([mode, flags, pad, dts & 0xff]) + content + g + bytes([read])
+
+
+def vo_seed(frames, w=96, h=72, nf=200, win=5, ws=0, model=0, calibrated=0, cam_flags=0,
+            cam=b"", recs=(), clock=0, tex_seed=11):
+    return (bytes([w - 33, h - 33, nf - 8 if nf >= 8 else nf, win - 3 if win >= 3 else win, ws,
+                   model | (calibrated << 2), cam_flags]) + cam + bytes([len(recs)]) + b"".join(recs) +
+            bytes([clock]) + struct.pack("<I", tex_seed) + bytes([len(frames)]) + b"".join(frames))
+
+
+# the scene's shifts are whole pixels: a 0.5 px threshold lets the 5-point
+# support test (rotation sd) pass on a 96 x 72 frame
+SHARP = vo_rec("threshold", 0.5)
+
+
+def slide(step, n=6, **kw):
+    return [vo_frame(1, struct.pack("<bb", step * k - 20, 0), **kw) for k in range(n)]
+
+
+put("vo", "empty", b"")
+put("vo", "scene_slide", vo_seed(slide(4), recs=[SHARP]))
+put("vo", "scene_gravity_covariance", vo_seed(slide(4, flags=32, gravity=b"\x00"), recs=[SHARP]))
+put("vo", "scene_clock_budget", vo_seed(slide(4), clock=5, recs=[SHARP, vo_rec("frame_budget", 0.01)]))
+put("vo", "scene_self_calibration", vo_seed(slide(5, n=4), calibrated=1, recs=[SHARP]))
+put("vo", "scene_fisheye", vo_seed(slide(4), model=2, cam_flags=32 | 64, recs=[SHARP]))
+put("vo", "identical_frames", vo_seed([vo_frame(1, b"\x00\x00")] + [vo_frame(2)] * 5))
+put("vo", "tiles_flat_small", vo_seed([vo_frame(0, bytes([7, 7]) + rng.bytes(64), pad=3),
+                                       vo_frame(3, b"\x80"), vo_frame(0, b"\x00\x00\x00")],
+                                      w=33, h=33, nf=8, win=3))
+put("vo", "bad_frames", vo_seed([vo_frame(1, b"\x00\x00"), vo_frame(1, b"\x04\x00", flags=1),
+                                 vo_frame(1, b"\x04\x00", flags=2), vo_frame(1, b"\x04\x00", flags=4),
+                                 vo_frame(1, b"\x04\x00", flags=8), vo_frame(1, b"\x04\x00", flags=16)]))
+put("vo", "bad_time_gravity", vo_seed([vo_frame(1, b"\x00\x00"), vo_frame(1, b"\x04\x00", dts=-1),
+                                       vo_frame(1, b"\x04\x00", gravity=b"\x01" + struct.pack("<3d", 0, float("nan"), 0)),
+                                       vo_frame(1, b"\x04\x00", gravity=b"\x01" + struct.pack("<3d", 0, 0, -0.0)),
+                                       vo_frame(1, b"\x08\x00", flags=64, dts=-5, read=2),
+                                       vo_frame(1, b"\x0c\x00", read=3 | 128)]))
+put("vo", "camera_nan", vo_seed(slide(4, n=2), cam_flags=1, cam=struct.pack("<d", float("nan"))))
+put("vo", "camera_zero_focal", vo_seed(slide(4, n=2), cam_flags=1, cam=struct.pack("<d", 0.0)))
+# a mirrored camera (negative fx) is valid: reported focal -96 (fuzz_vo's
+# first run took focal >= 0 for an invariant)
+put("vo", "camera_negative_focal", vo_seed(slide(4), cam_flags=1, cam=struct.pack("<d", -96.0), recs=[SHARP]))
+put("vo", "camera_huge_focal", vo_seed(slide(4), model=1, cam_flags=1 | 32 | 64, cam=struct.pack("<d", 1e300)))
+put("vo", "camera_unknown_model", vo_seed(slide(4, n=2), model=3))
+put("vo", "brown_not_self_calibrated", vo_seed(slide(4, n=2), model=1, calibrated=1))
+put("vo", "ws_one_short", vo_seed(slide(4, n=1), ws=1))
+put("vo", "dims_out_of_range", vo_seed(slide(4, n=1), nf=248 + 8, win=250 + 3))
+put("vo", "hostile_params", vo_seed(slide(4), recs=[vo_rec("track_radius", 1e300), vo_rec("init_radius", 1e300),
+                                                    vo_rec("threshold", 1e300), vo_rec("min_inliers", 6),
+                                                    vo_rec("seed", -1), vo_rec("ba_iterations", 0)]))
+put("vo", "params_nan", vo_seed(slide(4, n=2), recs=[vo_rec("ratio", float("nan"))]))

@@ -256,3 +256,42 @@ SFM_TEST(hostile_vo_degenerate_sequences)
     SFM_CHECK_EQ_INT(differ, 0);
     SFM_CHECK_EQ_INT(n, 30 + H_SAME);
 }
+
+/* A search radius of 1e300 is finite and accepted; it must search the whole
+ * image as a radius of 1e6 does (both cover every grid cell of a 160 x 120
+ * frame), frame by frame the same answers. The grid cell of uv + 1e300 was
+ * an out-of-range double-to-int conversion (undefined; INT_MIN on x86,
+ * which searched only the first cell). */
+SFM_TEST(hostile_vo_huge_search_radius)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p, q;
+    setup(&d, &p);
+    p.threshold = 1.0;
+    q = p;
+    p.track_radius = p.init_radius = 1e6;
+    q.track_radius = q.init_radius = 1e300;
+    sfm_vo *a = NULL, *b = NULL;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &a, h_ws, HWS), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &q, &b, h_ws2, HWS), SFM_OK);
+    texture(t);
+    sfm_image_u8 img = {h_frame, HW, HH, HW};
+    int matched = 0, differ = 0;
+    for (int k = 0; k < 10; k++) {
+        crop(3 * k);
+        sfm_vo_frame_result ra, rb;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(a, &img, k, NULL, 0, &ra), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(b, &img, k, NULL, 0, &rb), SFM_OK);
+        matched += ra.n_matches > 0;
+        int same = ra.state == rb.state && ra.has_pose == rb.has_pose &&
+                   ra.n_matches == rb.n_matches && ra.n_inliers == rb.n_inliers &&
+                   ra.n_map_points == rb.n_map_points &&
+                   memcmp(ra.R_cw, rb.R_cw, sizeof ra.R_cw) == 0 &&
+                   memcmp(ra.t_cw, rb.t_cw, sizeof ra.t_cw) == 0;
+        SFM_CHECK_MSG(same, "frame %d: radius 1e6 %d matches (%s), 1e300 %d matches (%s)", k,
+                      ra.n_matches, sfm_vo_state_str(ra.state), rb.n_matches, sfm_vo_state_str(rb.state));
+        differ += !same;
+    }
+    SFM_CHECK(matched >= 5); /* the comparison is not between two empty runs */
+    SFM_CHECK_EQ_INT(differ, 0);
+}
