@@ -227,7 +227,12 @@ SFM_API int sfm_vo_reset(sfm_vo *vo);
  *   SFM_E_ARGUMENT   NULL vo/image/out, image of another size, stride < width,
  *                    timestamp lower than the previous frame's;
  *   SFM_E_NONFINITE  NaN/Inf gravity; zero gravity is SFM_E_ARGUMENT.
- * On failure nothing is written and the state is unchanged. */
+ * On these failures nothing is written and the state is unchanged. Any other
+ * negative status comes from a stage after those checks (e.g.
+ * SFM_E_WORKSPACE; not expected of a pipeline made by sfm_vo_init): out is
+ * not written and the pipeline is reset as by sfm_vo_reset (map, keyframes
+ * and a self-calibrated focal length gone; the next frame starts a new
+ * reference), never left with a half-updated map. */
 SFM_API int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_ns,
                               const double *gravity, int want_covariance,
                               sfm_vo_frame_result *out);

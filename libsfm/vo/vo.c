@@ -935,6 +935,16 @@ static int track(sfm_vo *vo, const double *gravity, int want_cov, double t0,
     return SFM_OK;
 }
 
+/* A stage failed after the frame's checks (a status the stages keep for
+ * themselves, such as SFM_E_WORKSPACE, which a workspace carved by
+ * sfm_vo_init does not give): the map may be half updated, so the pipeline
+ * starts again from a known state instead of carrying it (sfm_vo.h). */
+static int internal_failure(sfm_vo *vo, int status)
+{
+    sfm_vo_reset(vo);
+    return status;
+}
+
 int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_ns,
                       const double *gravity, int want_covariance, sfm_vo_frame_result *out)
 {
@@ -962,7 +972,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
     int n = sfm_features_detect(image, &fp, vo->kps, vo->desc, vo->dims.max_features, vo->feat_ws,
                                 vo->feat_ws_size);
     if (n < 0)
-        return n;
+        return internal_failure(vo, n);
     if (vo->feat_count < vo->p.max_features)
         r.degraded |= SFM_VO_DEGRADED_FEATURES;
     vo->n = n;
@@ -998,7 +1008,7 @@ int sfm_vo_push_frame(sfm_vo *vo, const sfm_image_u8 *image, int64_t timestamp_n
         st = track(vo, gravity, want_covariance, t0, &r);
     }
     if (st < 0)
-        return st;
+        return internal_failure(vo, st);
     if (vo->p.clock != NULL && r.stage_seconds[SFM_VO_STAGE_TRACKING] == 0.0 && !r.is_keyframe)
         r.stage_seconds[SFM_VO_STAGE_TRACKING] = now(vo) - t1;
     if (!vo->mapped && r.state == SFM_VO_TRACKING)

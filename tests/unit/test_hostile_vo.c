@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "sfm/sfm_vo.h"
+#include "vo/vo_internal.h"
 #include "sfm_test.h"
 
 #define HW 160
@@ -294,4 +295,54 @@ SFM_TEST(hostile_vo_huge_search_radius)
     }
     SFM_CHECK(matched >= 5); /* the comparison is not between two empty runs */
     SFM_CHECK_EQ_INT(differ, 0);
+}
+
+/* A stage failing after the frame's checks (here the relative pose's
+ * workspace cut short from inside) leaves the pipeline reset, out
+ * untouched, and the next frames start again as on a new pipeline. */
+SFM_TEST(hostile_vo_internal_failure_resets)
+{
+    sfm_vo_dims d;
+    sfm_vo_params p;
+    setup(&d, &p);
+    p.threshold = 1.0;
+    sfm_vo *a = NULL, *b = NULL;
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &a, h_ws, HWS), SFM_OK);
+    SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &b, h_ws2, HWS), SFM_OK);
+    texture(t);
+    sfm_image_u8 img = {h_frame, HW, HH, HW};
+    sfm_vo_frame_result r;
+    int k = 0, failed = 0;
+    for (; k < 10 && !failed; k++) {
+        crop(3 * k);
+        if (k == 1) /* the initialisation's relative pose runs from the second frame on */
+            a->ransac_ws_size = 16;
+        memset(&r, 0x5a, sizeof r);
+        int st = sfm_vo_push_frame(a, &img, k, NULL, 0, &r);
+        if (st < 0) {
+            SFM_CHECK_EQ_INT(st, SFM_E_WORKSPACE);
+            unsigned char sentinel[sizeof r];
+            memset(sentinel, 0x5a, sizeof sentinel);
+            SFM_CHECK(memcmp(&r, sentinel, sizeof r) == 0);
+            failed = 1;
+        }
+    }
+    SFM_CHECK_MSG(failed, "no stage reached the relative pose in %d frames", k);
+    static double xyz[3 * 4096];
+    SFM_CHECK_EQ_INT(sfm_vo_map_points(a, xyz, NULL, 4096), 0);
+    /* after the reset, a behaves as the fresh pipeline b on the same frames */
+    a->ransac_ws_size = b->ransac_ws_size;
+    int posed = 0;
+    for (int j = 0; j < 8; j++) {
+        crop(3 * (k + j));
+        sfm_vo_frame_result ra, rb;
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(a, &img, k + j, NULL, 0, &ra), SFM_OK);
+        SFM_CHECK_EQ_INT(sfm_vo_push_frame(b, &img, k + j, NULL, 0, &rb), SFM_OK);
+        SFM_CHECK_EQ_INT(ra.frame_index, j);
+        SFM_CHECK_EQ_INT(ra.state, rb.state);
+        SFM_CHECK_EQ_INT(ra.n_inliers, rb.n_inliers);
+        SFM_CHECK(memcmp(ra.t_cw, rb.t_cw, sizeof ra.t_cw) == 0);
+        posed += ra.has_pose;
+    }
+    SFM_CHECK(posed >= 3); /* the comparison is not between two runs without a pose */
 }
