@@ -129,8 +129,13 @@ extern "C" {
 typedef struct sfm_uncal_options {
     sfm_ransac_options ransac; /* threshold: pixels per view */
     int sweep_steps;           /* 2..SFM_UNCAL_MAX_SWEEP, default 17 */
-    int sweep_iterations;      /* 1..50, default 8: bundle adjustment steps per
-                                  fixed-focal candidate of the sweep */
+    int sweep_iterations;      /* 1..50, default 4: bundle adjustment steps per
+                                  fixed-focal candidate of the sweep (the
+                                  candidates are ranked, not reported: the
+                                  free-focal adjustments from the best
+                                  converge: on the 56 Herz-Jesu-P8 triplets 4
+                                  and 8 give the same answers, f within
+                                  4e-11) */
     double focal_min;          /* multiples of max(width, height), default 0.2 */
     double focal_max;          /* default 5 */
     double max_rms;            /* px, default 0 = the RANSAC threshold */

@@ -723,11 +723,18 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
     rep->stage = SFM_UNCAL_STAGE_BA;
     double cost, fs[3] = {0, 0, 0}, cs[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, ks[3][2] = {{0, 0}, {0, 0}, {0, 0}};
     sfm_pose sol[3][3];
-    for (int s = 0; s < 3; s++) {
+    int started[3] = {0, 0, 0};
+    for (int s = 0; s < 2; s++) {
         double f0 = s == 0 ? f_linear : f_sweep;
         c->kr[0] = c->kr[1] = 0;
         if (!(f0 > 0) || !start_from_focal(c, f0, sol[s]))
             continue;
+        started[s] = 1;
+        if (s == 1) {
+            /* candidate 2 starts from the same cameras */
+            memcpy(sol[2], sol[1], sizeof sol[2]);
+            started[2] = 1;
+        }
         double ff = f0;
         if (refine(c, sol[s], &ff, s < 2, FINAL_ITERS, &cost) != SFM_OK || !(ff > 0))
             continue;
@@ -737,8 +744,18 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
         ks[s][1] = c->kr[1];
     }
     /* candidates in order of cost (the fixed-focal one last), each checked
-     * in full; the first that passes is the answer */
-    const int np_search = c->np; /* validate() replaces the search subset */
+     * in full; the first that passes is the answer. The fixed-focal
+     * candidate is adjusted only when its turn comes: it is validated only
+     * after both free-focal ones failed, which is rare, and its adjustment
+     * starts from the same cameras (those of f_sweep) and runs on the same
+     * search subset as if it had been run here, so the answer is the same
+     * bit for bit. validate() replaces the subset: its indices are kept to
+     * restore it. */
+    const int np_search = c->np; /* the same after candidate 2's build, which triangulates
+                                    candidate 1's start */
+    const int m_search = c->m;
+    int idx_search[SEARCH_POINTS];
+    memcpy(idx_search, c->idx, sizeof(int) * (size_t)m_search);
     int order[3] = {0, 1, 2};
     if (cs[1] < cs[0]) {
         order[0] = 1;
@@ -747,6 +764,26 @@ static int solve_once(sfmi_mu *c, const double *const xall[3], int n, double f_l
     int st = SFM_E_SINGULAR;
     for (int k = 0; k < 3; k++) {
         int s = order[k];
+        if (s == 2 && started[2]) {
+            /* the search subset again (copies of the input pixels) */
+            c->m = m_search;
+            for (int j = 0; j < m_search; j++) {
+                const int i = idx_search[j];
+                c->idx[j] = i;
+                for (int v = 0; v < nv; v++) {
+                    c->x[v][2 * j] = xall[v][2 * i];
+                    c->x[v][2 * j + 1] = xall[v][2 * i + 1];
+                }
+            }
+            c->kr[0] = c->kr[1] = 0;
+            double ff = f_sweep;
+            if (refine(c, sol[2], &ff, 0, FINAL_ITERS, &cost) == SFM_OK && ff > 0) {
+                fs[2] = ff;
+                cs[2] = cost;
+                ks[2][0] = c->kr[0];
+                ks[2][1] = c->kr[1];
+            }
+        }
         if (!(cs[s] < (double)INFINITY))
             continue;
         double best_f = fs[s];

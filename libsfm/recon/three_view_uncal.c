@@ -40,7 +40,7 @@ int sfm_uncal_default_options(sfm_uncal_options *opt)
         return SFM_E_ARGUMENT;
     sfm_ransac_default_options(&opt->ransac);
     opt->sweep_steps = 17;
-    opt->sweep_iterations = 8;
+    opt->sweep_iterations = 4;
     opt->focal_min = 0.2;
     opt->focal_max = 5.0;
     opt->max_rms = 0;

@@ -246,7 +246,7 @@ SFM_TEST(uncal_three_view_contract)
                                                            NULL, NULL, ws, need), SFM_E_ARGUMENT);
     }
     sfm_uncal_default_options(&o);
-    SFM_CHECK_EQ_INT(o.sweep_iterations, 8);
+    SFM_CHECK_EQ_INT(o.sweep_iterations, 4);
     o.sweep_iterations = 0;
     SFM_CHECK_EQ_INT(sfm_recon_three_view_uncalibrated(px[0], px[1], px[2], NU, 640, 480, &o, K, est, NULL,
                                                        NULL, NULL, ws, need), SFM_E_ARGUMENT);
