@@ -9,18 +9,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
-
-static double cost_at(const double x[3], const double P[9], const sfm_r2r_motion_step *u0,
-                      const sfm_r2r_motion_noise *nz, int sensor, double fx, double fy)
-{
-    sfm_r2r_motion_step u = *u0;
-    u.follower_d.v[0] = fx;
-    u.follower_d.v[1] = fy;
-    double tr = HUGE_VAL;
-    if (sfm_r2r_motion_cost(x, P, &u, nz, sensor, &tr) != SFM_OK)
-        return HUGE_VAL;
-    return tr;
-}
+#include "../unit/r2r_motion_cost.h"
 
 static void many_states(sfm_test_ctx *t, int sensor)
 {
@@ -76,7 +65,7 @@ static void many_states(sfm_test_ctx *t, int sensor)
                 const double qx = xc[0] - fx, qy = xc[1] - fy;
                 if (qx * qx + qy * qy < dmin * dmin)
                     continue;
-                const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
+                const double f = r2r_cost_at(x, P, &u, &nz, sensor, fx, fy);
                 best = f < best ? f : best;
             }
         for (int k = 0; k < 64; k++) {
@@ -86,7 +75,7 @@ static void many_states(sfm_test_ctx *t, int sensor)
             const double qx = xc[0] - fx, qy = xc[1] - fy;
             if (qx * qx + qy * qy < dmin * dmin)
                 continue;
-            const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
+            const double f = r2r_cost_at(x, P, &u, &nz, sensor, fx, fy);
             best = f < best ? f : best;
         }
         if (!(fc <= best + 1e-9 * fabs(best))) {
