@@ -9,7 +9,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
-#include "../unit/r2r_motion_cost.h"
+#include "../unit/r2r_motion_scene.h"
 
 static void many_states(sfm_test_ctx *t, int sensor)
 {
@@ -18,17 +18,8 @@ static void many_states(sfm_test_ctx *t, int sensor)
     while (done < n) {
         double x[3] = {sfm_test_uniform(t, -5, 5), sfm_test_uniform(t, -5, 5),
                        sfm_test_uniform(t, -3.1, 3.1)};
-        double L[9], P[9];
-        const double s = sfm_test_uniform(t, 0.02, 0.7);
-        for (int i = 0; i < 9; i++)
-            L[i] = sfm_test_normal(t, s);
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double v = 0.0;
-                for (int k = 0; k < 3; k++)
-                    v += L[3 * i + k] * L[3 * j + k];
-                P[3 * i + j] = v + (i == j ? 1e-4 : 0.0);
-            }
+        double P[9];
+        r2r_random_spd(t, 0.02, 0.7, 1e-4, P);
         sfm_r2r_motion_step u = {{{sfm_test_uniform(t, -0.5, 0.5), sfm_test_uniform(t, -0.5, 0.5)}},
                                  sfm_test_uniform(t, -0.4, 0.4), sfm_test_uniform(t, -0.4, 0.4),
                                  {{0.0, 0.0}}};

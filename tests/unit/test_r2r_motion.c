@@ -11,7 +11,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
-#include "r2r_motion_cost.h"
+#include "r2r_motion_scene.h"
 
 static const double PI_T = 3.14159265358979323846;
 
@@ -27,17 +27,7 @@ static void motion(const double x[3], const double n[6], double out[3])
 
 static void random_spd(sfm_test_ctx *t, double P[9])
 {
-    double L[9];
-    const double s = sfm_test_uniform(t, 0.05, 0.5);
-    for (int i = 0; i < 9; i++)
-        L[i] = sfm_test_normal(t, s);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double v = 0.0;
-            for (int k = 0; k < 3; k++)
-                v += L[3 * i + k] * L[3 * j + k];
-            P[3 * i + j] = v + (i == j ? 1e-3 : 0.0);
-        }
+    r2r_random_spd(t, 0.05, 0.5, 1e-3, P);
 }
 
 static sfm_r2r_motion_noise test_noise(int sensor)
