@@ -5,6 +5,8 @@ overhead (cffi argument conversion for libsfm, pybind11 for PoseLib); the
 instruction counts of bench/pose_callgrind.sh are the figure for the solvers
 themselves. Timing is process CPU time, median of repeated runs.
 """
+import os
+import sys
 import time
 
 import numpy as np
@@ -12,28 +14,11 @@ import poselib
 
 import libsfm
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "python"))
+from pose_scenes import rand_rot, rot_y, unit_rows  # noqa: E402
+
 N = 2000
 RUNS = 7
-
-
-def unit_rows(a):
-    return a / np.linalg.norm(a, axis=1, keepdims=True)
-
-
-def rand_rot(rng):
-    q = rng.normal(size=4)
-    q /= np.linalg.norm(q)
-    w, x, y, z = q
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
-
-
-def rot_y(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
 
 
 def p3p_problems(rng):

@@ -77,31 +77,31 @@ static void replay_and_compare(sfm_test_ctx *t, const char *dir, int max_err)
     sfm_capture_close(c);
 }
 
-SFM_TEST(replay_round_trip_pgm)
+/* Records the sequence in a fresh directory in one format, replays it and
+ * compares frame by frame (max_err as replay_and_compare takes it), then
+ * removes the directory. */
+static void round_trip(sfm_test_ctx *t, int format, int max_err)
 {
     char dir[512];
     SFM_CHECK(cap_tmpdir(dir, sizeof dir) == 0);
-    record(t, dir, SFM_RECORD_PGM);
-    replay_and_compare(t, dir, 0);
+    record(t, dir, format);
+    replay_and_compare(t, dir, max_err);
     cap_rmtree(dir);
+}
+
+SFM_TEST(replay_round_trip_pgm)
+{
+    round_trip(t, SFM_RECORD_PGM, 0);
 }
 
 SFM_TEST(replay_round_trip_png)
 {
-    char dir[512];
-    SFM_CHECK(cap_tmpdir(dir, sizeof dir) == 0);
-    record(t, dir, SFM_RECORD_PNG);
-    replay_and_compare(t, dir, 0);
-    cap_rmtree(dir);
+    round_trip(t, SFM_RECORD_PNG, 0);
 }
 
 SFM_TEST(replay_round_trip_jpeg_lossy)
 {
-    char dir[512];
-    SFM_CHECK(cap_tmpdir(dir, sizeof dir) == 0);
-    record(t, dir, SFM_RECORD_JPEG);
-    replay_and_compare(t, dir, 40); /* q95 on a checkered texture: close, not exact */
-    cap_rmtree(dir);
+    round_trip(t, SFM_RECORD_JPEG, 40); /* q95 on a checkered texture: close, not exact */
 }
 
 SFM_TEST(replay_acquire_release_never_allocates)

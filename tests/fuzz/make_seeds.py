@@ -214,3 +214,37 @@ put("vo", "hostile_params", vo_seed(slide(4), recs=[vo_rec("track_radius", 1e300
                                                     vo_rec("threshold", 1e300), vo_rec("min_inliers", 6),
                                                     vo_rec("seed", -1), vo_rec("ba_iterations", 0)]))
 put("vo", "params_nan", vo_seed(slide(4, n=2), recs=[vo_rec("ratio", float("nan"))]))
+
+# the leader-follower filter (tests/fuzz/fuzz_r2r_motion.c): a sensor byte
+# (1 range, 2 bearing, 0 and 3 unknown), then the 28 doubles the target reads
+# in order, here its own defaults with one field replaced per seed
+R2R_DEFAULTS = {
+    "x": (2.0, 0.5, 0.1),
+    "P": (0.1, 0, 0, 0, 0.1, 0, 0, 0, 0.01),
+    "leader_d": (0.1, 0.0), "leader_w": 0.05, "follower_w": 0.02, "follower_d": (0.1, 0.0),
+    "sigma": (0.01, 0.01, 0.01, 0.01, 0.05),  # leader d, leader w, follower d, follower w, meas
+    "d0": (0.0, 0.0), "radius": 0.5, "min_distance": 0.0, "z": 1.0,
+}
+R2R_ORDER = ("x", "P", "leader_d", "leader_w", "follower_w", "follower_d", "sigma", "d0", "radius",
+             "min_distance", "z")
+
+
+def r2r_seed(sensor, **changes):
+    fields = dict(R2R_DEFAULTS, **changes)
+    vals = []
+    for name in R2R_ORDER:
+        v = fields[name]
+        vals.extend(v if isinstance(v, tuple) else (v,))
+    return bytes([sensor]) + struct.pack("<%dd" % len(vals), *vals)
+
+
+put("r2r_motion", "empty", b"\x01")
+put("r2r_motion", "nominal_range", r2r_seed(1))
+put("r2r_motion", "nominal_bearing", r2r_seed(2))
+put("r2r_motion", "unknown_sensor", r2r_seed(3))
+put("r2r_motion", "at_leader", r2r_seed(1, x=(0.0, 0.0, 0.1)))
+put("r2r_motion", "nan_state", r2r_seed(2, x=(float("nan"), 0.5, 0.1)))
+put("r2r_motion", "huge_heading", r2r_seed(2, x=(2.0, 0.5, 1e154)))
+put("r2r_motion", "huge_bearing", r2r_seed(2, z=1e154))
+put("r2r_motion", "covariance_overflow", r2r_seed(2, P=(0.1, 0, 0, 0, 0.1, 0, 0, 0, 1e308)))
+put("r2r_motion", "sigma_overflow", r2r_seed(1, sigma=(0.01, 0.01, 1e308, 0.01, 0.05)))

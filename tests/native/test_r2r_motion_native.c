@@ -9,18 +9,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
-
-static double cost_at(const double x[3], const double P[9], const sfm_r2r_motion_step *u0,
-                      const sfm_r2r_motion_noise *nz, int sensor, double fx, double fy)
-{
-    sfm_r2r_motion_step u = *u0;
-    u.follower_d.v[0] = fx;
-    u.follower_d.v[1] = fy;
-    double tr = HUGE_VAL;
-    if (sfm_r2r_motion_cost(x, P, &u, nz, sensor, &tr) != SFM_OK)
-        return HUGE_VAL;
-    return tr;
-}
+#include "../unit/r2r_motion_scene.h"
 
 static void many_states(sfm_test_ctx *t, int sensor)
 {
@@ -29,17 +18,8 @@ static void many_states(sfm_test_ctx *t, int sensor)
     while (done < n) {
         double x[3] = {sfm_test_uniform(t, -5, 5), sfm_test_uniform(t, -5, 5),
                        sfm_test_uniform(t, -3.1, 3.1)};
-        double L[9], P[9];
-        const double s = sfm_test_uniform(t, 0.02, 0.7);
-        for (int i = 0; i < 9; i++)
-            L[i] = sfm_test_normal(t, s);
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double v = 0.0;
-                for (int k = 0; k < 3; k++)
-                    v += L[3 * i + k] * L[3 * j + k];
-                P[3 * i + j] = v + (i == j ? 1e-4 : 0.0);
-            }
+        double P[9];
+        r2r_random_spd(t, 0.02, 0.7, 1e-4, P);
         sfm_r2r_motion_step u = {{{sfm_test_uniform(t, -0.5, 0.5), sfm_test_uniform(t, -0.5, 0.5)}},
                                  sfm_test_uniform(t, -0.4, 0.4), sfm_test_uniform(t, -0.4, 0.4),
                                  {{0.0, 0.0}}};
@@ -76,7 +56,7 @@ static void many_states(sfm_test_ctx *t, int sensor)
                 const double qx = xc[0] - fx, qy = xc[1] - fy;
                 if (qx * qx + qy * qy < dmin * dmin)
                     continue;
-                const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
+                const double f = r2r_cost_at(x, P, &u, &nz, sensor, fx, fy);
                 best = f < best ? f : best;
             }
         for (int k = 0; k < 64; k++) {
@@ -86,7 +66,7 @@ static void many_states(sfm_test_ctx *t, int sensor)
             const double qx = xc[0] - fx, qy = xc[1] - fy;
             if (qx * qx + qy * qy < dmin * dmin)
                 continue;
-            const double f = cost_at(x, P, &u, &nz, sensor, fx, fy);
+            const double f = r2r_cost_at(x, P, &u, &nz, sensor, fx, fy);
             best = f < best ? f : best;
         }
         if (!(fc <= best + 1e-9 * fabs(best))) {

@@ -40,6 +40,20 @@ static void scene(sfm_test_ctx *t, ba_scene *s, int m, int n, double sigma, doub
     bas_make(t, s, m, n, sigma, rot, tr, ptn);
 }
 
+/* The problem over the scene's starting values in pR, pt, pC, pX and the
+ * default options. */
+static void ba_start(ba_scene *s, sfm_ba_problem *p, sfm_ba_options *o)
+{
+    bas_problem(s, p, pR, pt, pC, pX);
+    sfm_ba_default_options(o);
+}
+
+/* A solve without covariance in the whole workspace. */
+static int ba_run(sfm_ba_problem *p, const sfm_ba_options *o, sfm_ba_result *r)
+{
+    return sfm_ba_solve(p, o, r, NULL, 0, g_ws, sizeof g_ws);
+}
+
 static size_t ws_for(const sfm_ba_problem *p, const sfm_ba_options *o)
 {
     sfm_ba_dims d = {p->n_cameras, p->n_points, p->n_observations, o->intrinsics, o->refine_intrinsics};
@@ -152,9 +166,8 @@ SFM_TEST(ba_noise_free_recovers_truth)
     scene(t, &s, 4, 40, 0.0, 3.0, 0.1, 0.05);
     st0[3 + 0] = st[3 + 0];
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.scale_camera = 1;
     o.scale_coordinate = 0;
@@ -183,13 +196,12 @@ SFM_TEST(ba_noisy_converges_to_minimum)
     scene(t, &s, 5, 50, sigma, 2.0, 0.05, 0.05);
     st0[3] = st[3]; /* the held gauge coordinate starts at its true value in both runs */
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.function_tolerance = 1e-12;
     sfm_ba_result r, r2;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     /* restart from the truth: same minimum */
     sfm_ba_problem p2;
     static double qR[9 * MAXM], qt[3 * MAXM], qX[3 * MAXN];
@@ -198,7 +210,7 @@ SFM_TEST(ba_noisy_converges_to_minimum)
     memcpy(s.t0, s.t, sizeof(double) * 3 * s.m);
     memcpy(s.X0, s.X, sizeof(double) * 3 * s.n);
     bas_problem(&s, &p2, qR, qt, qK, qX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, &r2, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p2, &o, &r2), SFM_OK);
     BA_LOG("cost %.10g vs from truth %.10g, iters %d", r.final_cost, r2.final_cost, r.iterations);
     SFM_CHECK_NEAR(r.final_cost, r2.final_cost, 1e-8 * r2.final_cost);
     BA_LOG("point difference between the two starts %.3g", bas_max_abs_diff(pX, qX, 3 * s.n));
@@ -236,7 +248,7 @@ SFM_TEST(ba_held_parameters_do_not_move)
     double K0[6 * MAXM];
     bas_rows_from_cameras(pC, s.m, K0);
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     bas_rows_from_cameras(pC, s.m, pK);
     SFM_CHECK(memcmp(pR, sR0, 9 * sizeof(double)) == 0);
     SFM_CHECK(memcmp(pt, st0, 3 * sizeof(double)) == 0);
@@ -259,14 +271,13 @@ SFM_TEST(ba_invariant_to_world_frame)
     ba_scene s;
     scene(t, &s, 4, 40, 0.5, 2.0, 0.05, 0.05);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     o.scale_gauge = SFM_BA_SCALE_DISTANCE;
     o.scale_distance = 3.0;
     o.function_tolerance = 1e-12;
     sfm_ba_result r1, r2;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r1, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r1), SFM_OK);
     /* X' = sc Q X + b; camera: R' = R Q^T, t' = sc t - R Q^T b */
     double Q[9], b[3] = {1.0, -2.0, 0.5}, sc = 2.5;
     sfm_test_random_rotation(t, Q);
@@ -290,7 +301,7 @@ SFM_TEST(ba_invariant_to_world_frame)
             x[r] = sc * (Q[3 * r] * qX[3 * j] + Q[3 * r + 1] * qX[3 * j + 1] + Q[3 * r + 2] * qX[3 * j + 2]) + b[r];
         memcpy(qX + 3 * j, x, sizeof x);
     }
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p2, &o, &r2, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p2, &o, &r2), SFM_OK);
     SFM_CHECK_NEAR(r1.final_cost, r2.final_cost, 1e-7 * r1.final_cost);
     /* distance gauge: both have |C1 - C0| = 3 */
     double md = 0.0;
@@ -332,7 +343,7 @@ SFM_TEST(ba_robust_loss_resists_outliers)
     sfm_ba_result r;
     /* the clean maximum-likelihood estimate, for scale */
     bas_problem(&s, &p, pR, pt, pC, pX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     double e_clean = bas_max_abs_diff(pX, sX, 3 * s.n);
     /* 10% gross outliers, 20 to 60 px */
     for (int k = 0; k < s.nobs; k += 10) {
@@ -340,7 +351,7 @@ SFM_TEST(ba_robust_loss_resists_outliers)
         sxy[2 * k + 1] += sfm_test_uniform(t, -60, 60);
     }
     bas_problem(&s, &p, pR, pt, pC, pX);
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     double e_sq = bas_max_abs_diff(pX, sX, 3 * s.n);
     BA_LOG("max point error: clean %.4f, outliers with squared loss %.4f", e_clean, e_sq);
     const int losses[2] = {SFM_BA_LOSS_HUBER, SFM_BA_LOSS_CAUCHY};
@@ -348,7 +359,7 @@ SFM_TEST(ba_robust_loss_resists_outliers)
         if (l < 2)
             bas_problem(&s, &p, pR, pt, pC, pX); /* truncated continues from Cauchy's answer */
         o.loss = l < 2 ? losses[l] : SFM_BA_LOSS_TRUNCATED;
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+        SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
         double e = bas_max_abs_diff(pX, sX, 3 * s.n);
         BA_LOG("loss %d: max point error %.4f (cost %.4g, %d iters)", o.loss, e, r.final_cost, r.iterations);
         /* Huber's influence is bounded, not zero: one-sided outliers bias it */
@@ -365,9 +376,8 @@ SFM_TEST(ba_covariance_matches_full_inverse)
     ba_scene s;
     scene(t, &s, 3, 8, 0.5, 1.0, 0.02, 0.02);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     o.scale_gauge = SFM_BA_SCALE_COORDINATE;
     o.scale_coordinate = 0;
     o.want_covariance = 1;
@@ -508,9 +518,8 @@ SFM_TEST(ba_intrinsics_recovered)
             }
         }
         sfm_ba_problem p;
-        bas_problem(&s, &p, pR, pt, pC, pX);
         sfm_ba_options o;
-        sfm_ba_default_options(&o);
+        ba_start(&s, &p, &o);
         o.scale_gauge = SFM_BA_SCALE_COORDINATE;
         o.intrinsics = mode == 1 ? SFM_BA_INTRINSICS_PER_CAMERA : SFM_BA_INTRINSICS_SHARED;
         o.refine_intrinsics = mode == 0 ? SFM_BA_REFINE_FOCAL : mode == 1 ? 7 : SFM_BA_REFINE_FOCAL | SFM_BA_REFINE_K1;
@@ -519,7 +528,7 @@ SFM_TEST(ba_intrinsics_recovered)
         o.max_iterations = 200;
         sfm_ba_result r;
         SFM_CHECK(ws_for(&p, &o) <= sizeof g_ws);
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+        SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
         if (mode == 2) /* f and k1 free, k2 held: 2 intrinsics after the 6 (m - 1) - 1 pose columns */
             SFM_CHECK_EQ_INT(r.n_camera_params, 6 * (s.m - 1) - 1 + 2);
         bas_rows_from_cameras(pC, s.m, pK);
@@ -539,13 +548,12 @@ SFM_TEST(ba_pose_only_and_points_only)
     ba_scene s;
     scene(t, &s, 3, 40, 0.0, 3.0, 0.1, 0.0);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     o.mode = SFM_BA_MODE_POSE_ONLY;
     o.function_tolerance = 1e-14;
     sfm_ba_result r;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     SFM_CHECK_EQ_INT(r.n_point_params, 0);
     SFM_CHECK(r.final_cost < 1e-12);
     SFM_CHECK(bas_max_abs_diff(pt, st, 3 * s.m) < 1e-8);
@@ -579,7 +587,7 @@ SFM_TEST(ba_pose_only_and_points_only)
         sfm_ba_default_options(&o1);
         o1.mode = SFM_BA_MODE_POSE_ONLY;
         o1.function_tolerance = 1e-14;
-        SFM_CHECK_EQ_INT(sfm_ba_solve(&p1, &o1, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+        SFM_CHECK_EQ_INT(ba_run(&p1, &o1, &r), SFM_OK);
         SFM_CHECK_EQ_INT(r.n_camera_params, 6);
         SFM_CHECK(r.final_cost < 1e-12);
         SFM_CHECK(bas_max_abs_diff(pR, sR + 9, 9) < 1e-8);
@@ -590,7 +598,7 @@ SFM_TEST(ba_pose_only_and_points_only)
     scene(t, &s, 3, 40, 0.0, 0.0, 0.0, 0.1);
     bas_problem(&s, &p, pR, pt, pC, pX);
     o.mode = SFM_BA_MODE_POINTS_ONLY;
-    SFM_CHECK_EQ_INT(sfm_ba_solve(&p, &o, &r, NULL, 0, g_ws, sizeof g_ws), SFM_OK);
+    SFM_CHECK_EQ_INT(ba_run(&p, &o, &r), SFM_OK);
     SFM_CHECK_EQ_INT(r.n_camera_params, 0);
     SFM_CHECK(r.final_cost < 1e-12);
     SFM_CHECK(bas_max_abs_diff(pX, sX, 3 * s.n) < 1e-8);
@@ -602,9 +610,8 @@ SFM_TEST(ba_contract)
     ba_scene s;
     scene(t, &s, 3, 10, 0.5, 1.0, 0.01, 0.01);
     sfm_ba_problem p;
-    bas_problem(&s, &p, pR, pt, pC, pX);
     sfm_ba_options o;
-    sfm_ba_default_options(&o);
+    ba_start(&s, &p, &o);
     sfm_ba_result r;
     size_t need = ws_for(&p, &o);
     SFM_CHECK(need > 0);

@@ -14,12 +14,13 @@
 #include "sfm/sfm_vo.h"
 #include "vo/vo_internal.h"
 #include "sfm_test.h"
+#include "vo_scene.h"
 
-#define HW 160
-#define HH 120
-#define HPAD 64
-#define HNF 200
-#define HWIN 3
+#define HW VO_SCENE_W
+#define HH VO_SCENE_H
+#define HPAD VO_SCENE_PAD
+#define HNF VO_SCENE_NF
+#define HWIN VO_SCENE_WIN
 #define HWS (1024u * 1024u)
 #ifndef H_SAME
 #define H_SAME 1000
@@ -29,41 +30,9 @@ static unsigned char h_ws[HWS + 64], h_ws2[HWS];
 static uint8_t h_tex[HH * (HW + 2 * HPAD)];
 static uint8_t h_frame[(HW + 8) * (HH + 1)];
 
-static void texture(sfm_test_ctx *t)
-{
-    int tw = HW + 2 * HPAD;
-    for (int by = 0; by < HH; by += 6)
-        for (int bx = 0; bx < tw; bx += 6) {
-            int g = (int)sfm_test_uniform(t, 20, 235);
-            for (int y = by; y < by + 6 && y < HH; y++)
-                for (int x = bx; x < bx + 6 && x < tw; x++)
-                    h_tex[y * tw + x] = (uint8_t)g;
-        }
-}
+static void texture(sfm_test_ctx *t) { vo_scene_texture(t, h_tex); }
 
-/* upper half at depth Z, lower half at 2 Z (half the shift): parallax */
-static void crop(int off)
-{
-    int tw = HW + 2 * HPAD;
-    for (int y = 0; y < HH; y++)
-        memcpy(h_frame + y * HW, h_tex + y * tw + HPAD - 40 + (y < HH / 2 ? off : off / 2), HW);
-}
-
-static void setup(sfm_vo_dims *d, sfm_vo_params *p)
-{
-    d->width = HW;
-    d->height = HH;
-    d->max_features = HNF;
-    d->window = HWIN;
-    sfm_vo_default_params(d, p);
-    p->camera.fx = p->camera.fy = 160.0;
-    p->camera.cx = (HW - 1) / 2.0;
-    p->camera.cy = (HH - 1) / 2.0;
-    p->features.cell_size = 16;
-    p->features.n_levels = 2;
-    p->min_inliers = 12;
-    p->init_radius = 40.0;
-}
+static void crop(int off) { vo_scene_crop(h_tex, h_frame, HPAD - 40, off); }
 
 static int result_finite(const sfm_vo_frame_result *r)
 {
@@ -82,7 +51,7 @@ SFM_TEST(hostile_vo_init)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     size_t need = sfm_vo_workspace_size(&d);
     SFM_CHECK(need > 0 && need <= HWS);
     int tried = 0;
@@ -150,7 +119,7 @@ SFM_TEST(hostile_vo_frames)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     sfm_vo *vo = NULL;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, h_ws, HWS), SFM_OK);
     texture(t);
@@ -220,7 +189,7 @@ SFM_TEST(hostile_vo_degenerate_sequences)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     sfm_vo *a = NULL, *b = NULL;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &a, h_ws, HWS), SFM_OK);
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &b, h_ws2, HWS), SFM_OK);
@@ -267,7 +236,7 @@ SFM_TEST(hostile_vo_huge_search_radius)
 {
     sfm_vo_dims d;
     sfm_vo_params p, q;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     p.threshold = 1.0;
     q = p;
     p.track_radius = p.init_radius = 1e6;

@@ -18,6 +18,16 @@ typedef struct fit_data {
     int n;
 } fit_data;
 
+/* The default options without the relative cost test, so a solve runs on
+ * until the step or gradient test ends it. */
+static sfmi_lm_options options_no_ftol(void)
+{
+    sfmi_lm_options o;
+    sfmi_lm_default_options(&o);
+    o.function_tolerance = 0.0;
+    return o;
+}
+
 /* y = a exp(b x): r = a exp(b x) - y, J = (exp(b x), a x exp(b x)). */
 static int exp_residual(const void *user, const double *const *v, int i, double *r, double *J)
 {
@@ -61,9 +71,7 @@ SFM_TEST(lm_dense_recovers_an_exponential_from_a_far_start)
     double ab[2] = {1.0, 0.0};
     sfmi_lm_block blk = {ab, 2, SFMI_LM_EUCLIDEAN, 0, NULL, NULL};
     sfmi_lm_problem p = {&blk, 1, d.n, 1, exp_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
-    sfmi_lm_options o;
-    sfmi_lm_default_options(&o);
-    o.function_tolerance = 0.0;
+    sfmi_lm_options o = options_no_ftol();
     o.step_tolerance = 1e-14;
     o.max_iterations = 100;
     double ws[SFMI_LM_DENSE_WS_DOUBLES(2, 2, 1)];
@@ -163,9 +171,7 @@ SFM_TEST(lm_dense_so3_block_finds_the_rotation)
     sfmi_matmul3(dR, Rt, R);
     sfmi_lm_block blk = {R, 9, SFMI_LM_SO3, 0, NULL, NULL};
     sfmi_lm_problem p = {&blk, 1, d.n, 3, rot_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
-    sfmi_lm_options o;
-    sfmi_lm_default_options(&o);
-    o.function_tolerance = 0.0;
+    sfmi_lm_options o = options_no_ftol();
     double ws[SFMI_LM_DENSE_WS_DOUBLES(9, 3, 3)];
     sfmi_lm_summary s;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_OK);
@@ -224,9 +230,7 @@ SFM_TEST(lm_dense_sphere_block_finds_the_null_vector)
     double x[4] = {0.5, -0.5, 0.5, 0.5};
     sfmi_lm_block blk = {x, 4, SFMI_LM_SPHERE, 0, NULL, NULL};
     sfmi_lm_problem p = {&blk, 1, d.n, 1, null_residual, &d, SFMI_LM_LOSS_SQUARED, 0.0, NULL};
-    sfmi_lm_options o;
-    sfmi_lm_default_options(&o);
-    o.function_tolerance = 0.0;
+    sfmi_lm_options o = options_no_ftol();
     double ws[SFMI_LM_DENSE_WS_DOUBLES(4, 3, 1)];
     sfmi_lm_summary s;
     SFM_CHECK_EQ_INT(sfmi_lm_dense_solve(&p, &o, ws, sizeof ws, &s, NULL), SFM_OK);

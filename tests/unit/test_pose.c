@@ -85,6 +85,22 @@ static int pose_finite(const sfm_pose *p)
 /* ---- P3P ---------------------------------------------------------------- */
 
 enum { P3P_GENERAL, P3P_FAR, P3P_NARROW, P3P_SMALLROT, P3P_NEAR180, P3P_NEARCOLLINEAR, P3P_NCASES };
+/* One case of a minimal pose solver's ground-truth test: no out-of-range
+ * count, no non-finite pose, the truth among the solutions in 99.9 % of the
+ * samples. The log holds integers only: formatting a double needs a heap
+ * under newlib. */
+static void rate_report(sfm_test_ctx *t, const char *solver, int width, const char *case_name, int found,
+                        int iters, int sols, int bad, int nonfinite)
+{
+    double rate = (double)found / iters;
+    SFM_TEST_LOG("%s %-*s truth found in %d of %d, %d solutions", solver, width, case_name, found, iters,
+                 sols);
+    SFM_CHECK_EQ_INT(bad, 0);
+    SFM_CHECK_EQ_INT(nonfinite, 0);
+    SFM_CHECK_MSG(rate >= 0.999, "%s %s: ground truth found in %d of %d (< 99.9%%)", solver, case_name,
+                  found, iters);
+}
+
 static const char *p3p_case_names[] = {"general", "far", "narrow-fov", "small-rot", "near-180",
                                        "near-collinear"};
 
@@ -162,14 +178,7 @@ SFM_TEST(p3p_recovers_truth)
             }
             found += ok;
         }
-        double rate = (double)found / iters;
-        /* integers only: formatting a double needs a heap under newlib */
-        SFM_TEST_LOG("p3p %-14s truth found in %d of %d, %d solutions", p3p_case_names[kind],
-                     found, iters, sols);
-        SFM_CHECK_EQ_INT(bad, 0);
-        SFM_CHECK_EQ_INT(nonfinite, 0);
-        SFM_CHECK_MSG(rate >= 0.999, "p3p %s: ground truth found in %d of %d (< 99.9%%)",
-                      p3p_case_names[kind], found, iters);
+        rate_report(t, "p3p", 14, p3p_case_names[kind], found, iters, sols, bad, nonfinite);
     }
 }
 
@@ -368,13 +377,7 @@ SFM_TEST(upright_3pt_recovers_truth)
             }
             found += ok;
         }
-        double rate = (double)found / iters;
-        SFM_TEST_LOG("upright %-11s truth found in %d of %d, %d solutions", up_case_names[kind],
-                     found, iters, sols);
-        SFM_CHECK_EQ_INT(bad, 0);
-        SFM_CHECK_EQ_INT(nonfinite, 0);
-        SFM_CHECK_MSG(rate >= 0.999, "upright %s: ground truth found in %d of %d (< 99.9%%)",
-                      up_case_names[kind], found, iters);
+        rate_report(t, "upright", 11, up_case_names[kind], found, iters, sols, bad, nonfinite);
     }
 }
 

@@ -11,6 +11,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
+#include "r2r_motion_scene.h"
 
 static const double PI_T = 3.14159265358979323846;
 
@@ -26,17 +27,7 @@ static void motion(const double x[3], const double n[6], double out[3])
 
 static void random_spd(sfm_test_ctx *t, double P[9])
 {
-    double L[9];
-    const double s = sfm_test_uniform(t, 0.05, 0.5);
-    for (int i = 0; i < 9; i++)
-        L[i] = sfm_test_normal(t, s);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double v = 0.0;
-            for (int k = 0; k < 3; k++)
-                v += L[3 * i + k] * L[3 * j + k];
-            P[3 * i + j] = v + (i == j ? 1e-3 : 0.0);
-        }
+    r2r_random_spd(t, 0.05, 0.5, 1e-3, P);
 }
 
 static sfm_r2r_motion_noise test_noise(int sensor)
@@ -110,19 +101,6 @@ SFM_TEST(r2r_motion_propagate_matches_finite_differences)
     SFM_CHECK(worst < 1e-7);
 }
 
-/* the posterior trace at follower translation fd, through the public cost */
-static double cost_at(const double x[3], const double P[9], const sfm_r2r_motion_step *u0,
-                      const sfm_r2r_motion_noise *nz, int sensor, double fx, double fy)
-{
-    sfm_r2r_motion_step u = *u0;
-    u.follower_d.v[0] = fx;
-    u.follower_d.v[1] = fy;
-    double tr = HUGE_VAL;
-    if (sfm_r2r_motion_cost(x, P, &u, nz, sensor, &tr) != SFM_OK)
-        return HUGE_VAL;
-    return tr;
-}
-
 static void kkt_against_grid(sfm_test_ctx *t, int sensor)
 {
     const int iters = SFM_TEST_ITERS(60);
@@ -158,7 +136,7 @@ static void kkt_against_grid(sfm_test_ctx *t, int sensor)
         const double dx = plan.follower_d.v[0] - d0[0], dy = plan.follower_d.v[1] - d0[1];
         SFM_CHECK(sqrt(dx * dx + dy * dy) <= r * (1.0 + 1e-9));
         SFM_CHECK(plan.multiplier >= 0.0);
-        const double fc = cost_at(x, P, &u, &nz, sensor, plan.follower_d.v[0], plan.follower_d.v[1]);
+        const double fc = r2r_cost_at(x, P, &u, &nz, sensor, plan.follower_d.v[0], plan.follower_d.v[1]);
         SFM_CHECK_NEAR(fc, plan.trace, 1e-12 * fabs(fc));
         /* the grid's admissible points; the variation between admissible
          * neighbours bounds what the grid can miss */
@@ -171,7 +149,7 @@ static void kkt_against_grid(sfm_test_ctx *t, int sensor)
                 const double fx = d0[0] + rho * cos(th), fy = d0[1] + rho * sin(th);
                 const double qx = c[0] - fx, qy = c[1] - fy;
                 const double f = qx * qx + qy * qy >= dmin * dmin
-                                     ? cost_at(x, P, &u, &nz, sensor, fx, fy)
+                                     ? r2r_cost_at(x, P, &u, &nz, sensor, fx, fy)
                                      : HUGE_VAL;
                 fmin_g = f < fmin_g ? f : fmin_g;
                 if (f < HUGE_VAL && prev < HUGE_VAL && fabs(f - prev) > var)

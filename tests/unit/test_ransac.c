@@ -139,6 +139,26 @@ static double pts[2 * NPTS];
 static unsigned char truth_mask[NPTS];
 static uint8_t mask[NPTS], mask2[NPTS];
 
+/* The estimator over pts and the default options with the wide band, the
+ * given inlier threshold also the refit's robust scale. */
+static void line_setup(line_ctx *L, sfm_ransac_estimator *est, sfm_ransac_options *opt, double threshold)
+{
+    L->xy = pts;
+    L->refine_calls = 0;
+    L->scale = threshold;
+    line_estimator(est, L);
+    sfm_ransac_default_options(opt);
+    opt->wide_mult = SFM_RANSAC_WIDE_MULT;
+    opt->threshold = threshold;
+}
+
+/* One run on all NPTS points with the whole workspace. */
+static int line_run(const sfm_ransac_estimator *est, const sfm_ransac_options *opt, double *model,
+                    uint8_t *inl, sfm_ransac_stats *st)
+{
+    return sfm_ransac_run(est, NPTS, opt, model, inl, st, ws_buf, sizeof ws_buf);
+}
+
 SFM_TEST(ransac_ws_macro_matches_function)
 {
     sfm_ransac_dims d = {NPTS, 2, 1, 3};
@@ -166,17 +186,13 @@ SFM_TEST(ransac_line_outlier_levels)
         for (int trial = 0; trial < SFM_TEST_ITERS(20); trial++) {
             double line[3], model[3];
             make_line(t, NPTS, ratios[r], 0.01, pts, truth_mask, line);
-            line_ctx L = {pts, 0, 0.0};
+            line_ctx L;
             sfm_ransac_estimator est;
-            line_estimator(&est, &L);
             sfm_ransac_options opt;
-            sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-            opt.threshold = 0.03;
-            L.scale = opt.threshold;
+            line_setup(&L, &est, &opt, 0.03);
             opt.seed = (uint64_t)trial;
             sfm_ransac_stats st;
-            int ni = sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf);
+            int ni = line_run(&est, &opt, model, mask, &st);
             SFM_CHECK(ni > 0);
             if (ni <= 0)
                 continue;
@@ -210,18 +226,14 @@ SFM_TEST(ransac_same_seed_identical)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.6, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.02;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.02);
     opt.seed = 1234;
     sfm_ransac_stats s1, s2;
-    int a = sfm_ransac_run(&est, NPTS, &opt, m1, mask, &s1, ws_buf, sizeof ws_buf);
-    int b = sfm_ransac_run(&est, NPTS, &opt, m2, mask2, &s2, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, m1, mask, &s1);
+    int b = line_run(&est, &opt, m2, mask2, &s2);
     SFM_CHECK(a > 0);
     SFM_CHECK_EQ_INT(a, b);
     SFM_CHECK(memcmp(m1, m2, sizeof m1) == 0);
@@ -230,7 +242,7 @@ SFM_TEST(ransac_same_seed_identical)
     SFM_CHECK_EQ_INT(s1.models, s2.models);
     /* a different seed draws a different sample sequence */
     opt.seed = 99;
-    b = sfm_ransac_run(&est, NPTS, &opt, m2, mask2, &s2, ws_buf, sizeof ws_buf);
+    b = line_run(&est, &opt, m2, mask2, &s2);
     SFM_CHECK(b > 0);
     SFM_CHECK(line_angle_err(m2, line) < 0.01);
 }
@@ -239,20 +251,16 @@ SFM_TEST(ransac_sprt_rejects_early_same_answer)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.75, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.min_iterations = 300;
     sfm_ransac_stats s1, s2;
     opt.use_sprt = 1;
-    int a = sfm_ransac_run(&est, NPTS, &opt, m1, mask, &s1, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, m1, mask, &s1);
     opt.use_sprt = 0;
-    int b = sfm_ransac_run(&est, NPTS, &opt, m2, mask2, &s2, ws_buf, sizeof ws_buf);
+    int b = line_run(&est, &opt, m2, mask2, &s2);
     SFM_CHECK(a > 0 && b > 0);
     SFM_CHECK(s1.sprt_rejected > s1.models / 2);
     SFM_CHECK_EQ_INT(s2.sprt_rejected, 0);
@@ -265,21 +273,17 @@ SFM_TEST(ransac_lo_lowers_cost)
 {
     double line[3], m1[3], m2[3];
     make_line(t, NPTS, 0.5, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.polish_rounds = 0;
     sfm_ransac_stats s1, s2;
-    int a = sfm_ransac_run(&est, NPTS, &opt, m1, NULL, &s1, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, m1, NULL, &s1);
     SFM_CHECK(L.refine_calls > 0);
     opt.lo_rounds = 0;
     L.refine_calls = 0;
-    int b = sfm_ransac_run(&est, NPTS, &opt, m2, NULL, &s2, ws_buf, sizeof ws_buf);
+    int b = line_run(&est, &opt, m2, NULL, &s2);
     SFM_CHECK_EQ_INT(L.refine_calls, 0);
     SFM_CHECK(a > 0 && b > 0);
     SFM_CHECK(s1.score <= s2.score);
@@ -296,20 +300,16 @@ SFM_TEST(ransac_polish_uses_the_wider_band)
     for (int k = 0; k < trials; k++) {
         double line[3], m1[3], m2[3];
         make_line(t, NPTS, 0.5, 0.01, pts, truth_mask, line);
-        line_ctx L = {pts, 0, 0.0};
+        line_ctx L;
         sfm_ransac_estimator est;
-        line_estimator(&est, &L);
         sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-        opt.threshold = 0.01;
-        L.scale = opt.threshold;
+        line_setup(&L, &est, &opt, 0.01);
         opt.seed = (uint64_t)k;
         sfm_ransac_stats st;
-        SFM_CHECK(sfm_ransac_run(&est, NPTS, &opt, m1, NULL, &st, ws_buf, sizeof ws_buf) > 0);
+        SFM_CHECK(line_run(&est, &opt, m1, NULL, &st) > 0);
         kept += st.polished;
         opt.polish_rounds = 0;
-        SFM_CHECK(sfm_ransac_run(&est, NPTS, &opt, m2, NULL, &st, ws_buf, sizeof ws_buf) > 0);
+        SFM_CHECK(line_run(&est, &opt, m2, NULL, &st) > 0);
         SFM_CHECK_EQ_INT(st.polished, 0);
         sum_p += line_angle_err(m1, line);
         sum_n += line_angle_err(m2, line);
@@ -324,18 +324,14 @@ SFM_TEST(ransac_iteration_cap_and_minimum)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.9, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.max_iterations = 7;
     opt.confidence = 0.999999;
     sfm_ransac_stats st;
-    int a = sfm_ransac_run(&est, NPTS, &opt, model, NULL, &st, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, model, NULL, &st);
     SFM_CHECK(a > 0);
     SFM_CHECK_EQ_INT(st.iterations, 7);
     SFM_CHECK_EQ_INT(st.stop_reason, SFM_RANSAC_STOP_MAX_ITERATIONS);
@@ -343,12 +339,12 @@ SFM_TEST(ransac_iteration_cap_and_minimum)
     make_line(t, NPTS, 0.0, 0.001, pts, truth_mask, line);
     opt.max_iterations = 1000;
     opt.confidence = 0.99;
-    a = sfm_ransac_run(&est, NPTS, &opt, model, NULL, &st, ws_buf, sizeof ws_buf);
+    a = line_run(&est, &opt, model, NULL, &st);
     SFM_CHECK(a > 0);
     SFM_CHECK(st.iterations < 10);
     SFM_CHECK_EQ_INT(st.stop_reason, SFM_RANSAC_STOP_CONFIDENCE);
     opt.min_iterations = 50;
-    a = sfm_ransac_run(&est, NPTS, &opt, model, NULL, &st, ws_buf, sizeof ws_buf);
+    a = line_run(&est, &opt, model, NULL, &st);
     SFM_CHECK_EQ_INT(st.iterations, 50);
 }
 
@@ -363,21 +359,17 @@ SFM_TEST(ransac_time_budget_uses_caller_clock)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.9, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.confidence = 0.999999;
     double now = 0.0;
     opt.clock = fake_clock;
     opt.clock_ctx = &now;
     opt.time_budget = 10.0;
     sfm_ransac_stats st;
-    int a = sfm_ransac_run(&est, NPTS, &opt, model, NULL, &st, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, model, NULL, &st);
     SFM_CHECK(a > 0);
     SFM_CHECK_EQ_INT(st.stop_reason, SFM_RANSAC_STOP_TIME);
     /* start reading at 1, then 2..: the 10th later reading ends the run and
@@ -394,23 +386,19 @@ SFM_TEST(ransac_prosac_uses_quality)
     make_line(t, NPTS, 0.8, 0.01, pts, truth_mask, line);
     for (int i = 0; i < NPTS; i++)
         quality[i] = truth_mask[i] ? 1.0 + sfm_test_uniform(t, 0, 1) : sfm_test_uniform(t, 0, 1.2);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.quality = quality;
     sfm_ransac_stats st;
-    int a = sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf);
+    int a = line_run(&est, &opt, model, mask, &st);
     SFM_CHECK(a > 0);
     SFM_CHECK(line_angle_err(model, line) < 0.01);
     /* the first samples come from the top-ranked points, all on the line */
     SFM_CHECK(st.iterations <= 300);
     quality[3] = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf),
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st),
                      SFM_E_NONFINITE);
 }
 
@@ -418,14 +406,10 @@ SFM_TEST(ransac_contract)
 {
     double line[3];
     make_line(t, NPTS, 0.3, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     double model[3];
     sfm_ransac_stats st;
     sfm_test_fill_canary(model, sizeof model);
@@ -439,7 +423,7 @@ SFM_TEST(ransac_contract)
     } while (0)
     SFM_CHECK_EQ_INT(sfm_ransac_run(NULL, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, NULL, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, NULL, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, NULL, mask, &st), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, NULL, sizeof ws_buf), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, 1, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_ransac_run(&est, -5, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
@@ -454,25 +438,25 @@ SFM_TEST(ransac_contract)
         SFM_CHECK(sfm_ransac_run(&est, NPTS - 8, &opt, m2, NULL, NULL, ws_buf + 1, need) > 0);
     }
     opt.threshold = (double)NAN;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_NONFINITE);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_NONFINITE);
     opt.threshold = -1;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     opt.threshold = 0.03;
     L.scale = opt.threshold;
     opt.confidence = 1.0;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     opt.confidence = 0.99;
     opt.max_iterations = 0;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     opt.max_iterations = 10;
     opt.min_iterations = 11;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     opt.min_iterations = 0;
     est.residual = NULL;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     line_estimator(&est, &L);
     est.sample_size = 0;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, mask, &st, ws_buf, sizeof ws_buf), SFM_E_ARGUMENT);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, mask, &st), SFM_E_ARGUMENT);
     UNTOUCHED();
     SFM_CHECK_EQ_INT(sfm_ransac_default_options(NULL), SFM_E_ARGUMENT);
 }
@@ -497,19 +481,15 @@ SFM_TEST(ransac_solver_status_and_no_model)
 {
     double line[3], model[3];
     make_line(t, NPTS, 0.3, 0.01, pts, truth_mask, line);
-    line_ctx L = {pts, 0, 0.0};
+    line_ctx L;
     sfm_ransac_estimator est;
-    line_estimator(&est, &L);
     sfm_ransac_options opt;
-    sfm_ransac_default_options(&opt);
-    opt.wide_mult = SFM_RANSAC_WIDE_MULT;
-    opt.threshold = 0.03;
-    L.scale = opt.threshold;
+    line_setup(&L, &est, &opt, 0.03);
     opt.max_iterations = 20;
     sfm_test_fill_canary(model, sizeof model);
     est.solve = failing_solve;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, NULL, NULL, ws_buf, sizeof ws_buf), SFM_E_SINGULAR);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, NULL, NULL), SFM_E_SINGULAR);
     est.solve = empty_solve;
-    SFM_CHECK_EQ_INT(sfm_ransac_run(&est, NPTS, &opt, model, NULL, NULL, ws_buf, sizeof ws_buf), SFM_E_NO_CONVERGENCE);
+    SFM_CHECK_EQ_INT(line_run(&est, &opt, model, NULL, NULL), SFM_E_NO_CONVERGENCE);
     SFM_CHECK(sfm_test_canary_intact(model, sizeof model));
 }

@@ -23,6 +23,32 @@ static uint8_t MASK[NE], MASK2[NE];
 /* big enough for every estimator at NE points (checked in each test) */
 static unsigned char WS[64 * 1024];
 
+/* The default options with the given inlier threshold (px). */
+static sfm_ransac_options options_at(double threshold)
+{
+    sfm_ransac_options o;
+    sfm_ransac_default_options(&o);
+    o.threshold = threshold;
+    return o;
+}
+
+/* Points MASK keeps, and those it keeps that the scene made outliers. */
+static int mask_count(void)
+{
+    int cnt = 0;
+    for (int i = 0; i < NE; i++)
+        cnt += MASK[i];
+    return cnt;
+}
+
+static int false_positives(void)
+{
+    int fp = 0;
+    for (int i = 0; i < NE; i++)
+        fp += MASK[i] && !TRUTH[i];
+    return fp;
+}
+
 /* Under full-system emulation the 75 % case (tens of thousands of samples)
  * is left to the host: the point there is that the code runs. */
 #ifdef SFM_TEST_REDUCED
@@ -42,9 +68,7 @@ SFM_TEST(relpose_outlier_levels_noise_floor)
         for (int k = 0; k < trials; k++) {
             double R[9], tr[3];
             scene_twoview(t, &cam, NE, ratios[r], 1.0, 0, P1, P2, TRUTH, R, tr);
-            sfm_ransac_options opt;
-            sfm_ransac_default_options(&opt);
-            opt.threshold = 2.0;
+            sfm_ransac_options opt = options_at(2.0);
             opt.seed = (uint64_t)k;
             /* 75 % outliers, 200 points: ~40 inliers within 2 px, 1 good
              * sample in ~2500; 0.999 confidence needs ~17000 */
@@ -62,13 +86,8 @@ SFM_TEST(relpose_outlier_levels_noise_floor)
             er[k] = scene_rot_err_deg(pose.R, R);
             et[k] = scene_dir_err_deg(pose.t, tr);
             SFM_CHECK_EQ_INT(st.flags, 0);
-            int fp = 0, cnt = 0;
-            for (int i = 0; i < NE; i++) {
-                cnt += MASK[i];
-                fp += MASK[i] && !TRUTH[i];
-            }
-            SFM_CHECK_EQ_INT(cnt, ni);
-            SFM_CHECK(fp <= 2 + NE / 50);
+            SFM_CHECK_EQ_INT(mask_count(), ni);
+            SFM_CHECK(false_positives() <= 2 + NE / 50);
         }
         double mr = scene_median(er, trials), mt = scene_median(et, trials);
         RANSAC_LOG("outliers %.0f%%: median rotation %.3f deg, translation %.3f deg",
@@ -93,9 +112,7 @@ SFM_TEST(relpose_stopping_rule_sees_the_true_inlier_ratio)
     for (int k = 0; k < trials; k++) {
         double R[9], tr[3];
         scene_twoview(t, &cam, NE, 0.5, 1.0, 0, P1, P2, TRUTH, R, tr);
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 1.0;
+        sfm_ransac_options opt = options_at(1.0);
         opt.seed = (uint64_t)k;
         sfm_pose pose;
         sfm_ransac_stats st;
@@ -148,9 +165,7 @@ SFM_TEST(relpose_planar_and_rotation_flags)
         for (int k = 0; k < SFM_TEST_ITERS(4); k++) {
             double R[9], tr[3];
             scene_twoview(t, &cam, NE, 0.3, 0.5, mode, P1, P2, TRUTH, R, tr);
-            sfm_ransac_options opt;
-            sfm_ransac_default_options(&opt);
-            opt.threshold = 1.5;
+            sfm_ransac_options opt = options_at(1.5);
             opt.max_iterations = SFM_TEST_ITERS(5000);
             sfm_pose pose;
             sfm_ransac_stats st;
@@ -182,9 +197,7 @@ SFM_TEST(relpose_distorted_camera)
     int trials = SFM_TEST_ITERS(TRIALS);
     for (int k = 0; k < trials; k++) {
         scene_twoview(t, &cam, NE, 0.4, 0.5, 0, P1, P2, TRUTH, R, tr);
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 1.5;
+        sfm_ransac_options opt = options_at(1.5);
         sfm_pose pose;
         int ni = sfm_ransac_relpose(P1, P2, NE, &cam, &cam, &opt, &pose, NULL, NULL, NULL, WS,
                                     sizeof WS);
@@ -254,9 +267,7 @@ SFM_TEST(upright_relpose_known_gravity)
         scene_twoview(t, &cam, NE, 0.5, 1.0, 0, P1, P2, TRUTH, R, tr);
         sfm_test_random_unit(t, d1);
         scene_matvec(R, d1, d2);
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 2.0;
+        sfm_ransac_options opt = options_at(2.0);
         sfm_pose pose;
         sfm_ransac_stats st;
         int ni = sfm_ransac_relpose_upright(P1, P2, NE, &cam, &cam, d1, d2, &opt, &pose, NULL, MASK,
@@ -297,9 +308,7 @@ SFM_TEST(abspose_outlier_levels)
         for (int k = 0; k < trials; k++) {
             double R[9], tr[3];
             scene_abspose(t, &cam, NE, ratios[r], 1.0, P1, XW, TRUTH, R, tr);
-            sfm_ransac_options opt;
-            sfm_ransac_default_options(&opt);
-            opt.threshold = 2.0;
+            sfm_ransac_options opt = options_at(2.0);
             opt.seed = (uint64_t)k;
             sfm_pose pose;
             sfm_ransac_stats st;
@@ -318,10 +327,7 @@ SFM_TEST(abspose_outlier_levels)
             }
             ec[k] = sqrt((c1[0] - c2[0]) * (c1[0] - c2[0]) + (c1[1] - c2[1]) * (c1[1] - c2[1]) +
                          (c1[2] - c2[2]) * (c1[2] - c2[2]));
-            int fp = 0;
-            for (int i = 0; i < NE; i++)
-                fp += MASK[i] && !TRUTH[i];
-            SFM_CHECK(fp <= 2 + NE / 50);
+            SFM_CHECK(false_positives() <= 2 + NE / 50);
         }
         double mr = scene_median(er, trials), mc = scene_median(ec, trials);
         RANSAC_LOG("outliers %.0f%%: median rotation %.3f deg, centre %.4f", 100 * ratios[r], mr, mc);
@@ -368,9 +374,7 @@ SFM_TEST(fundamental_recovers_epipolar_geometry)
         scene_twoview(t, &cam, NE, 0.4, 1.0, 0, P1, P2, TRUTH, R, tr);
         sfm_mat3 F;
         sfm_ransac_stats st;
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 1.5;
+        sfm_ransac_options opt = options_at(1.5);
         int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, &F, MASK, &st, WS, sizeof WS);
         SFM_CHECK(ni >= 8);
         if (ni < 8)
@@ -419,9 +423,7 @@ SFM_TEST(fundamental_dominant_plane_degensac)
         }
         sfm_mat3 F;
         sfm_ransac_stats st;
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 1.5;
+        sfm_ransac_options opt = options_at(1.5);
         int ni = sfm_ransac_fundamental(P1, P2, NE, NULL, NULL, &opt, &F, NULL, &st, WS, sizeof WS);
         SFM_CHECK(ni >= 8);
         double d[NE];
@@ -446,9 +448,7 @@ SFM_TEST(homography_planar_scene)
         t->rng = keep;
         scene_twoview(t, &cam, NE, 0.5, 1.0, 1, P1, P2, TRUTH, R, tr);
         sfm_mat3 Hm;
-        sfm_ransac_options opt;
-        sfm_ransac_default_options(&opt);
-        opt.threshold = 3.0;
+        sfm_ransac_options opt = options_at(3.0);
         int ni = sfm_ransac_homography(P1, P2, NE, NULL, NULL, &opt, &Hm, MASK, NULL, WS, sizeof WS);
         SFM_CHECK(ni >= 4);
         double d[NE];

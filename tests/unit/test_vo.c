@@ -7,62 +7,24 @@
 
 #include "sfm/sfm_vo.h"
 #include "sfm_test.h"
+#include "vo_scene.h"
 
-#define VW 160
-#define VH 120
-#define VPAD 64
-#define VNF 200
-#define VWIN 3
+#define VW VO_SCENE_W
+#define VH VO_SCENE_H
+#define VPAD VO_SCENE_PAD
+#define VNF VO_SCENE_NF
+#define VWIN VO_SCENE_WIN
 #define VWS (1024u * 1024u)
 
 static unsigned char g_vo_ws[VWS];
 static uint8_t g_tex[VH * (VW + 2 * VPAD)];
 static uint8_t g_frame[VW * VH];
 
-/* Blocks of random gray (corners for FAST) on a smooth random ramp. */
-static void make_texture(sfm_test_ctx *t)
-{
-    int tw = VW + 2 * VPAD;
-    for (int y = 0; y < VH; y++)
-        for (int x = 0; x < tw; x++)
-            g_tex[y * tw + x] = 0;
-    for (int by = 0; by < VH; by += 6)
-        for (int bx = 0; bx < tw; bx += 6) {
-            int g = (int)sfm_test_uniform(t, 20, 235);
-            for (int y = by; y < by + 6 && y < VH; y++)
-                for (int x = bx; x < bx + 6 && x < tw; x++)
-                    g_tex[y * tw + x] = (uint8_t)g;
-        }
-}
+static void make_texture(sfm_test_ctx *t) { vo_scene_texture(t, g_tex); }
 
-/* Upper half: a plane at depth Z shifted by off; lower half: a plane at 2Z
- * (half the shift). Both planes face the camera. */
-static void crop2(int base, int shift)
-{
-    int tw = VW + 2 * VPAD;
-    for (int y = 0; y < VH; y++) {
-        int off = base + (y < VH / 2 ? shift : shift / 2);
-        memcpy(g_frame + y * VW, g_tex + y * tw + off, VW);
-    }
-}
+static void crop2(int base, int shift) { vo_scene_crop(g_tex, g_frame, base, shift); }
 
 static void crop(int off) { crop2(off, 0); }
-
-static void setup(sfm_vo_dims *d, sfm_vo_params *p)
-{
-    d->width = VW;
-    d->height = VH;
-    d->max_features = VNF;
-    d->window = VWIN;
-    sfm_vo_default_params(d, p);
-    p->camera.fx = p->camera.fy = 160.0;
-    p->camera.cx = (VW - 1) / 2.0;
-    p->camera.cy = (VH - 1) / 2.0;
-    p->features.cell_size = 16;
-    p->features.n_levels = 2;
-    p->min_inliers = 12;
-    p->init_radius = 40.0;
-}
 
 /* A pipeline with the test parameters on the static workspace, and a fresh
  * texture. */
@@ -70,7 +32,7 @@ static sfm_vo *start_default(sfm_test_ctx *t)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     sfm_vo *vo = NULL;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, VWS), SFM_OK);
     make_texture(t);
@@ -81,7 +43,7 @@ SFM_TEST(vo_contract)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     size_t need = sfm_vo_workspace_size(&d);
     SFM_CHECK(need > 0 && need <= VWS);
     sfm_vo_dims bad = d;
@@ -252,7 +214,7 @@ SFM_TEST(vo_time_budget_degrades)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     double now = 0;
     p.clock = fake_clock;
     p.clock_ctx = &now;
@@ -300,7 +262,7 @@ SFM_TEST(vo_self_calibration_refuses_pure_translation)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     p.calibrated = 0;
     sfm_vo *vo;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &vo, g_vo_ws, VWS), SFM_OK);
