@@ -273,7 +273,7 @@ SFM_TEST(hostile_vo_internal_failure_resets)
 {
     sfm_vo_dims d;
     sfm_vo_params p;
-    setup(&d, &p);
+    vo_scene_setup(&d, &p);
     p.threshold = 1.0;
     sfm_vo *a = NULL, *b = NULL;
     SFM_CHECK_EQ_INT(sfm_vo_init(&d, &p, &a, h_ws, HWS), SFM_OK);
