@@ -31,6 +31,20 @@ static void upright_plus(const double *R, const double *d, double *out, const vo
     sfmi_matmul3(dR, R, out);
 }
 
+/* The driver's tangent basis of the sphere at t, kept for the evaluation's
+ * other residuals. == suffices: t values equal up to the sign of a zero give
+ * the same basis bits (0 - (+-0) = +0), a NaN never matches. */
+static const double *tangent_basis(const sfmi_sampson_problem *dat, const double *t)
+{
+    struct sfmi_sampson_basis *memo = dat->memo;
+    if (!memo->valid || memo->t[0] != t[0] || memo->t[1] != t[1] || memo->t[2] != t[2]) {
+        sfmi_lm_sphere_basis(t, 3, memo->B);
+        memcpy(memo->t, t, sizeof memo->t);
+        memo->valid = 1;
+    }
+    return memo->B;
+}
+
 /* Residual block j: the Sampson error of pair idx[j]; left out where D
  * vanishes (the pair at the epipoles). */
 static int sampson_residual(const void *user, const double *const *x, int j, double *r, double *J)
@@ -78,17 +92,8 @@ static int sampson_residual(const void *user, const double *const *x, int j, dou
     }
     if (dat->blocks[1].manifold == SFMI_LM_CONSTANT)
         return 1; /* t held: J has the rotation's columns only */
-    /* t on the unit sphere, along the driver's tangent basis, kept for the
-     * evaluation's other residuals. == suffices: t values equal up to the
-     * sign of a zero give the same basis bits (0 - (+-0) = +0), a NaN never
-     * matches */
-    struct sfmi_sampson_basis *memo = dat->memo;
-    if (!memo->valid || memo->t[0] != t[0] || memo->t[1] != t[1] || memo->t[2] != t[2]) {
-        sfmi_lm_sphere_basis(t, 3, memo->B);
-        memcpy(memo->t, t, sizeof memo->t);
-        memo->valid = 1;
-    }
-    const double *B = memo->B;
+    /* t on the unit sphere, along the driver's tangent basis */
+    const double *B = tangent_basis(dat, t);
     for (int c = 0; c < 2; c++) {
         const double e[3] = {B[c], B[2 + c], B[4 + c]};
         J[nr + c] = ia * sfmi_dot3(e, gCt) - ib * sfmi_dot3(e, gDt);
@@ -199,14 +204,7 @@ static void sampson_batch(const void *user, const double *const *x, int i0, int 
         }
     }
     if (free_t) {
-        /* the tangent basis at t, as sampson_residual keeps it */
-        struct sfmi_sampson_basis *memo = dat->memo;
-        if (!memo->valid || memo->t[0] != t[0] || memo->t[1] != t[1] || memo->t[2] != t[2]) {
-            sfmi_lm_sphere_basis(t, 3, memo->B);
-            memcpy(memo->t, t, sizeof memo->t);
-            memo->valid = 1;
-        }
-        const double *B = memo->B;
+        const double *B = tangent_basis(dat, t);
         for (int cc = 0; cc < 2; cc++) {
             const double e0 = B[cc], e1 = B[2 + cc], e2 = B[4 + cc];
             for (int l = 0; l < LANES; l++)
