@@ -5,7 +5,8 @@
  * trifocal RANSAC alone on the same input (the share of the metric stage is
  * the difference) and the pipeline with the pinhole model (options.radial
  * 0) on it: the cost of the two radial terms is the ratio. Anchor: BoofCV 1.2.2 takes 1.2 s per triplet (0.67 s in
- * its reconstruction call) on the same triplets. One run; timings vary with
+ * its reconstruction call) on the same triplets (make bench-uncal-boofcv runs it
+ * beside this bench on this machine). One run; timings vary with
  * the load of the machine and are never asserted.
  * `uncal_bench DIR LINES` (LINES a comma list of the index's data lines,
  * 1-based) runs only the default pipeline on those triplets, once each, for
