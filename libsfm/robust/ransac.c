@@ -183,9 +183,23 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
     int c = 0, own = 0, own_c = 0;
+    /* with a block residual, the residuals of the next SFM_RANSAC_BLOCK
+     * points in blk (those past an exit are computed for nothing) */
+    double blk[SFM_RANSAC_BLOCK];
+    int blk_start = 0, blk_end = 0;
     for (int j = 0; j < e->n; j++) {
         const int pj = e->perm[j];
-        double r2 = est->residual(est->ctx, model, pj);
+        double r2;
+        if (est->residuals != NULL) {
+            if (j == blk_end) {
+                blk_start = j;
+                blk_end = j + (e->n - j < SFM_RANSAC_BLOCK ? e->n - j : SFM_RANSAC_BLOCK);
+                est->residuals(est->ctx, model, e->perm + j, blk_end - j, blk);
+            }
+            r2 = blk[j - blk_start];
+        } else {
+            r2 = est->residual(est->ctx, model, pj);
+        }
         if (res != NULL)
             res[pj] = r2;
         int in = r2 < tau2;
