@@ -187,6 +187,11 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
      * points in blk (those past an exit are computed for nothing) */
     double blk[SFM_RANSAC_BLOCK];
     int blk_start = 0, blk_end = 0;
+    /* the tests below as positions and bounds: the SPRT bound infinite when
+     * SPRT is off (lambda > inf never holds), the next own point, the next
+     * bail-out point (n when there is none) */
+    const double A_on = sprt_on ? A : HUGE_VAL;
+    int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : e->n;
     for (int j = 0; j < e->n; j++) {
         const int pj = e->perm[j];
         double r2;
@@ -205,12 +210,13 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
         int in = r2 < tau2;
         s += in ? r2 : tau2;
         c += in;
-        if (j == own_pos[own]) {
+        if (j == next_own) {
             own++;
             own_c += in;
+            next_own = own_pos[own];
         } else {
             lambda *= in ? min_ : mout;
-            if (sprt_on && lambda > A) {
+            if (lambda > A_on) {
                 sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
                 return EVAL_SPRT;
             }
@@ -224,7 +230,8 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
          * that explain a few percent of the points (an epipole inside the
          * image): they look good against the rejected models' delta, and
          * the MSAC bound only stops them near the end */
-        if (bail_on && (j & (BAIL_STEP - 1)) == BAIL_STEP - 1) {
+        if (j == next_bail) {
+            next_bail += BAIL_STEP;
             double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
             if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
                 return EVAL_BAIL;
