@@ -121,8 +121,20 @@ static const double *residuals(engine *e, const double *model)
     const size_t bytes = sizeof(double) * (size_t)e->s;
     if (!e->res_ok || memcmp(e->res_key, model, bytes) != 0) {
         const sfm_ransac_estimator *est = e->est;
-        for (int i = 0; i < e->n; i++)
-            e->res[i] = est->residual(est->ctx, model, i);
+        if (est->residuals != NULL) {
+            /* in the verification order, a block at a time (any order gives
+             * the same values) */
+            double blk[SFM_RANSAC_BLOCK];
+            for (int j = 0; j < e->n; j += SFM_RANSAC_BLOCK) {
+                const int cnt = e->n - j < SFM_RANSAC_BLOCK ? e->n - j : SFM_RANSAC_BLOCK;
+                est->residuals(est->ctx, model, e->perm + j, cnt, blk);
+                for (int q = 0; q < cnt; q++)
+                    e->res[e->perm[j + q]] = blk[q];
+            }
+        } else {
+            for (int i = 0; i < e->n; i++)
+                e->res[i] = est->residual(est->ctx, model, i);
+        }
         memcpy(e->res_key, model, bytes);
         e->res_ok = 1;
     }
