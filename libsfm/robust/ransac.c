@@ -203,15 +203,16 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
      * SPRT is off (lambda > inf never holds), the next own point, the next
      * bail-out point (n when there is none) */
     const double A_on = sprt_on ? A : HUGE_VAL;
-    int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : e->n;
-    for (int j = 0; j < e->n; j++) {
-        const int pj = e->perm[j];
+    const int n = e->n, *const perm = e->perm, blocked = est->residuals != NULL;
+    int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : n;
+    for (int j = 0; j < n; j++) {
+        const int pj = perm[j];
         double r2;
-        if (est->residuals != NULL) {
+        if (blocked) {
             if (j == blk_end) {
                 blk_start = j;
-                blk_end = j + (e->n - j < SFM_RANSAC_BLOCK ? e->n - j : SFM_RANSAC_BLOCK);
-                est->residuals(est->ctx, model, e->perm + j, blk_end - j, blk);
+                blk_end = j + (n - j < SFM_RANSAC_BLOCK ? n - j : SFM_RANSAC_BLOCK);
+                est->residuals(est->ctx, model, perm + j, blk_end - j, blk);
             }
             r2 = blk[j - blk_start];
         } else {
