@@ -195,60 +195,61 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
     int c = 0, own = 0, own_c = 0;
-    /* with a block residual, the residuals of the next SFM_RANSAC_BLOCK
-     * points in blk (those past an exit are computed for nothing) */
+    /* the residuals of the next points in blk: SFM_RANSAC_BLOCK at a time
+     * with a block residual (those past an exit are computed for nothing),
+     * else one */
     double blk[SFM_RANSAC_BLOCK];
-    int blk_start = 0, blk_end = 0;
     /* the tests below as positions and bounds: the SPRT bound infinite when
      * SPRT is off (lambda > inf never holds), the next own point, the next
      * bail-out point (n when there is none) */
     const double A_on = sprt_on ? A : HUGE_VAL;
     const int n = e->n, *const perm = e->perm, blocked = est->residuals != NULL;
     int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : n;
-    for (int j = 0; j < n; j++) {
-        const int pj = perm[j];
-        double r2;
+    for (int j0 = 0; j0 < n;) {
+        int cnt = 1;
         if (blocked) {
-            if (j == blk_end) {
-                blk_start = j;
-                blk_end = j + (n - j < SFM_RANSAC_BLOCK ? n - j : SFM_RANSAC_BLOCK);
-                est->residuals(est->ctx, model, perm + j, blk_end - j, blk);
-            }
-            r2 = blk[j - blk_start];
+            cnt = n - j0 < SFM_RANSAC_BLOCK ? n - j0 : SFM_RANSAC_BLOCK;
+            est->residuals(est->ctx, model, perm + j0, cnt, blk);
         } else {
-            r2 = est->residual(est->ctx, model, pj);
+            blk[0] = est->residual(est->ctx, model, perm[j0]);
         }
-        if (res != NULL)
-            res[pj] = r2;
-        int in = r2 < tau2;
-        s += in ? r2 : tau2;
-        c += in;
-        if (j == next_own) {
-            own++;
-            own_c += in;
-            next_own = own_pos[own];
-        } else {
-            lambda *= in ? min_ : mout;
-            if (lambda > A_on) {
-                sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
-                return EVAL_SPRT;
+        const int j1 = j0 + cnt;
+        for (int j = j0; j < j1; j++) {
+            const double r2 = blk[j - j0];
+            if (res != NULL)
+                res[perm[j]] = r2;
+            int in = r2 < tau2;
+            s += in ? r2 : tau2;
+            c += in;
+            if (j == next_own) {
+                own++;
+                own_c += in;
+                next_own = own_pos[own];
+            } else {
+                lambda *= in ? min_ : mout;
+                if (lambda > A_on) {
+                    sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
+                    return EVAL_SPRT;
+                }
+            }
+            if (s >= best_score)
+                return EVAL_WORSE;
+            /* bail-out (Capel, "An effective bail-out test for RANSAC
+             * consensus scoring", BMVC 2005): every BAIL_STEP points, drop
+             * the model when its inlier count so far is BAIL_Z standard
+             * deviations below what the best model's inlier ratio predicts.
+             * SPRT misses the models that explain a few percent of the
+             * points (an epipole inside the image): they look good against
+             * the rejected models' delta, and the MSAC bound only stops them
+             * near the end */
+            if (j == next_bail) {
+                next_bail += BAIL_STEP;
+                double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
+                if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
+                    return EVAL_BAIL;
             }
         }
-        if (s >= best_score)
-            return EVAL_WORSE;
-        /* bail-out (Capel, "An effective bail-out test for RANSAC consensus
-         * scoring", BMVC 2005): every BAIL_STEP points, drop the model when
-         * its inlier count so far is BAIL_Z standard deviations below what
-         * the best model's inlier ratio predicts. SPRT misses the models
-         * that explain a few percent of the points (an epipole inside the
-         * image): they look good against the rejected models' delta, and
-         * the MSAC bound only stops them near the end */
-        if (j == next_bail) {
-            next_bail += BAIL_STEP;
-            double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
-            if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
-                return EVAL_BAIL;
-        }
+        j0 = j1;
     }
     *score = s;
     *ninl = c;
