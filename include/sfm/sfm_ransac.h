@@ -144,7 +144,8 @@ typedef enum sfm_ransac_stop {
  *      count (1..SFM_RANSAC_BLOCK), bit for bit the same values; the
  *      verification asks for blocks of points in its order and may use
  *      fewer of them than it asked for. Lets an estimator compute several
- *      points per instruction.
+ *      points per instruction. Builds for size ignore it (residual is
+ *      called instead, with the same results).
  */
 #define SFM_RANSAC_BLOCK 8
 typedef struct sfm_ransac_estimator {

@@ -15,6 +15,15 @@
 #include "sfm/sfm_ransac.h"
 #include "core/dmath.h"
 
+/* Builds for size (the Cortex-M7's) leave the estimators' block residuals
+ * unused: none has one there, and the point-by-point residual gives the
+ * same values. */
+#if defined(__OPTIMIZE_SIZE__)
+#define USE_BLOCKS 0
+#else
+#define USE_BLOCKS 1
+#endif
+
 /* Initial SPRT parameters; SPRT only starts once a best model exists and
  * sets eps from its support. */
 #define SPRT_EPS0 0.1
@@ -121,7 +130,7 @@ static const double *residuals(engine *e, const double *model)
     const size_t bytes = sizeof(double) * (size_t)e->s;
     if (!e->res_ok || memcmp(e->res_key, model, bytes) != 0) {
         const sfm_ransac_estimator *est = e->est;
-        if (est->residuals != NULL) {
+        if (USE_BLOCKS && est->residuals != NULL) {
             /* in the verification order, a block at a time (any order gives
              * the same values) */
             double blk[SFM_RANSAC_BLOCK];
@@ -203,7 +212,7 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
      * SPRT is off (lambda > inf never holds), the next own point, the next
      * bail-out point (n when there is none) */
     const double A_on = sprt_on ? A : HUGE_VAL;
-    const int n = e->n, *const perm = e->perm, blocked = est->residuals != NULL;
+    const int n = e->n, *const perm = e->perm, blocked = USE_BLOCKS && est->residuals != NULL;
     int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : n;
     for (int j0 = 0; j0 < n;) {
         int cnt = 1;
