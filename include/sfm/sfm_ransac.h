@@ -139,7 +139,15 @@ typedef enum sfm_ransac_stop {
  *      set_scale(ctx, 2.385 sigma) (at most tau; threshold units, not
  *      squared) for refine's robust loss. Without it LO refits on the whole
  *      wide band at the estimator's own scale.
+ *  residuals(ctx, model, idx, count, r2): optional (after set_scale, for
+ *      the same reason). r2[q] = residual(ctx, model, idx[q]) for q <
+ *      count (1..SFM_RANSAC_BLOCK), bit for bit the same values; the
+ *      verification asks for blocks of points in its order and may use
+ *      fewer of them than it asked for. Lets an estimator compute several
+ *      points per instruction. Builds for size ignore it (residual is
+ *      called instead, with the same results).
  */
+#define SFM_RANSAC_BLOCK 8
 typedef struct sfm_ransac_estimator {
     int sample_size; /* 1..SFM_RANSAC_MAX_SAMPLE */
     int max_models;  /* 1..SFM_RANSAC_MAX_MODELS */
@@ -151,6 +159,7 @@ typedef struct sfm_ransac_estimator {
     int (*fix_best)(void *ctx, const int *sample, double *model, sfm_rng *rng);
     void *ctx;
     void (*set_scale)(void *ctx, double scale);
+    void (*residuals)(void *ctx, const double *model, const int *idx, int count, double *r2);
 } sfm_ransac_estimator;
 
 /* Monotonic clock in seconds, supplied by the caller (a microcontroller has no

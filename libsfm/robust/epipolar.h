@@ -132,16 +132,20 @@ static inline int sfmi_oriented_epipolar(const double *E, const double *x1, cons
     }
     if (nv > nt)
         w = v;
+    /* done at the first pair whose sign differs from an earlier one's (most
+     * models that fail, fail there) */
     int pos = 0, neg = 0;
     for (int i = 0; i < n; i++) {
         double Eb[3], txb[3];
         sfmi_matvec3(E, x1 + 3 * i, Eb);
         sfmi_cross3(w, x2 + 3 * i, txb);
         double sgn = sfmi_dot3(txb, Eb);
-        pos += sgn > 0.0;
-        neg += sgn < 0.0;
+        pos |= sgn > 0.0;
+        neg |= sgn < 0.0;
+        if (pos && neg)
+            return 0;
     }
-    return pos == 0 || neg == 0;
+    return 1;
 }
 
 #endif

@@ -15,6 +15,15 @@
 #include "sfm/sfm_ransac.h"
 #include "core/dmath.h"
 
+/* Builds for size (the Cortex-M7's) leave the estimators' block residuals
+ * unused: none has one there, and the point-by-point residual gives the
+ * same values. */
+#if defined(__OPTIMIZE_SIZE__)
+#define USE_BLOCKS 0
+#else
+#define USE_BLOCKS 1
+#endif
+
 /* Initial SPRT parameters; SPRT only starts once a best model exists and
  * sets eps from its support. */
 #define SPRT_EPS0 0.1
@@ -121,8 +130,20 @@ static const double *residuals(engine *e, const double *model)
     const size_t bytes = sizeof(double) * (size_t)e->s;
     if (!e->res_ok || memcmp(e->res_key, model, bytes) != 0) {
         const sfm_ransac_estimator *est = e->est;
-        for (int i = 0; i < e->n; i++)
-            e->res[i] = est->residual(est->ctx, model, i);
+        if (USE_BLOCKS && est->residuals != NULL) {
+            /* in the verification order, a block at a time (any order gives
+             * the same values) */
+            double blk[SFM_RANSAC_BLOCK];
+            for (int j = 0; j < e->n; j += SFM_RANSAC_BLOCK) {
+                const int cnt = e->n - j < SFM_RANSAC_BLOCK ? e->n - j : SFM_RANSAC_BLOCK;
+                est->residuals(est->ctx, model, e->perm + j, cnt, blk);
+                for (int q = 0; q < cnt; q++)
+                    e->res[e->perm[j + q]] = blk[q];
+            }
+        } else {
+            for (int i = 0; i < e->n; i++)
+                e->res[i] = est->residual(est->ctx, model, i);
+        }
         memcpy(e->res_key, model, bytes);
         e->res_ok = 1;
     }
@@ -183,38 +204,61 @@ static int evaluate(engine *e, sfmi_sprt *sp, int use_sprt, const double *model,
     const double A = sp->A, min_ = sp->mult_in, mout = sp->mult_out;
     double lambda = 1.0, s = 0.0;
     int c = 0, own = 0, own_c = 0;
-    for (int j = 0; j < e->n; j++) {
-        const int pj = e->perm[j];
-        double r2 = est->residual(est->ctx, model, pj);
-        if (res != NULL)
-            res[pj] = r2;
-        int in = r2 < tau2;
-        s += in ? r2 : tau2;
-        c += in;
-        if (j == own_pos[own]) {
-            own++;
-            own_c += in;
+    /* the residuals of the next points in blk: SFM_RANSAC_BLOCK at a time
+     * with a block residual (those past an exit are computed for nothing),
+     * else one */
+    double blk[SFM_RANSAC_BLOCK];
+    /* the tests below as positions and bounds: the SPRT bound infinite when
+     * SPRT is off (lambda > inf never holds), the next own point, the next
+     * bail-out point (n when there is none) */
+    const double A_on = sprt_on ? A : HUGE_VAL;
+    const int n = e->n, *const perm = e->perm, blocked = USE_BLOCKS && est->residuals != NULL;
+    int next_own = own_pos[0], next_bail = bail_on ? BAIL_STEP - 1 : n;
+    for (int j0 = 0; j0 < n;) {
+        int cnt = 1;
+        if (blocked) {
+            cnt = n - j0 < SFM_RANSAC_BLOCK ? n - j0 : SFM_RANSAC_BLOCK;
+            est->residuals(est->ctx, model, perm + j0, cnt, blk);
         } else {
-            lambda *= in ? min_ : mout;
-            if (sprt_on && lambda > A) {
-                sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
-                return EVAL_SPRT;
+            blk[0] = est->residual(est->ctx, model, perm[j0]);
+        }
+        const int j1 = j0 + cnt;
+        for (int j = j0; j < j1; j++) {
+            const double r2 = blk[j - j0];
+            if (res != NULL)
+                res[perm[j]] = r2;
+            int in = r2 < tau2;
+            s += in ? r2 : tau2;
+            c += in;
+            if (j == next_own) {
+                own++;
+                own_c += in;
+                next_own = own_pos[own];
+            } else {
+                lambda *= in ? min_ : mout;
+                if (lambda > A_on) {
+                    sfmi_sprt_record_rejection(sp, j + 1 - own, c - own_c);
+                    return EVAL_SPRT;
+                }
+            }
+            if (s >= best_score)
+                return EVAL_WORSE;
+            /* bail-out (Capel, "An effective bail-out test for RANSAC
+             * consensus scoring", BMVC 2005): every BAIL_STEP points, drop
+             * the model when its inlier count so far is BAIL_Z standard
+             * deviations below what the best model's inlier ratio predicts.
+             * SPRT misses the models that explain a few percent of the
+             * points (an epipole inside the image): they look good against
+             * the rejected models' delta, and the MSAC bound only stops them
+             * near the end */
+            if (j == next_bail) {
+                next_bail += BAIL_STEP;
+                double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
+                if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
+                    return EVAL_BAIL;
             }
         }
-        if (s >= best_score)
-            return EVAL_WORSE;
-        /* bail-out (Capel, "An effective bail-out test for RANSAC consensus
-         * scoring", BMVC 2005): every BAIL_STEP points, drop the model when
-         * its inlier count so far is BAIL_Z standard deviations below what
-         * the best model's inlier ratio predicts. SPRT misses the models
-         * that explain a few percent of the points (an epipole inside the
-         * image): they look good against the rejected models' delta, and
-         * the MSAC bound only stops them near the end */
-        if (bail_on && (j & (BAIL_STEP - 1)) == BAIL_STEP - 1) {
-            double m = (double)(j + 1 - own), deficit = m * bail_eps - (double)(c - own_c);
-            if (deficit > 0.0 && deficit * deficit > BAIL_Z * BAIL_Z * m * bail_var)
-                return EVAL_BAIL;
-        }
+        j0 = j1;
     }
     *score = s;
     *ninl = c;

@@ -90,6 +90,46 @@ double sfmi_twoview_residual(void *ctx, const double *model, int i)
     return sfmi_sampson_bearing2(m->E, c->b1 + 3 * i, c->b2 + 3 * i);
 }
 
+#if SFMI_TWOVIEW_HAVE_BLOCK
+typedef double tv_v2 __attribute__((vector_size(16)));
+
+/* sfmi_sampson_bearing2 of the points idx[0..count), two at a time in the
+ * lanes of a two-lane double: per lane the same operations in the same
+ * order as the scalar form, so the same bits (GCC's vector extension, SSE2
+ * or NEON; no contraction under -ffp-contract=off). The nine entries of E
+ * are broadcast once per call instead of loaded once per point. */
+void sfmi_twoview_residuals(void *ctx, const double *model, const int *idx, int count, double *r2)
+{
+    const twoview_ctx *c = ctx;
+    const double *E = ((const twoview_model *)model)->E;
+    const double *b1 = c->b1, *b2 = c->b2;
+    const tv_v2 E0 = {E[0], E[0]}, E1 = {E[1], E[1]}, E2 = {E[2], E[2]};
+    const tv_v2 E3 = {E[3], E[3]}, E4 = {E[4], E[4]}, E5 = {E[5], E[5]};
+    const tv_v2 E6 = {E[6], E[6]}, E7 = {E[7], E[7]}, E8 = {E[8], E[8]};
+    const tv_v2 two = {2.0, 2.0};
+    int q = 0;
+    for (; q + 1 < count; q += 2) {
+        const double *xa = b1 + 3 * idx[q], *xb = b1 + 3 * idx[q + 1];
+        const double *ya = b2 + 3 * idx[q], *yb = b2 + 3 * idx[q + 1];
+        const tv_v2 x0 = {xa[0], xb[0]}, x1 = {xa[1], xb[1]}, x2 = {xa[2], xb[2]};
+        const tv_v2 y0 = {ya[0], yb[0]}, y1 = {ya[1], yb[1]}, y2 = {ya[2], yb[2]};
+        const tv_v2 e0 = E0 * x0 + E1 * x1 + E2 * x2;
+        const tv_v2 e1 = E3 * x0 + E4 * x1 + E5 * x2;
+        const tv_v2 e2 = E6 * x0 + E7 * x1 + E8 * x2;
+        const tv_v2 f0 = E0 * y0 + E3 * y1 + E6 * y2;
+        const tv_v2 f1 = E1 * y0 + E4 * y1 + E7 * y2;
+        const tv_v2 f2 = E2 * y0 + E5 * y1 + E8 * y2;
+        const tv_v2 C = y0 * e0 + y1 * e1 + y2 * e2;
+        const tv_v2 D = e0 * e0 + e1 * e1 + e2 * e2 + f0 * f0 + f1 * f1 + f2 * f2 - two * C * C;
+        const tv_v2 r = C * C / D;
+        r2[q] = D[0] > 1e-300 ? r[0] : SFM_ROBUST_HUGE;
+        r2[q + 1] = D[1] > 1e-300 ? r[1] : SFM_ROBUST_HUGE;
+    }
+    if (q < count)
+        r2[q] = sfmi_sampson_bearing2(E, b1 + 3 * idx[q], b2 + 3 * idx[q]);
+}
+#endif
+
 void sfmi_twoview_set_pose(twoview_model *m, const double R[9], const double t[3])
 {
     sfmi_essential_from_pose(R, t, m->E);
@@ -320,7 +360,13 @@ int sfmi_twoview_run(const twoview_call *call, twoview_ctx *c, twoview_ws *w,
                                 NULL,
                                 NULL,
                                 c,
-                                sfmi_twoview_set_scale};
+                                sfmi_twoview_set_scale,
+#if SFMI_TWOVIEW_HAVE_BLOCK
+                                sfmi_twoview_residuals
+#else
+                                NULL
+#endif
+    };
     twoview_model model;
     sfm_ransac_stats es;
     int ni = sfm_ransac_run(&est, c->n, eopt, (double *)&model, NULL, &es, w->eng, w->eng_size);

@@ -61,6 +61,15 @@ int sfmi_twoview_setup(const twoview_call *call, twoview_ws *w, sfm_ransac_optio
                       double *focal);
 
 double sfmi_twoview_residual(void *ctx, const double *model, int i);
+/* The engine's block residual (sfm_ransac_estimator.residuals), where the
+ * target has two-lane doubles and the build is for speed; elsewhere the
+ * engine calls residual point by point (the same bits either way). */
+#if (defined(__SSE2__) || defined(__ARM_NEON)) && defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define SFMI_TWOVIEW_HAVE_BLOCK 1
+void sfmi_twoview_residuals(void *ctx, const double *model, const int *idx, int count, double *r2);
+#else
+#define SFMI_TWOVIEW_HAVE_BLOCK 0
+#endif
 int sfmi_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model);
 /* The engine's set_scale: the Cauchy scale of the next refits (radians). */
 void sfmi_twoview_set_scale(void *ctx, double scale);

@@ -247,6 +247,61 @@ SFM_TEST(ransac_same_seed_identical)
     SFM_CHECK(line_angle_err(m2, line) < 0.01);
 }
 
+/* The block residual: the same values as line_residual, counted. */
+static int line_block_calls;
+static void line_residuals(void *ctx, const double *m, const int *idx, int count, double *r2)
+{
+    line_block_calls++;
+    for (int q = 0; q < count; q++)
+        r2[q] = line_residual(ctx, m, idx[q]);
+}
+
+static void line_set_scale(void *ctx, double scale)
+{
+    ((line_ctx *)ctx)->scale = scale;
+}
+
+/* An estimator with a block residual runs the same as without it: same
+ * model bits, mask and decisions (SPRT, bail-out and MSAC exits taken
+ * point by point on the block's values), with and without set_scale (the
+ * kept residuals, votes and LO bands read the block's values too), at the
+ * outlier levels where SPRT rejects early and late. */
+SFM_TEST(ransac_block_residual_same_run)
+{
+    const double ratios[] = {0.25, 0.5, 0.75};
+    for (int r = 0; r < 3; r++) {
+        for (int scaled = 0; scaled < 2; scaled++) {
+            double line[3], m1[3], m2[3];
+            make_line(t, NPTS, ratios[r], 0.01, pts, truth_mask, line);
+            line_ctx L;
+            sfm_ransac_estimator est;
+            sfm_ransac_options opt;
+            line_setup(&L, &est, &opt, 0.03);
+            if (scaled)
+                est.set_scale = line_set_scale;
+            opt.seed = (uint64_t)(17 + r);
+            sfm_ransac_stats s1, s2;
+            int a = line_run(&est, &opt, m1, mask, &s1);
+            L.scale = 0.03;
+            est.residuals = line_residuals;
+            line_block_calls = 0;
+            int b = line_run(&est, &opt, m2, mask2, &s2);
+            SFM_CHECK(line_block_calls > 0);
+            SFM_CHECK(a > 0);
+            SFM_CHECK_EQ_INT(a, b);
+            SFM_CHECK(memcmp(m1, m2, sizeof m1) == 0);
+            SFM_CHECK(memcmp(mask, mask2, sizeof mask) == 0);
+            SFM_CHECK_EQ_INT(s1.iterations, s2.iterations);
+            SFM_CHECK_EQ_INT(s1.models, s2.models);
+            SFM_CHECK_EQ_INT(s1.sprt_rejected, s2.sprt_rejected);
+            SFM_CHECK_EQ_INT(s1.lo_runs, s2.lo_runs);
+            SFM_CHECK_EQ_INT(s1.inner_runs, s2.inner_runs);
+            SFM_CHECK_EQ_INT(s1.polish_rounds, s2.polish_rounds);
+            SFM_CHECK(s1.score == s2.score);
+        }
+    }
+}
+
 SFM_TEST(ransac_sprt_rejects_early_same_answer)
 {
     double line[3], m1[3], m2[3];

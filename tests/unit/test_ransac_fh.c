@@ -1,13 +1,15 @@
 /* Nonlinear refinement of the fundamental matrix (Sampson error, orthonormal
  * representation) and of the homography (Sampson error) against the linear
  * fits they start from, on noisy synthetic scenes with known truth; and
- * DEGENSAC on a dominant plane. */
+ * DEGENSAC on a dominant plane; the two-view block residual against the
+ * point-by-point one. */
 #include <math.h>
 #include <string.h>
 
 #include "ransac_scene.h"
 #include "robust/fundamental_lm.h"
 #include "robust/homography_lm.h"
+#include "robust/twoview.h"
 #include "sfm/sfm.h"
 #include "sfm_test.h"
 
@@ -389,4 +391,61 @@ SFM_TEST(fundamental_degensac_flag_quiet_on_general_scene)
         flagged += ni >= 8 && (st.flags & SFM_RANSAC_FLAG_DEGENSAC) != 0;
     }
     SFM_CHECK_MSG(flagged == 0, "flag raised in %d of %d general scenes", flagged, trials);
+}
+
+/* The two-view block residual gives the point-by-point Sampson error bit
+ * for bit, for every block length (the odd tail included), indices in any
+ * order and repeated, and the degenerate pairs (|E b1| = |E^T b2| = 0:
+ * SFM_ROBUST_HUGE). Where the target has no block residual it is not
+ * built and the engine calls the point-by-point one. */
+SFM_TEST(twoview_block_residual_bit_identical)
+{
+#if SFMI_TWOVIEW_HAVE_BLOCK
+    enum { NB = 24 };
+    double b1[3 * NB], b2[3 * NB];
+    twoview_model m;
+    memset(&m, 0, sizeof m);
+    int differ = 0, checked = 0;
+    for (int trial = 0; trial < 50; trial++) {
+        for (int i = 0; i < 3 * NB; i++) {
+            b1[i] = 2.0 * sfm_rng_uniform(&t->rng) - 1.0;
+            b2[i] = 2.0 * sfm_rng_uniform(&t->rng) - 1.0;
+        }
+        for (int k = 0; k < 9; k++)
+            m.E[k] = 2.0 * sfm_rng_uniform(&t->rng) - 1.0;
+        /* pair 0: b1 along the right null vector of E and b2 along the left
+         * one, so that both gradients vanish */
+        if (trial % 5 == 0) {
+            memset(m.E, 0, sizeof m.E);
+            m.E[1] = -1.0;
+            m.E[3] = 1.0; /* [z]x: null vectors (0, 0, 1) */
+            b1[0] = b1[1] = 0.0;
+            b1[2] = 1.0;
+            b2[0] = b2[1] = 0.0;
+            b2[2] = -1.0;
+        }
+        twoview_ctx c = {b1, b2, NB, NULL, NULL, 1e-3};
+        int idx[SFM_RANSAC_BLOCK];
+        for (int count = 1; count <= SFM_RANSAC_BLOCK; count++) {
+            for (int q = 0; q < count; q++)
+                idx[q] = q == 0 && trial % 5 == 0 ? 0 : (int)sfm_rng_bounded(&t->rng, NB);
+            double r[SFM_RANSAC_BLOCK];
+            sfmi_twoview_residuals(&c, (const double *)&m, idx, count, r);
+            for (int q = 0; q < count; q++) {
+                double want = sfmi_twoview_residual(&c, (const double *)&m, idx[q]);
+                differ += memcmp(&want, &r[q], sizeof want) != 0;
+                checked++;
+            }
+        }
+        if (trial % 5 == 0) {
+            double r0;
+            sfmi_twoview_residuals(&c, (const double *)&m, idx, 1, &r0);
+            SFM_CHECK(r0 == 1e300);
+        }
+    }
+    FH_LOG("%d of %d block residuals differ from the point-by-point ones", differ, checked);
+    SFM_CHECK_EQ_INT(differ, 0);
+#else
+    SFM_CHECK(1);
+#endif
 }
