@@ -139,6 +139,12 @@ typedef enum sfm_ransac_stop {
  *      set_scale(ctx, 2.385 sigma) (at most tau; threshold units, not
  *      squared) for refine's robust loss. Without it LO refits on the whole
  *      wide band at the estimator's own scale.
+ *  prune(ctx, model, list, n, sigma2): optional (last, after set_scale, for
+ *      the same reason). An influence test of the final polish: removes from list[0..n) (in place, order kept) the
+ *      points whose influence on a refit from model is too high for a
+ *      residual variance sigma2 (threshold units squared) and returns the
+ *      count left (n when it cannot tell). The relative-pose estimators drop
+ *      the points of high Cook's distance.
  */
 typedef struct sfm_ransac_estimator {
     int sample_size; /* 1..SFM_RANSAC_MAX_SAMPLE */
@@ -151,6 +157,7 @@ typedef struct sfm_ransac_estimator {
     int (*fix_best)(void *ctx, const int *sample, double *model, sfm_rng *rng);
     void *ctx;
     void (*set_scale)(void *ctx, double scale);
+    int (*prune)(void *ctx, const double *model, int *list, int n, double sigma2);
 } sfm_ransac_estimator;
 
 /* Monotonic clock in seconds, supplied by the caller (a microcontroller has no
