@@ -146,6 +146,13 @@ typedef enum sfm_ransac_stop {
  *      fewer of them than it asked for. Lets an estimator compute several
  *      points per instruction. Builds for size ignore it (residual is
  *      called instead, with the same results).
+ *  prune(ctx, model, list, n, sigma2): optional (last, for the same
+ *      reason). An influence test of the final polish: removes from
+ *      list[0..n) (in place, order kept) the points whose influence on a
+ *      refit from model is too high for a residual variance sigma2
+ *      (threshold units squared) and returns the count left (n when it
+ *      cannot tell). The relative-pose estimators drop
+ *      the points of high Cook's distance.
  */
 #define SFM_RANSAC_BLOCK 8
 typedef struct sfm_ransac_estimator {
@@ -160,6 +167,7 @@ typedef struct sfm_ransac_estimator {
     void *ctx;
     void (*set_scale)(void *ctx, double scale);
     void (*residuals)(void *ctx, const double *model, const int *idx, int count, double *r2);
+    int (*prune)(void *ctx, const double *model, int *list, int n, double sigma2);
 } sfm_ransac_estimator;
 
 /* Monotonic clock in seconds, supplied by the caller (a microcontroller has no

@@ -162,7 +162,7 @@ int sfm_ransac_abspose(const double *px, const double *X, int n, const sfm_camer
         eopt.wide_mult = SFM_RANSAC_WIDE_MULT;
     abs_ctx c = {b, X, eopt.threshold};
     sfm_ransac_estimator est = {3, SFM_P3P_MAX_SOLUTIONS, SFM_RANSAC_ABSPOSE_MODEL, solve_p3p,
-                                residual, refine, NULL, NULL, &c, NULL, NULL};
+                                residual, refine, NULL, NULL, &c, NULL, NULL, NULL};
     abs_model model;
     sfm_ransac_stats s;
     int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &s, eng, es);

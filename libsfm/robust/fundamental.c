@@ -326,7 +326,7 @@ int sfm_ransac_fundamental(const double *px1, const double *px2, int n, const sf
     c.tau = eopt.threshold;
     c.tau2 = eopt.threshold * eopt.threshold;
     sfm_ransac_estimator est = {7, SFM_FUNDAMENTAL_7PT_MAX_SOLUTIONS, FMODEL, solve7, residual,
-                                refine, NULL, fix_best, &c, NULL, NULL};
+                                refine, NULL, fix_best, &c, NULL, NULL, NULL};
     f_model model;
     sfm_ransac_stats s;
     int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &s, pp.eng, pp.eng_size);

@@ -121,7 +121,7 @@ int sfm_ransac_homography(const double *px1, const double *px2, int n, const sfm
     eopt.wide_mult = 2.0;
     h_ctx c = {pp.p1, pp.p2, pp.g1, pp.g2, eopt.threshold};
     sfm_ransac_estimator est = {4, SFM_HOMOGRAPHY_4PT_MAX_SOLUTIONS, HMODEL, solve4,
-                                residual, refine, NULL, NULL, &c, NULL, NULL};
+                                residual, refine, NULL, NULL, &c, NULL, NULL, NULL};
     h_model model;
     sfm_ransac_stats rs;
     int ni = sfm_ransac_run(&est, n, &eopt, (double *)&model, NULL, &rs, pp.eng, pp.eng_size);

@@ -252,3 +252,75 @@ int sfmi_robust_sampson_lm(const double *b1, const double *b2, const int *idx, i
      * dominant plane four steps could leave LO in the planar twin) */
     return sfmi_lm_refine(&sp.prob, 2 * iters, 1e-6, ws, sizeof ws);
 }
+
+/* Residuals and Jacobian rows of blocks j0 .. j0 + count - 1 (count <=
+ * SFMI_LM_BATCH), entry c of block k at J[c * SFMI_LM_BATCH + k]: the batch
+ * where there is one, else block by block (the same bits either way). */
+static void rows(const sfmi_sampson_problem *sp, const double *const *x, int j0, int count, int *ok,
+                 double *r, double *J)
+{
+#if SFMI_LM_HAVE_BATCH
+    sampson_batch(sp, x, j0, count, ok, r, J);
+#else
+    for (int k = 0; k < count; k++) {
+        double Jk[5];
+        ok[k] = sampson_residual(sp, x, j0 + k, &r[k], Jk);
+        for (int c = 0; c < 5; c++)
+            J[c * SFMI_LM_BATCH + k] = Jk[c];
+    }
+#endif
+}
+
+int sfmi_sampson_prune(const double *b1, const double *b2, int *idx, int n, const double *axis,
+                       const double R[9], const double t[3], double sigma2, double cut)
+{
+    const int p = axis ? 3 : 5;
+    if (n <= p + 1 || !(sigma2 > 0.0))
+        return n;
+    double Rc[9], tc[3];
+    memcpy(Rc, R, sizeof Rc);
+    memcpy(tc, t, sizeof tc);
+    sfmi_sampson_problem sp;
+    sfmi_sampson_lm_problem(b1, b2, idx, n, axis, 0.0, Rc, tc, &sp);
+    const double *const x[2] = {Rc, tc};
+    double M[25] = {0}, J[5 * SFMI_LM_BATCH], r[SFMI_LM_BATCH];
+    int ok[SFMI_LM_BATCH];
+    for (int j0 = 0; j0 < n; j0 += SFMI_LM_BATCH) {
+        const int cnt = n - j0 < SFMI_LM_BATCH ? n - j0 : SFMI_LM_BATCH;
+        rows(&sp, x, j0, cnt, ok, r, J);
+        for (int k = 0; k < cnt; k++) {
+            if (!ok[k])
+                continue;
+            for (int a = 0; a < p; a++)
+                for (int b = 0; b <= a; b++)
+                    M[a * p + b] += J[a * SFMI_LM_BATCH + k] * J[b * SFMI_LM_BATCH + k];
+        }
+    }
+    if (sfm_cholesky_factor(M, p) != SFM_OK)
+        return n;
+    /* Cook's distance r^2 h / (p sigma^2 (1 - h)^2) of each pair, h its
+     * leverage J^T M^-1 J = |L^-1 J|^2 (M = L L^T) */
+    const double bound = cut * (double)p * sigma2;
+    int kept = 0;
+    for (int j0 = 0; j0 < n; j0 += SFMI_LM_BATCH) {
+        const int cnt = n - j0 < SFMI_LM_BATCH ? n - j0 : SFMI_LM_BATCH;
+        int own[SFMI_LM_BATCH];
+        memcpy(own, idx + j0, sizeof(int) * (size_t)cnt); /* kept <= j0: written below */
+        rows(&sp, x, j0, cnt, ok, r, J);
+        for (int k = 0; k < cnt; k++) {
+            double h = 0.0, y[5];
+            for (int a = 0; ok[k] && a < p; a++) {
+                double s = J[a * SFMI_LM_BATCH + k];
+                for (int b = 0; b < a; b++)
+                    s -= M[a * p + b] * y[b];
+                y[a] = s / M[a * p + a];
+                h += y[a] * y[a];
+            }
+            const double q = 1.0 - h;
+            if (ok[k] && q > 0.0 && !(r[k] * r[k] * h < bound * q * q))
+                continue;
+            idx[kept++] = own[k];
+        }
+    }
+    return kept;
+}

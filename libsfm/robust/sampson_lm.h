@@ -19,6 +19,14 @@
 int sfmi_robust_sampson_lm(const double *b1, const double *b2, const int *idx, int n,
                           const double *axis, double scale, int iters, double R[9], double t[3]);
 
+/* Drops from idx[0..n) (in place, order kept) the pairs whose Cook's
+ * distance under (R, t) (the Sampson residuals' linearisation, the same
+ * parameters as sfmi_robust_sampson_lm) is cut or more, for a residual
+ * variance sigma2; returns the count left. n unchanged when the normal
+ * matrix is singular or sigma2 is not positive. */
+int sfmi_sampson_prune(const double *b1, const double *b2, int *idx, int n, const double *axis,
+                       const double R[9], const double t[3], double sigma2, double cut);
+
 /* The LM driver problem sfmi_robust_sampson_lm solves (blocks R on SO(3), or
  * the upright rotation, and t on S^2 over R, t in place; one residual per
  * listed pair): for a Jacobian check. sp must outlive its use. */

@@ -439,7 +439,7 @@ int sfmi_ransac_trifocal(const double *x1, const double *x2, const double *x3, i
         const double wide = o.threshold * (o.wide_mult > 1.0 ? o.wide_mult : 1.0);
         ctx.memo.reject = 3.0 * wide * wide * (1.0 + 1e-6);
     }
-    sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL, NULL};
+    sfm_ransac_estimator est = {SAMPLE, 1, MODEL, tf_solve, tf_residual, tf_refine, NULL, NULL, &ctx, NULL, NULL, NULL};
     tf_model model;
     sfm_ransac_stats rs;
     int cnt = sfm_ransac_run(&est, n, &o, (double *)&model, NULL, &rs, lay.ransac_ws, lay.ransac_size);

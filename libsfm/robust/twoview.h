@@ -73,6 +73,7 @@ void sfmi_twoview_residuals(void *ctx, const double *model, const int *idx, int 
 int sfmi_twoview_refine(void *ctx, const int *inliers, int n_inliers, double *model);
 /* The engine's set_scale: the Cauchy scale of the next refits (radians). */
 void sfmi_twoview_set_scale(void *ctx, double scale);
+int sfmi_twoview_prune(void *ctx, const double *model, int *list, int n, double sigma2);
 /* Sets m's E from R, t (unit Frobenius norm) and marks the pose valid. */
 void sfmi_twoview_set_pose(twoview_model *m, const double R[9], const double t[3]);
 
