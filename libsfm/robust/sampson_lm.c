@@ -284,42 +284,40 @@ int sfmi_sampson_prune(const double *b1, const double *b2, int *idx, int n, cons
     sfmi_sampson_lm_problem(b1, b2, idx, n, axis, 0.0, Rc, tc, &sp);
     const double *const x[2] = {Rc, tc};
     double M[25] = {0}, J[5 * SFMI_LM_BATCH], r[SFMI_LM_BATCH];
-    int ok[SFMI_LM_BATCH];
-    for (int j0 = 0; j0 < n; j0 += SFMI_LM_BATCH) {
-        const int cnt = n - j0 < SFMI_LM_BATCH ? n - j0 : SFMI_LM_BATCH;
-        rows(&sp, x, j0, cnt, ok, r, J);
-        for (int k = 0; k < cnt; k++) {
-            if (!ok[k])
-                continue;
-            for (int a = 0; a < p; a++)
-                for (int b = 0; b <= a; b++)
-                    M[a * p + b] += J[a * SFMI_LM_BATCH + k] * J[b * SFMI_LM_BATCH + k];
-        }
-    }
-    if (sfm_cholesky_factor(M, p) != SFM_OK)
-        return n;
-    /* Cook's distance r^2 h / (p sigma^2 (1 - h)^2) of each pair, h its
-     * leverage J^T M^-1 J = |L^-1 J|^2 (M = L L^T) */
+    int ok[SFMI_LM_BATCH], kept = 0;
+    /* pass 0: M = J^T J over the pairs; pass 1: Cook's distance
+     * r^2 h / (p sigma^2 (1 - h)^2) of each pair, h its leverage
+     * J^T M^-1 J = |L^-1 J|^2 (M = L L^T) */
     const double bound = cut * (double)p * sigma2;
-    int kept = 0;
-    for (int j0 = 0; j0 < n; j0 += SFMI_LM_BATCH) {
-        const int cnt = n - j0 < SFMI_LM_BATCH ? n - j0 : SFMI_LM_BATCH;
-        int own[SFMI_LM_BATCH];
-        memcpy(own, idx + j0, sizeof(int) * (size_t)cnt); /* kept <= j0: written below */
-        rows(&sp, x, j0, cnt, ok, r, J);
-        for (int k = 0; k < cnt; k++) {
-            double h = 0.0, y[5];
-            for (int a = 0; ok[k] && a < p; a++) {
-                double s = J[a * SFMI_LM_BATCH + k];
-                for (int b = 0; b < a; b++)
-                    s -= M[a * p + b] * y[b];
-                y[a] = s / M[a * p + a];
-                h += y[a] * y[a];
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1 && sfm_cholesky_factor(M, p) != SFM_OK)
+            return n;
+        for (int j0 = 0; j0 < n; j0 += SFMI_LM_BATCH) {
+            const int cnt = n - j0 < SFMI_LM_BATCH ? n - j0 : SFMI_LM_BATCH;
+            int own[SFMI_LM_BATCH];
+            memcpy(own, idx + j0, sizeof(int) * (size_t)cnt); /* kept <= j0: written below */
+            rows(&sp, x, j0, cnt, ok, r, J);
+            for (int k = 0; k < cnt; k++) {
+                const double *Jk = J + k;
+                if (pass == 0) {
+                    for (int a = 0; ok[k] && a < p; a++)
+                        for (int b = 0; b <= a; b++)
+                            M[a * p + b] += Jk[a * SFMI_LM_BATCH] * Jk[b * SFMI_LM_BATCH];
+                    continue;
+                }
+                double h = 0.0, y[5];
+                for (int a = 0; ok[k] && a < p; a++) {
+                    double s = Jk[a * SFMI_LM_BATCH];
+                    for (int b = 0; b < a; b++)
+                        s -= M[a * p + b] * y[b];
+                    y[a] = s / M[a * p + a];
+                    h += y[a] * y[a];
+                }
+                const double q = 1.0 - h;
+                if (ok[k] && q > 0.0 && !(r[k] * r[k] * h < bound * q * q))
+                    continue;
+                idx[kept++] = own[k];
             }
-            const double q = 1.0 - h;
-            if (ok[k] && q > 0.0 && !(r[k] * r[k] * h < bound * q * q))
-                continue;
-            idx[kept++] = own[k];
         }
     }
     return kept;
