@@ -333,3 +333,198 @@ SFM_TEST(refiner_sampson_batch_matches_per_pair)
     SFM_CHECK(1);
 #endif
 }
+
+/* The influence test of the relative-pose polish (sfmi_sampson_prune)
+ * against an oracle written here: each pair's Sampson error from its own
+ * formula, the Jacobian by central differences along a tangent basis of its
+ * own (leverages do not depend on the basis), the leverages h from a
+ * Gauss-Jordan inverse of J^T J, Cook's distance r^2 h / (p sigma^2
+ * (1 - h)^2). Also the truth: pairs planted with a residual of 12 sigma are
+ * dropped, and nearly all true pairs kept. */
+#define PRUNE_N 120
+#define PRUNE_PLANT 4
+
+static double sampson_of(const double *R, const double *tv, const double *x1, const double *x2)
+{
+    double u[3], a[3], v[3];
+    matvec(R, x1, u);
+    a[0] = tv[1] * u[2] - tv[2] * u[1];
+    a[1] = tv[2] * u[0] - tv[0] * u[2];
+    a[2] = tv[0] * u[1] - tv[1] * u[0];
+    v[0] = x2[1] * tv[2] - x2[2] * tv[1];
+    v[1] = x2[2] * tv[0] - x2[0] * tv[2];
+    v[2] = x2[0] * tv[1] - x2[1] * tv[0];
+    const double C = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    const double D = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + v[0] * v[0] + v[1] * v[1] +
+                     v[2] * v[2] - 2.0 * C * C;
+    return C / sqrt(D);
+}
+
+/* (R, t) moved by the tangent vector d: R <- exp([w]x) R with w = d[0..2]
+ * (or d[0] axis when axis is given), t <- normalise(t + d e1 + d e2). */
+static void moved(const double *R, const double *tv, const double *axis, const double *d,
+                  double *Rm, double *tm)
+{
+    const int nr = axis ? 1 : 3;
+    double w[3] = {d[0], axis ? 0.0 : d[1], axis ? 0.0 : d[2]}, dR[9];
+    if (axis)
+        for (int k = 0; k < 3; k++)
+            w[k] = d[0] * axis[k];
+    sfm_rot_from_axis_angle(w, dR);
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            Rm[3 * r + c] = dR[3 * r] * R[c] + dR[3 * r + 1] * R[3 + c] + dR[3 * r + 2] * R[6 + c];
+    /* a tangent basis at t: e1 = normalise(t x z or t x x), e2 = t x e1 */
+    double e1[3], e2[3], z[3] = {0.0, 0.0, 1.0};
+    if (fabs(tv[2]) > 0.9) {
+        z[0] = 1.0;
+        z[2] = 0.0;
+    }
+    e1[0] = tv[1] * z[2] - tv[2] * z[1];
+    e1[1] = tv[2] * z[0] - tv[0] * z[2];
+    e1[2] = tv[0] * z[1] - tv[1] * z[0];
+    normalize3(e1);
+    e2[0] = tv[1] * e1[2] - tv[2] * e1[1];
+    e2[1] = tv[2] * e1[0] - tv[0] * e1[2];
+    e2[2] = tv[0] * e1[1] - tv[1] * e1[0];
+    for (int k = 0; k < 3; k++)
+        tm[k] = tv[k] + d[nr] * e1[k] + d[nr + 1] * e2[k];
+    normalize3(tm);
+}
+
+/* Cook's distance of every pair under (R, t) by the oracle above. */
+static void oracle_cook(const double *b1, const double *b2, int n, const double *axis,
+                        const double *R, const double *tv, double sigma2, double *r, double *cook)
+{
+    const int p = axis ? 3 : 5;
+    static double J[PRUNE_N][5];
+    double M[5][10] = {{0}};
+    for (int i = 0; i < n; i++) {
+        r[i] = sampson_of(R, tv, b1 + 3 * i, b2 + 3 * i);
+        for (int c = 0; c < p; c++) {
+            double d[5] = {0}, Rm[9], tm[3], f[2];
+            for (int s = 0; s < 2; s++) {
+                d[c] = s ? -1e-6 : 1e-6;
+                moved(R, tv, axis, d, Rm, tm);
+                f[s] = sampson_of(Rm, tm, b1 + 3 * i, b2 + 3 * i);
+            }
+            J[i][c] = (f[0] - f[1]) / 2e-6;
+        }
+        for (int a = 0; a < p; a++)
+            for (int b = 0; b < p; b++)
+                M[a][b] += J[i][a] * J[i][b];
+    }
+    /* Gauss-Jordan inverse of M into M[.][p..2p) */
+    for (int a = 0; a < p; a++)
+        M[a][p + a] = 1.0;
+    for (int c = 0; c < p; c++) {
+        int piv = c;
+        for (int a = c + 1; a < p; a++)
+            if (fabs(M[a][c]) > fabs(M[piv][c]))
+                piv = a;
+        for (int b = 0; b < 2 * p; b++) {
+            double s = M[c][b];
+            M[c][b] = M[piv][b];
+            M[piv][b] = s;
+        }
+        const double inv = 1.0 / M[c][c];
+        for (int b = 0; b < 2 * p; b++)
+            M[c][b] *= inv;
+        for (int a = 0; a < p; a++) {
+            if (a == c)
+                continue;
+            const double f = M[a][c];
+            for (int b = 0; b < 2 * p; b++)
+                M[a][b] -= f * M[c][b];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        double h = 0.0;
+        for (int a = 0; a < p; a++)
+            for (int b = 0; b < p; b++)
+                h += J[i][a] * M[a][p + b] * J[i][b];
+        cook[i] = r[i] * r[i] * h / ((double)p * sigma2 * (1.0 - h) * (1.0 - h));
+    }
+}
+
+SFM_TEST(sampson_prune_matches_cook_oracle_and_drops_planted_pairs)
+{
+    static double b1[3 * PRUNE_N], b2[3 * PRUNE_N], r[PRUNE_N], cook[PRUNE_N];
+    int idx[PRUNE_N];
+    const double noise = 1e-3, cut = 16.0 / PRUNE_N;
+    int decided = 0;
+    for (int it = 0; it < SFM_TEST_ITERS(10); it++) {
+        for (int up = 0; up < 2; up++) {
+            double R[9], tv[3];
+            sfm_test_random_rotation(t, R);
+            nudge_rotation(t, (const double[9]){1, 0, 0, 0, 1, 0, 0, 0, 1}, 15.0, R);
+            sfm_test_random_unit(t, tv);
+            for (int i = 0; i < PRUNE_N; i++) {
+                double x[3] = {sfm_test_uniform(t, -2, 2), sfm_test_uniform(t, -2, 2),
+                               sfm_test_uniform(t, 4, 10)}, y[3];
+                matvec(R, x, y);
+                for (int k = 0; k < 3; k++) {
+                    b1[3 * i + k] = x[k];
+                    b2[3 * i + k] = y[k] + tv[k];
+                }
+                normalize3(b1 + 3 * i);
+                normalize3(b2 + 3 * i);
+                /* noise (or a planted error of 12 sigma, for the last
+                 * pairs) across the epipolar plane of camera 2 */
+                double nrm[3], u[3];
+                matvec(R, b1 + 3 * i, u);
+                nrm[0] = tv[1] * u[2] - tv[2] * u[1];
+                nrm[1] = tv[2] * u[0] - tv[0] * u[2];
+                nrm[2] = tv[0] * u[1] - tv[1] * u[0];
+                normalize3(nrm);
+                const double e = i >= PRUNE_N - PRUNE_PLANT ? 12.0 * noise : sfm_test_normal(t, noise);
+                for (int k = 0; k < 3; k++)
+                    b2[3 * i + k] += e * nrm[k];
+                normalize3(b2 + 3 * i);
+                idx[i] = i;
+            }
+            double axis[3] = {0.0, 1.0, 0.0}, d2[3];
+            matvec(R, axis, d2);
+            const double *ax = up ? d2 : NULL;
+            /* sigma from the true pairs' residuals at the truth */
+            double s2 = 0.0;
+            for (int i = 0; i < PRUNE_N - PRUNE_PLANT; i++) {
+                const double ri = sampson_of(R, tv, b1 + 3 * i, b2 + 3 * i);
+                s2 += ri * ri;
+            }
+            s2 /= PRUNE_N - PRUNE_PLANT;
+            oracle_cook(b1, b2, PRUNE_N, ax, R, tv, s2, r, cook);
+            const int kept = sfmi_sampson_prune(b1, b2, idx, PRUNE_N, ax, R, tv, s2, cut);
+            SFM_CHECK(kept > 0 && kept <= PRUNE_N);
+            /* kept in order, a subset; the oracle's verdict wherever the
+             * distance is not within 2 % of the cut */
+            int j = 0, true_dropped = 0;
+            for (int i = 0; i < PRUNE_N; i++) {
+                const int in = j < kept && idx[j] == i;
+                j += in;
+                if (i >= PRUNE_N - PRUNE_PLANT)
+                    SFM_CHECK_MSG(!in, "planted pair %d kept (Cook %.3g, cut %.3g)", i, cook[i], cut);
+                else
+                    true_dropped += !in;
+                if (fabs(cook[i] - cut) > 0.02 * cut) {
+                    SFM_CHECK_MSG(in == (cook[i] < cut), "pair %d: kept %d, oracle Cook %.4g, cut %.4g",
+                                  i, in, cook[i], cut);
+                    decided++;
+                }
+            }
+            SFM_CHECK_EQ_INT(j, kept);
+            SFM_CHECK_MSG(true_dropped <= PRUNE_N / 20, "%d true pairs dropped", true_dropped);
+            /* refused: no noise level, too few pairs (list untouched) */
+            for (int i = 0; i < PRUNE_N; i++)
+                idx[i] = PRUNE_N - 1 - i;
+            SFM_CHECK_EQ_INT(sfmi_sampson_prune(b1, b2, idx, PRUNE_N, ax, R, tv, 0.0, cut), PRUNE_N);
+            SFM_CHECK_EQ_INT(sfmi_sampson_prune(b1, b2, idx, PRUNE_N, ax, R, tv, (double)NAN, cut),
+                             PRUNE_N);
+            SFM_CHECK_EQ_INT(sfmi_sampson_prune(b1, b2, idx, up ? 4 : 6, ax, R, tv, s2, cut), up ? 4 : 6);
+            for (int i = 0; i < PRUNE_N; i++)
+                SFM_CHECK_EQ_INT(idx[i], PRUNE_N - 1 - i);
+        }
+    }
+    SFM_CHECK(decided > 0);
+    JLOG("%d verdicts compared with the oracle", decided);
+}
