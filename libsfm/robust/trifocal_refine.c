@@ -69,7 +69,7 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
                            const double X[4], point_blocks *b)
 {
     const double *P[3] = {P1, P2, P3};
-    sfmi_lm_sphere_basis(X, 4, b->B);
+    sfmi_tf_sphere_basis4(X, b->B);
     const double *B = b->B;
     for (int v = 0; v < 3; v++) {
         double JX[8];

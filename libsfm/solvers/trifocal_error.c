@@ -94,7 +94,7 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
         double B[12], H[9] = {0}, Hi[9], g[3] = {0}, d[3];
-        sfmi_lm_sphere_basis(X, 4, B);
+        sfmi_tf_sphere_basis4(X, B);
         for (int h = 0; h < 6; h++) {
             const double *j = &J[4 * h];
             double jb[3];

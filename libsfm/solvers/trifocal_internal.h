@@ -2,6 +2,11 @@
 #ifndef SFM_SOLVERS_TRIFOCAL_INTERNAL_H
 #define SFM_SOLVERS_TRIFOCAL_INTERNAL_H
 
+#include <math.h>
+#include <stddef.h>
+
+#include "core/lm.h"
+
 /* Scales v (n entries) to unit norm; SFM_E_SINGULAR when it is zero. */
 int sfmi_trifocal_normalize(double *v, int n);
 
@@ -33,5 +38,33 @@ void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double
  * epipoles (H&Z sec. 15.1.4), as sfm_trifocal_cameras builds them. */
 void sfmi_trifocal_cameras_from(const double T[27], const double e2[3], const double e3[3],
                                 double P2[12], double P3[12]);
+
+/* sfmi_lm_sphere_basis(X, 4, B) (core/lm.h), written out for unit
+ * 4-vectors where the build is for speed: the same operations in the same
+ * order, so the same bits, without the generic loop's index tests (the
+ * point error and the refits call it for every point of every step). */
+#if defined(__OPTIMIZE_SIZE__)
+#define sfmi_tf_sphere_basis4(X, B) sfmi_lm_sphere_basis((X), 4, (B))
+#else
+static inline void sfmi_tf_sphere_basis4(const double x[4], double B[12])
+{
+    int k = 0;
+    double nn = 0.0;
+    for (int i = 0; i < 4; i++) {
+        nn += x[i] * x[i];
+        if (fabs(x[i]) > fabs(x[k]))
+            k = i;
+    }
+    double v[4] = {x[0], x[1], x[2], x[3]};
+    v[k] += (x[k] >= 0.0 ? 1.0 : -1.0) * sqrt(nn);
+    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3];
+    const double s = vv > 0.0 ? 2.0 / vv : 0.0;
+    for (int c = 0; c < 3; c++) {
+        const int j = c + (c >= k); /* the columns skip k */
+        for (int r = 0; r < 4; r++)
+            B[r * 3 + c] = (r == j ? 1.0 : 0.0) - s * v[r] * v[j];
+    }
+}
+#endif
 
 #endif
