@@ -66,11 +66,11 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_ARGUMENT;
     const double *P[3] = {P1, P2, P3};
     const double *x[3] = {x1, x2, x3};
-    for (int v = 0; v < 3; v++)
-        if (!sfmi_la_all_finite(P[v], 12) || !sfmi_la_all_finite(x[v], 2))
-            return SFM_E_NONFINITE;
     /* Linear start from the three views; a point at infinity of the
-     * projective frame comes back as a direction, homogeneous (d, 0). */
+     * projective frame comes back as a direction, homogeneous (d, 0).
+     * sfm_triangulate_dlt tests the same cameras and pixels for NaN and Inf
+     * first (SFM_E_NONFINITE, nothing written), so they are not tested here
+     * again: RANSAC asks for this error thousands of times a run. */
     double Ps[36], xv[6], X3[3], X[4];
     int flag;
     for (int v = 0; v < 3; v++) {
