@@ -182,9 +182,10 @@ static double gauge_reg(double u)
 static double tf_linearize(void *self, double *gmax)
 {
     tf_sys *c = self;
-    double cost = total_cost(c->xs, c->idx, c->n, c->A2, c->A3, c->X);
-    if (!isfinite(cost))
-        return HUGE_VAL;
+    /* the cost is summed from the Jacobians' residuals, which are
+     * total_cost's terms in its order (the same bits); a point no view
+     * projects makes it infinite there and here */
+    double cost = 0.0;
     memset(c->U, 0, sizeof(double) * NC * NC);
     memset(c->gc, 0, sizeof c->gc);
     double m = 0.0, acc[2][KRON_MAX][XX_N];
@@ -193,7 +194,9 @@ static double tf_linearize(void *self, double *gmax)
         point_blocks b;
         const double *X = &c->X[4 * q];
         if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b))
-            continue;
+            return HUGE_VAL;
+        for (int v = 0; v < 3; v++)
+            cost += b.r[2 * v] * b.r[2 * v] + b.r[2 * v + 1] * b.r[2 * v + 1];
         for (int w = 0; w < 2; w++) {
             const double iw = b.cam[3 * w], u = b.cam[3 * w + 1], v = b.cam[3 * w + 2];
             const double *r = &b.r[2 + 2 * w];
@@ -213,6 +216,8 @@ static double tf_linearize(void *self, double *gmax)
             m = fmax(m, fabs(gp));
         }
     }
+    if (!isfinite(cost))
+        return HUGE_VAL;
     for (int w = 0; w < 2; w++)
         kron_add_lower(c->U + (size_t)(12 * w) * NC + 12 * w, acc[w], 3, 1.0);
     for (int a = 0; a < NC; a++) {
