@@ -55,7 +55,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         int p = idx[q];
         for (int v = 0; v < 3; v++) {
             double r[2];
-            if (!sfmi_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
+            if (!sfmi_tf_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
                 return HUGE_VAL;
             c += r[0] * r[0] + r[1] * r[1];
         }
@@ -73,7 +73,7 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
     const double *B = b->B;
     for (int v = 0; v < 3; v++) {
         double JX[8];
-        if (!sfmi_trifocal_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX,
+        if (!sfmi_tf_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX,
                                     v > 0 ? &b->cam[3 * (v - 1)] : NULL))
             return 0;
         for (int h = 0; h < 2; h++)

@@ -22,25 +22,7 @@ enum { GN_ITERS = 4 };
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
                           double JX[8], double cam[3])
 {
-    double p[3];
-    for (int k = 0; k < 3; k++)
-        p[k] = P[k * 4] * X[0] + P[k * 4 + 1] * X[1] + P[k * 4 + 2] * X[2] + P[k * 4 + 3] * X[3];
-    if (!(fabs(p[2]) > 1e-300))
-        return 0;
-    double iw = 1.0 / p[2], u = p[0] * iw, v = p[1] * iw;
-    r[0] = u - x[0];
-    r[1] = v - x[1];
-    if (JX != NULL)
-        for (int c = 0; c < 4; c++) {
-            JX[c] = (P[c] - u * P[8 + c]) * iw;
-            JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
-        }
-    if (cam != NULL) {
-        cam[0] = iw;
-        cam[1] = u;
-        cam[2] = v;
-    }
-    return 1;
+    return sfmi_tf_residual_impl(P, X, x, r, JX, cam);
 }
 
 /* Summed squared residual of the three views at X, with the rows of
@@ -50,7 +32,7 @@ static double cost_jac(const double *P[3], const double *x[3], const double X[4]
 {
     double c = 0;
     for (int v = 0; v < 3; v++) {
-        if (!sfmi_trifocal_residual(P[v], X, x[v], &r[2 * v], &J[8 * v], NULL))
+        if (!sfmi_tf_residual(P[v], X, x[v], &r[2 * v], &J[8 * v], NULL))
             return HUGE_VAL;
         c += r[2 * v] * r[2 * v] + r[2 * v + 1] * r[2 * v + 1];
     }

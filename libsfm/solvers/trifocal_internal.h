@@ -22,6 +22,39 @@ void sfmi_trifocal_fix_sign(double *v, int n);
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
                           double JX[8], double cam[3]);
 
+/* Its body, for the callers in the trifocal files: where the build is for
+ * speed they inline it (sfmi_tf_residual; RANSAC asks for it for every
+ * point of every view of every step), where it is for size they call the
+ * one external copy. */
+static inline int sfmi_tf_residual_impl(const double P[12], const double X[4], const double x[2],
+                                        double r[2], double JX[8], double cam[3])
+{
+    double p[3];
+    for (int k = 0; k < 3; k++)
+        p[k] = P[k * 4] * X[0] + P[k * 4 + 1] * X[1] + P[k * 4 + 2] * X[2] + P[k * 4 + 3] * X[3];
+    if (!(fabs(p[2]) > 1e-300))
+        return 0;
+    double iw = 1.0 / p[2], u = p[0] * iw, v = p[1] * iw;
+    r[0] = u - x[0];
+    r[1] = v - x[1];
+    if (JX != NULL)
+        for (int c = 0; c < 4; c++) {
+            JX[c] = (P[c] - u * P[8 + c]) * iw;
+            JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
+        }
+    if (cam != NULL) {
+        cam[0] = iw;
+        cam[1] = u;
+        cam[2] = v;
+    }
+    return 1;
+}
+#if defined(__OPTIMIZE_SIZE__)
+#define sfmi_tf_residual sfmi_trifocal_residual
+#else
+#define sfmi_tf_residual sfmi_tf_residual_impl
+#endif
+
 /* sfm_trifocal_7pt, also giving the unit epipoles e2, e3 of T (signed as
  * sfm_trifocal_epipoles signs them): those the algebraic step held fixed, so
  * no second extraction is needed. e2, e3 are written on success only. */
