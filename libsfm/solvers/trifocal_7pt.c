@@ -465,9 +465,22 @@ void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double
         tf_rows f;
         double Av[9], Bq[9], Wp[NW];
         triplet_factors(&d, p, &f, Av, Bq);
+#if defined(__OPTIMIZE_SIZE__)
         for (int c = 0, w = 0; c < 9; c++)
             for (int c2 = c; c2 < 9; c2++, w++)
                 Wp[w] = Av[(c / 3) * 3 + c2 / 3] * Bq[(c % 3) * 3 + c2 % 3];
+#else
+        /* the same products, their indices read from a table instead of
+         * divisions by 3 */
+        static const unsigned char ia[NW] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 0, 0, 1, 1, 1, 2,
+                                             2, 2, 0, 1, 1, 1, 2, 2, 2, 4, 4, 4, 5, 5, 5,
+                                             4, 4, 5, 5, 5, 4, 5, 5, 5, 8, 8, 8, 8, 8, 8};
+        static const unsigned char ib[NW] = {0, 1, 2, 0, 1, 2, 0, 1, 2, 4, 5, 3, 4, 5, 3,
+                                             4, 5, 8, 6, 7, 8, 6, 7, 8, 0, 1, 2, 0, 1, 2,
+                                             4, 5, 3, 4, 5, 8, 6, 7, 8, 0, 1, 2, 4, 5, 8};
+        for (int w = 0; w < NW; w++)
+            Wp[w] = Av[ia[w]] * Bq[ib[w]];
+#endif
         kron_pack(acc, NW, f.u, Wp);
     }
     memset(G, 0, sizeof(double) * NU * NU);
