@@ -74,7 +74,7 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
     for (int v = 0; v < 3; v++) {
         double JX[8];
         if (!sfmi_tf_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX,
-                                    v > 0 ? &b->cam[3 * (v - 1)] : NULL))
+                              v > 0 ? &b->cam[3 * (v - 1)] : NULL))
             return 0;
         for (int h = 0; h < 2; h++)
             for (int c = 0; c < 3; c++)
