@@ -55,7 +55,7 @@ static double total_cost(const double *const xs[3], const int *idx, int n, const
         int p = idx[q];
         for (int v = 0; v < 3; v++) {
             double r[2];
-            if (!sfmi_trifocal_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
+            if (!sfmi_tf_residual(P[v], &X[4 * q], &xs[v][2 * p], r, NULL, NULL))
                 return HUGE_VAL;
             c += r[0] * r[0] + r[1] * r[1];
         }
@@ -69,12 +69,12 @@ int sfmi_tf_point_jacobians(const double *const xs[3], int p, const double *P2, 
                            const double X[4], point_blocks *b)
 {
     const double *P[3] = {P1, P2, P3};
-    sfmi_lm_sphere_basis(X, 4, b->B);
+    sfmi_tf_sphere_basis4(X, b->B);
     const double *B = b->B;
     for (int v = 0; v < 3; v++) {
         double JX[8];
-        if (!sfmi_trifocal_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX,
-                                    v > 0 ? &b->cam[3 * (v - 1)] : NULL))
+        if (!sfmi_tf_residual(P[v], X, &xs[v][2 * p], &b->r[2 * v], JX,
+                              v > 0 ? &b->cam[3 * (v - 1)] : NULL))
             return 0;
         for (int h = 0; h < 2; h++)
             for (int c = 0; c < 3; c++)
@@ -182,9 +182,10 @@ static double gauge_reg(double u)
 static double tf_linearize(void *self, double *gmax)
 {
     tf_sys *c = self;
-    double cost = total_cost(c->xs, c->idx, c->n, c->A2, c->A3, c->X);
-    if (!isfinite(cost))
-        return HUGE_VAL;
+    /* the cost is summed from the Jacobians' residuals, which are
+     * total_cost's terms in its order (the same bits); a point no view
+     * projects makes it infinite there and here */
+    double cost = 0.0;
     memset(c->U, 0, sizeof(double) * NC * NC);
     memset(c->gc, 0, sizeof c->gc);
     double m = 0.0, acc[2][KRON_MAX][XX_N];
@@ -193,7 +194,9 @@ static double tf_linearize(void *self, double *gmax)
         point_blocks b;
         const double *X = &c->X[4 * q];
         if (!sfmi_tf_point_jacobians(c->xs, c->idx[q], c->A2, c->A3, X, &b))
-            continue;
+            return HUGE_VAL;
+        for (int v = 0; v < 3; v++)
+            cost += b.r[2 * v] * b.r[2 * v] + b.r[2 * v + 1] * b.r[2 * v + 1];
         for (int w = 0; w < 2; w++) {
             const double iw = b.cam[3 * w], u = b.cam[3 * w + 1], v = b.cam[3 * w + 2];
             const double *r = &b.r[2 + 2 * w];
@@ -213,6 +216,8 @@ static double tf_linearize(void *self, double *gmax)
             m = fmax(m, fabs(gp));
         }
     }
+    if (!isfinite(cost))
+        return HUGE_VAL;
     for (int w = 0; w < 2; w++)
         kron_add_lower(c->U + (size_t)(12 * w) * NC + 12 * w, acc[w], 3, 1.0);
     for (int a = 0; a < NC; a++) {

@@ -244,7 +244,10 @@ static void kron_unpack(double *dst, int ld, int bs, const double *acc)
  * n x n G (row-major; the strict lower part zero and not read) becomes R,
  * upper triangular with R^T R = G. A pivot at or below eps times G's
  * largest diagonal entry (G singular to rounding: the null vector sought) is
- * raised to it, as the inverse iteration floors R's pivots. */
+ * raised to it, as the inverse iteration floors R's pivots. Row by row, each
+ * entry G_kj less the products R_pk R_pj of the rows above in the order of p
+ * (the sequence of updates a right-looking elimination applies to it, so
+ * the same bits), then scaled: the sum stays in a register. */
 static void gram_factor(double *G, int n)
 {
     double dmax = 0.0;
@@ -253,13 +256,28 @@ static void gram_factor(double *G, int n)
     const double floor = DBL_EPSILON * dmax;
     for (int k = 0; k < n; k++) {
         double *rk = G + k * n;
-        const double d = rk[k] > floor ? rk[k] : floor;
+        double d = rk[k];
+        for (int p = 0; p < k; p++)
+            d -= G[p * n + k] * G[p * n + k];
+        d = d > floor ? d : floor;
         const double r = sqrt(d), inv = 1.0 / r;
         rk[k] = r;
-        for (int j = k + 1; j < n; j++)
-            rk[j] *= inv;
-        for (int i = k + 1; i < n; i++)
-            axpy(G + i * n + i, -rk[i], rk + i, n - i);
+        for (int j = k + 1; j < n; j++) {
+            double s = rk[j];
+            const double *a = G + k, *b = G + j;
+            int p = 0;
+#if !defined(__OPTIMIZE_SIZE__)
+            for (; p + 4 <= k; p += 4) {
+                s -= a[p * n] * b[p * n];
+                s -= a[(p + 1) * n] * b[(p + 1) * n];
+                s -= a[(p + 2) * n] * b[(p + 2) * n];
+                s -= a[(p + 3) * n] * b[(p + 3) * n];
+            }
+#endif
+            for (; p < k; p++)
+                s -= a[p * n] * b[p * n];
+            rk[j] = s * inv;
+        }
     }
 }
 
@@ -447,9 +465,22 @@ void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double
         tf_rows f;
         double Av[9], Bq[9], Wp[NW];
         triplet_factors(&d, p, &f, Av, Bq);
+#if defined(__OPTIMIZE_SIZE__)
         for (int c = 0, w = 0; c < 9; c++)
             for (int c2 = c; c2 < 9; c2++, w++)
                 Wp[w] = Av[(c / 3) * 3 + c2 / 3] * Bq[(c % 3) * 3 + c2 % 3];
+#else
+        /* the same products, their indices read from a table instead of
+         * divisions by 3 */
+        static const unsigned char ia[NW] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 0, 0, 1, 1, 1, 2,
+                                             2, 2, 0, 1, 1, 1, 2, 2, 2, 4, 4, 4, 5, 5, 5,
+                                             4, 4, 5, 5, 5, 4, 5, 5, 5, 8, 8, 8, 8, 8, 8};
+        static const unsigned char ib[NW] = {0, 1, 2, 0, 1, 2, 0, 1, 2, 4, 5, 3, 4, 5, 3,
+                                             4, 5, 8, 6, 7, 8, 6, 7, 8, 0, 1, 2, 0, 1, 2,
+                                             4, 5, 3, 4, 5, 8, 6, 7, 8, 0, 1, 2, 4, 5, 8};
+        for (int w = 0; w < NW; w++)
+            Wp[w] = Av[ia[w]] * Bq[ib[w]];
+#endif
         kron_pack(acc, NW, f.u, Wp);
     }
     memset(G, 0, sizeof(double) * NU * NU);

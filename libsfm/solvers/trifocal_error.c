@@ -22,25 +22,7 @@ enum { GN_ITERS = 4 };
 int sfmi_trifocal_residual(const double P[12], const double X[4], const double x[2], double r[2],
                           double JX[8], double cam[3])
 {
-    double p[3];
-    for (int k = 0; k < 3; k++)
-        p[k] = P[k * 4] * X[0] + P[k * 4 + 1] * X[1] + P[k * 4 + 2] * X[2] + P[k * 4 + 3] * X[3];
-    if (!(fabs(p[2]) > 1e-300))
-        return 0;
-    double iw = 1.0 / p[2], u = p[0] * iw, v = p[1] * iw;
-    r[0] = u - x[0];
-    r[1] = v - x[1];
-    if (JX != NULL)
-        for (int c = 0; c < 4; c++) {
-            JX[c] = (P[c] - u * P[8 + c]) * iw;
-            JX[4 + c] = (P[4 + c] - v * P[8 + c]) * iw;
-        }
-    if (cam != NULL) {
-        cam[0] = iw;
-        cam[1] = u;
-        cam[2] = v;
-    }
-    return 1;
+    return sfmi_tf_residual_impl(P, X, x, r, JX, cam);
 }
 
 /* Summed squared residual of the three views at X, with the rows of
@@ -50,7 +32,7 @@ static double cost_jac(const double *P[3], const double *x[3], const double X[4]
 {
     double c = 0;
     for (int v = 0; v < 3; v++) {
-        if (!sfmi_trifocal_residual(P[v], X, x[v], &r[2 * v], &J[8 * v], NULL))
+        if (!sfmi_tf_residual(P[v], X, x[v], &r[2 * v], &J[8 * v], NULL))
             return HUGE_VAL;
         c += r[2 * v] * r[2 * v] + r[2 * v + 1] * r[2 * v + 1];
     }
@@ -66,11 +48,11 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_ARGUMENT;
     const double *P[3] = {P1, P2, P3};
     const double *x[3] = {x1, x2, x3};
-    for (int v = 0; v < 3; v++)
-        if (!sfmi_la_all_finite(P[v], 12) || !sfmi_la_all_finite(x[v], 2))
-            return SFM_E_NONFINITE;
     /* Linear start from the three views; a point at infinity of the
-     * projective frame comes back as a direction, homogeneous (d, 0). */
+     * projective frame comes back as a direction, homogeneous (d, 0).
+     * sfm_triangulate_dlt tests the same cameras and pixels for NaN and Inf
+     * first (SFM_E_NONFINITE, nothing written), so they are not tested here
+     * again: RANSAC asks for this error thousands of times a run. */
     double Ps[36], xv[6], X3[3], X[4];
     int flag;
     for (int v = 0; v < 3; v++) {
@@ -94,7 +76,7 @@ int sfm_trifocal_point_error(const double P1[12], const double P2[12], const dou
         return SFM_E_SINGULAR;
     for (int it = 0; it < GN_ITERS; it++) {
         double B[12], H[9] = {0}, Hi[9], g[3] = {0}, d[3];
-        sfmi_lm_sphere_basis(X, 4, B);
+        sfmi_tf_sphere_basis4(X, B);
         for (int h = 0; h < 6; h++) {
             const double *j = &J[4 * h];
             double jb[3];
