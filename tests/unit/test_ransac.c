@@ -286,7 +286,13 @@ SFM_TEST(ransac_block_residual_same_run)
             est.residuals = line_residuals;
             line_block_calls = 0;
             int b = line_run(&est, &opt, m2, mask2, &s2);
+            /* the Cortex-M7 variant builds the engine for size
+             * (mk/cross.mk), which leaves block residuals unused */
+#if !defined(__ARM_ARCH_7EM__)
             SFM_CHECK(line_block_calls > 0);
+#else
+            SFM_CHECK_EQ_INT(line_block_calls, 0);
+#endif
             SFM_CHECK(a > 0);
             SFM_CHECK_EQ_INT(a, b);
             SFM_CHECK(memcmp(m1, m2, sizeof m1) == 0);
