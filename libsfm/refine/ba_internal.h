@@ -31,8 +31,6 @@ typedef struct sfmi_ba_ws {
     int *cam_col;  /* m x qmax: local column of each */
     int *cam_gi;   /* m x qmax: index in the reduced system */
     int *cam_base; /* m: cam_gi[0] when the indices are consecutive, else -1 */
-    int *cam_split; /* m: s when cam_gi[0..s) and cam_gi[s..q) are each consecutive
-                     * (s = q: one run), else -1 */
     int *pt_start; /* n + 1 */
     int *pt_obs;   /* nobs, observations grouped by point */
     int *pt_free;  /* n */

@@ -60,7 +60,6 @@ void sfmi_ba_carve(sfmi_arena *a, const sfm_ba_dims *d, sfmi_ba_ws *w, int *qmax
     w->cam_col = SFM_ARENA_ARRAY(a, int, (size_t)m * qmax);
     w->cam_gi = SFM_ARENA_ARRAY(a, int, (size_t)m * qmax);
     w->cam_base = SFM_ARENA_ARRAY(a, int, m);
-    w->cam_split = SFM_ARENA_ARRAY(a, int, m);
     w->pt_start = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
     w->pt_obs = SFM_ARENA_ARRAY(a, int, no);
     w->pt_free = SFM_ARENA_ARRAY(a, int, (size_t)n + 1);
@@ -254,22 +253,6 @@ static int index_cameras(sfmi_ba_ctx *c, int gauge, int ncmax)
         for (int e = 1; e < w->cam_q[ci]; e++)
             contig = contig && gi[e] == gi[0] + e;
         w->cam_base[ci] = contig ? gi[0] : -1;
-        /* at most two runs: the camera's own block, then the shared
-         * intrinsics (split there even when the two touch, so that the runs
-         * of two cameras are equal or disjoint) */
-        int q = w->cam_q[ci], s = 1;
-        if (o->intrinsics == SFM_BA_INTRINSICS_SHARED && q > c->nic && c->nic > 0) {
-            s = q - c->nic;
-            for (int e = 1; e < s; e++)
-                s = gi[e] == gi[0] + e ? s : -1;
-        } else {
-            while (s < q && gi[s] == gi[0] + s)
-                s++;
-        }
-        int two = q > 0 && s > 0;
-        for (int e = s + 1; e < q; e++)
-            two = two && gi[e] == gi[s] + (e - s);
-        w->cam_split[ci] = two ? s : -1;
     }
     c->nc = nc;
     return nc > ncmax ? SFM_E_ARGUMENT : SFM_OK; /* cannot happen: ncmax bounds every layout */

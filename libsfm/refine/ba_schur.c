@@ -230,24 +230,6 @@ static double eval_cost(const sfmi_ba_ctx *c, const double *R, const double *t, 
     return isfinite(cost) ? cost : HUGE_VAL;
 }
 
-/* The runs of consecutive reduced-system indices of a camera's local
- * columns (ba_layout.c's cam_split): start index, first local column and
- * length of each; returns their count (1 or 2). */
-static inline int camera_runs(const sfmi_ba_ws *w, int ci, int qmax, int st[2], int of[2], int ln[2])
-{
-    const int *gi = w->cam_gi + (size_t)ci * qmax;
-    const int q = w->cam_q[ci], s = w->cam_split[ci];
-    st[0] = gi[0];
-    of[0] = 0;
-    ln[0] = s;
-    if (s == q)
-        return 1;
-    st[1] = gi[s];
-    of[1] = s;
-    ln[1] = q - s;
-    return 2;
-}
-
 /* Residuals, Jacobians, U, gc (= -J^T r), V, gp at the current estimate;
  * the cost (+Inf when not finite) and max |gradient|. U holds only its
  * lower triangle. */
@@ -285,26 +267,6 @@ double sfmi_ba_linearize(void *self, double *grad_max)
             jc[qmax + a] = sc * J[NLOC + col[a]];
         }
         int g0 = w->cam_base[ci];
-        if (g0 < 0 && w->cam_split[ci] > 0) {
-            /* two runs (a pose block, the shared intrinsics): U block by block */
-            int st[2], of[2], ln[2];
-            const int nr = camera_runs(w, ci, qmax, st, of, ln);
-            for (int a = 0; a < q; a++)
-                w->gc[gi[a]] -= jc[a] * rx + jc[qmax + a] * ry;
-            for (int ra = 0; ra < nr; ra++)
-                for (int a = 0; a < ln[ra]; a++) {
-                    const double j0 = jc[of[ra] + a], j1 = jc[qmax + of[ra] + a];
-                    double *Urow = w->U + (size_t)(st[ra] + a) * nc;
-                    for (int rb = 0; rb < nr; rb++) {
-                        const double *b0 = jc + of[rb], *b1 = b0 + qmax;
-                        const int nb = rb == ra ? a + 1 : st[rb] < st[ra] ? ln[rb] : 0;
-                        double *Ub = Urow + st[rb];
-                        for (int b = 0; b < nb; b++)
-                            Ub[b] += j0 * b0[b] + j1 * b1[b];
-                    }
-                }
-            q = 0; /* U and gc are formed: the entry-wise loop below has nothing left */
-        }
         for (int a = 0; a < q; a++) {
             double j0 = jc[a], j1 = jc[qmax + a];
             int ga = gi[a];
@@ -370,75 +332,6 @@ static void sub_outer6(double *restrict S, int nc, const double *restrict A, con
         for (int b = 0; b < 6; b++)
             Srow[b] -= f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
     }
-}
-
-/* S -= F F2^T folded into the lower triangle for the observation pair (F of
- * camera ci, F2 of camera c2; diag: the same observation), block by block
- * over the cameras' index runs instead of entry by entry. Each run of one
- * camera must equal or be disjoint from each run of the other; returns 0,
- * S untouched, when not (or when a camera has more than two runs). The
- * entries receive the same products in the same order as the entry-wise
- * loop: an entry gets two products of one pair only through a run the two
- * cameras share, and the runs are visited in the order of the local
- * columns. */
-static int sub_pair_runs(double *restrict S, int nc, const sfmi_ba_ws *w, int qmax, int ci,
-                         const double *restrict F, int c2, const double *restrict F2, int diag)
-{
-    if (w->cam_split[ci] < 0 || w->cam_split[c2] < 0)
-        return 0;
-    int sa[2], oa[2], la[2], sb[2], ob[2], lb[2];
-    const int na = camera_runs(w, ci, qmax, sa, oa, la);
-    const int nb = camera_runs(w, c2, qmax, sb, ob, lb);
-    for (int ra = 0; ra < na; ra++)
-        for (int rb = 0; rb < nb; rb++) {
-            const int same = sa[ra] == sb[rb] && la[ra] == lb[rb];
-            const int apart = sb[rb] + lb[rb] <= sa[ra] || sa[ra] + la[ra] <= sb[rb];
-            if (!same && !apart)
-                return 0;
-        }
-    for (int ra = 0; ra < na; ra++) {
-        const double *A0 = F + oa[ra], *A1 = A0 + qmax, *A2 = A0 + 2 * qmax;
-        const int ga = sa[ra], qa = la[ra];
-        for (int rb = 0; rb < nb; rb++) {
-            const double *B0 = F2 + ob[rb], *B1 = B0 + qmax, *B2 = B0 + 2 * qmax;
-            const int gb = sb[rb], qb = lb[rb];
-            if (ga == gb) { /* the same run */
-                for (int a = 0; a < qa; a++) {
-                    const double f0 = A0[a], f1 = A1[a], f2 = A2[a];
-                    double *Srow = S + (size_t)(ga + a) * nc + ga;
-                    if (diag) {
-                        for (int b = 0; b <= a; b++)
-                            Srow[b] -= f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
-                        continue;
-                    }
-                    for (int b = 0; b < qb; b++) {
-                        const double v = f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
-                        if (b < a)
-                            Srow[b] -= v;
-                        else if (b > a)
-                            S[(size_t)(ga + b) * nc + ga + a] -= v;
-                        else
-                            Srow[b] -= 2.0 * v;
-                    }
-                }
-            } else if (gb < ga) { /* below the diagonal */
-                for (int a = 0; a < qa; a++) {
-                    const double f0 = A0[a], f1 = A1[a], f2 = A2[a];
-                    double *Srow = S + (size_t)(ga + a) * nc + gb;
-                    for (int b = 0; b < qb; b++)
-                        Srow[b] -= f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
-                }
-            } else if (!diag) { /* above: its transpose */
-                for (int a = 0; a < qa; a++) {
-                    const double f0 = A0[a], f1 = A1[a], f2 = A2[a];
-                    double *Scol = S + (size_t)gb * nc + ga + a;
-                    for (int b = 0; b < qb; b++)
-                        Scol[(size_t)b * nc] -= f0 * B0[b] + f1 * B1[b] + f2 * B2[b];
-                }
-            }
-        }
-    }
-    return 1;
 }
 
 /* Forms S (lower) = U + Dc - sum F F^T and its right-hand side in dc, with the
@@ -532,9 +425,7 @@ int sfmi_ba_form_reduced(sfmi_ba_ctx *c, double mu)
                     }
                     continue;
                 }
-            general:
-                if (sub_pair_runs(w->S, nc, w, qmax, ci, F, c2, F2, i2 == i))
-                    continue;
+            general:;
                 const int *gi2 = w->cam_gi + (size_t)c2 * qmax;
                 for (int a = 0; a < q; a++) {
                     double f0 = F[a], f1 = F[qmax + a], f2 = F[2 * qmax + a];
