@@ -33,11 +33,15 @@
  * params.camera.fx; the first frame passing it becomes the middle keyframe
  * of a triple, the first later frame with twice its parallax the third, and
  * their triplets go through sfm_recon_three_view_uncalibrated (at most 256,
- * evenly spread). A refusal (too little baseline for three views, a focal
- * length the motion does not determine) moves the middle keyframe on to the
- * next frame with a quarter more parallax, so both baselines grow; on
- * success the ordinary initialisation runs on that frame with the focal
- * length found, which the windowed BA then refines (one focal shared by the
+ * evenly spread), answered when the focal length's relative standard
+ * deviation is 2.5 % or less (5 % at two sigma: the BA refines it). A
+ * refusal (too little baseline for three views, a focal length the motion
+ * does not determine) moves the middle keyframe on to the next frame with a
+ * quarter more parallax, so both baselines grow; when the parallax to the
+ * reference falls instead (to 0.8 of its peak since the middle keyframe or
+ * the refusal: a camera turning back), the triple starts over with this
+ * frame as the reference. On success the ordinary initialisation runs on
+ * that frame with the focal length found, which the windowed BA then refines (one focal shared by the
  * window) over its first `window` adjustments and holds afterwards (a
  * single window's estimate wanders by a few percent; refined in every
  * window the errors accumulate). No frame is tracked before the focal

@@ -120,6 +120,8 @@ struct sfm_vo {
     int cal_refinements; /* windowed BAs that refined the focal length */
     int cal_retry;      /* the last attempt failed: the next frame past
                            cal_next_parallax becomes the middle keyframe */
+    double cal_peak_parallax; /* largest median parallax (deg) to the reference
+                                 since the middle keyframe or the last failure */
 };
 
 /* ---- geometry helpers (vo_geom.c) ---- */
