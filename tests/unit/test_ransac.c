@@ -222,6 +222,19 @@ SFM_TEST(ransac_line_outlier_levels)
     }
 }
 
+/* Two runs gave the same answer: count, line bits, mask (mask, mask2),
+ * samples and models. */
+static void check_same_run(sfm_test_ctx *t, int a, int b, const double m1[3], const double m2[3],
+                           const sfm_ransac_stats *s1, const sfm_ransac_stats *s2)
+{
+    SFM_CHECK(a > 0);
+    SFM_CHECK_EQ_INT(a, b);
+    SFM_CHECK(memcmp(m1, m2, 3 * sizeof(double)) == 0);
+    SFM_CHECK(memcmp(mask, mask2, sizeof mask) == 0);
+    SFM_CHECK_EQ_INT(s1->iterations, s2->iterations);
+    SFM_CHECK_EQ_INT(s1->models, s2->models);
+}
+
 SFM_TEST(ransac_same_seed_identical)
 {
     double line[3], m1[3], m2[3];
@@ -234,12 +247,7 @@ SFM_TEST(ransac_same_seed_identical)
     sfm_ransac_stats s1, s2;
     int a = line_run(&est, &opt, m1, mask, &s1);
     int b = line_run(&est, &opt, m2, mask2, &s2);
-    SFM_CHECK(a > 0);
-    SFM_CHECK_EQ_INT(a, b);
-    SFM_CHECK(memcmp(m1, m2, sizeof m1) == 0);
-    SFM_CHECK(memcmp(mask, mask2, sizeof mask) == 0);
-    SFM_CHECK_EQ_INT(s1.iterations, s2.iterations);
-    SFM_CHECK_EQ_INT(s1.models, s2.models);
+    check_same_run(t, a, b, m1, m2, &s1, &s2);
     /* a different seed draws a different sample sequence */
     opt.seed = 99;
     b = line_run(&est, &opt, m2, mask2, &s2);
@@ -293,12 +301,7 @@ SFM_TEST(ransac_block_residual_same_run)
 #else
             SFM_CHECK_EQ_INT(line_block_calls, 0);
 #endif
-            SFM_CHECK(a > 0);
-            SFM_CHECK_EQ_INT(a, b);
-            SFM_CHECK(memcmp(m1, m2, sizeof m1) == 0);
-            SFM_CHECK(memcmp(mask, mask2, sizeof mask) == 0);
-            SFM_CHECK_EQ_INT(s1.iterations, s2.iterations);
-            SFM_CHECK_EQ_INT(s1.models, s2.models);
+            check_same_run(t, a, b, m1, m2, &s1, &s2);
             SFM_CHECK_EQ_INT(s1.sprt_rejected, s2.sprt_rejected);
             SFM_CHECK_EQ_INT(s1.lo_runs, s2.lo_runs);
             SFM_CHECK_EQ_INT(s1.inner_runs, s2.inner_runs);
