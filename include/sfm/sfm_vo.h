@@ -193,7 +193,11 @@ typedef struct sfm_vo_frame_result {
     int segment;          /* the map this pose belongs to: 0 for the first,
                              + 1 at each re-initialisation after a loss (a new
                              segment: its scale and origin are only guessed
-                             from the motion before the loss) */
+                             from the motion before the loss), and at each
+                             reference frame that starts over before the
+                             first map (it reports the origin of its own
+                             segment: nothing ties it to the frame that
+                             reported the origin before it) */
 } sfm_vo_frame_result;
 
 typedef struct sfm_vo sfm_vo;

@@ -282,6 +282,7 @@ int sfm_vo_reset(sfm_vo *vo)
     vo->kf_tracked = 0;
     vo->base_len = 1.0;
     vo->segment = 0;
+    vo->origin_given = 0;
     vo->seg_speed = 0.0;
     vo->feat_count = vo->p.max_features;
     vo->lost_frames = 0;
@@ -459,6 +460,14 @@ static void start_reference(sfm_vo *vo, const double *gravity, sfm_vo_frame_resu
     r->state = SFM_VO_INITIALISING;
     r->is_keyframe = 1;
     if (!vo->ever_mapped) {
+        /* A reference that starts over before the first map (no overlap
+         * left, too few points triangulated, a self-calibration triple
+         * starting over) is not tied to the one that reported the origin
+         * before it: it reports the origin of a new segment, as after a
+         * loss, rather than the same origin for another place. */
+        if (vo->origin_given)
+            vo->segment++;
+        vo->origin_given = 1;
         set_pose(r, R, t); /* the origin, by definition */
         vo->have_last = 0;
         remember(vo, R, t);

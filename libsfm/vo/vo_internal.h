@@ -106,6 +106,8 @@ struct sfm_vo {
     int feat_count;    /* features asked of the detector this frame */
     int lost_frames;
     int ever_mapped;
+    int origin_given;  /* a reference frame has reported the origin (before
+                          the first map) */
     int segment;       /* maps initialised after the first (re-initialisations) */
     double seg_speed;  /* units per frame of the last tracked motion before a loss */
 

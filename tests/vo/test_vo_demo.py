@@ -107,7 +107,8 @@ def test_self_calibration_starts_over_when_the_camera_turns_back(rec):
     frame as the reference (measured: at frame 6 on the way back, 1.71 deg
     against a peak of 2.15), instead of waiting for a parallax that does not
     come; the forward run then calibrates within 3 % (measured: 490.7 px at
-    frame 23, 499.5 px at frame 59)."""
+    frame 23, 499.5 px at frame 59). Each reference that starts over is the
+    origin of a new segment (measured: three, the last one tracked)."""
     from libsfm import VisualOdometry
     vo = VisualOdometry(640, 480, None, max_features=500, window=5, n_levels=3)
     order = list(range(0, 9)) + list(range(7, -1, -1)) + list(range(1, 60))
@@ -118,6 +119,13 @@ def test_self_calibration_starts_over_when_the_camera_turns_back(rec):
     back = res[9:17]
     assert any(r.is_keyframe and r.state == "initialising" for r in back), \
         [(r.state, r.is_keyframe, r.median_parallax_deg) for r in back]
+    # each reference that starts over reports the origin of a new segment,
+    # not frame 0's origin for another place; the tracked frames share the
+    # segment of the reference the map grew from
+    origins = [r for r in res if r.is_keyframe and r.state == "initialising" and r.has_pose]
+    assert len(origins) >= 2 and [r.segment for r in origins] == list(range(len(origins)))
+    tracked = [r for r in res if r.state == "tracking"]
+    assert tracked and all(r.segment == origins[-1].segment for r in tracked)
     found = [r for r in res if r.focal > 0]
     assert found and abs(found[0].focal - 500.0) < 15.0 and abs(res[-1].focal - 500.0) < 15.0
     assert res[-1].state == "tracking"
