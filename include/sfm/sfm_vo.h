@@ -41,8 +41,9 @@
  * reference falls instead (to 0.8 of its peak since the middle keyframe or
  * the refusal: a camera turning back), the triple starts over with this
  * frame as the reference. On success the ordinary initialisation runs on
- * that frame with the focal length found, which the windowed BA then refines (one focal shared by the
- * window) over its first `window` adjustments and holds afterwards (a
+ * that frame with the focal length found, which the windowed BA then
+ * refines (one focal shared by the window) over its first `window`
+ * adjustments and holds afterwards (a
  * single window's estimate wanders by a few percent; refined in every
  * window the errors accumulate). No frame is tracked before the focal
  * length is known; sfm_vo_frame_result.focal reports it (0 until then).

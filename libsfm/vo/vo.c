@@ -708,7 +708,8 @@ static int initialise(sfm_vo *vo, const double *gravity, int want_cov, double t0
  * sfm_recon_three_view_uncalibrated; on success the middle keyframe is
  * dropped and the ordinary initialisation runs on this frame with the found
  * focal length. A refusal (focal length not determined: translation only,
- * motion along the axis, too few triplets) starts the triple over from this
+ * motion along the axis, too few triplets) moves the middle keyframe on
+ * (below); a parallax that falls instead starts the triple over from this
  * frame; until an answer no frame is tracked. */
 static int self_calibrate(sfm_vo *vo, const double *gravity, int want_cov, double t0,
                           sfm_vo_frame_result *r, int nm, int inl, double med)
