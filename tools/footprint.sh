@@ -15,11 +15,14 @@
 # (r2r_*, in solvers/ and refine/), recon's uncalibrated pipelines, stereo
 # and vo, and the files of UNBUDGETED (later additions to a budgeted module:
 # features/align, the photometric alignment of correspondences for the
-# uncalibrated images path). An entry is a module (every object in it but
+# uncalibrated images path; solvers/trifocal_6pt, the minimal six-point
+# solver the trifocal RANSAC samples with since it replaced the 7-point
+# linear solution there, about 3 KB built for size, which a program that
+# calls the trifocal RANSAC links on top of the budget). An entry is a module (every object in it but
 # r2r_* and UNBUDGETED) or one file.
 set -eu
 BUDGET="core solvers robust refine features recon/three_view_pose"
-UNBUDGETED="features/align"
+UNBUDGETED="features/align solvers/trifocal_6pt"
 budget_objs() {
     for e in $BUDGET; do
         if [ -d "$1/obj/libsfm/$e" ]; then

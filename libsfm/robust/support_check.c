@@ -105,7 +105,7 @@ int sfmi_spread_collinear(double sd_min, double sd_max, double tau)
 }
 
 int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V, double *w,
-                           void *ws, size_t ws_size, double *rho)
+                           void *ws, size_t ws_size, double small2[2])
 {
     if (d < 2 || m < 1)
         return SFM_E_ARGUMENT;
@@ -122,10 +122,11 @@ int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V
             b = w[i];
         }
     }
-    double r = b / ((double)m * (s2 > 0.0 ? s2 : 1e-300));
-    if (rho != NULL)
-        *rho = r;
-    return !(r > SFMI_DESIGN_RHO);
+    if (small2 != NULL) {
+        small2[0] = a;
+        small2[1] = b;
+    }
+    return !(b / ((double)m * (s2 > 0.0 ? s2 : 1e-300)) > SFMI_DESIGN_RHO);
 }
 
 double sfmi_block_sd(const double *cov6, int r0)

@@ -57,10 +57,11 @@ int sfmi_spread_collinear(double sd_min, double sd_max, double tau);
  * coordinate, (tau / 3)^2 times the normalising scale squared) is a second
  * null direction drowned in noise: the support does not determine the
  * model. ws: sfm_sym_eig_workspace_size(d) bytes, V: d x d, w: d doubles.
- * Returns 1 when degenerate, 0 when determined, < 0 on failure. */
+ * small2 (may be NULL) receives the two smallest eigenvalues, smallest
+ * first. Returns 1 when degenerate, 0 when determined, < 0 on failure. */
 #define SFMI_DESIGN_RHO 10.0
 int sfmi_design_degenerate(const double *AtA, int d, int m, double s2, double *V, double *w,
-                           void *ws, size_t ws_size, double *rho);
+                           void *ws, size_t ws_size, double small2[2]);
 
 /* The design test above for a two-view linear model on the pairs
  * g1[j], g2[j] (pixels, j < m, contiguous): homography rows (two per pair,

@@ -440,17 +440,6 @@ static int degenerate_points(const double *x1, const double *x2, const double *x
 
 /* Unit epipole of the denormalised tensor from the normalised one: points
  * map back by H^-1; the sign as sfm_trifocal_epipoles gives it. */
-static int denormalize_epipole(const double H[9], const double eh[3], double e[3])
-{
-    e[0] = (eh[0] - H[2] * eh[2]) / H[0];
-    e[1] = (eh[1] - H[5] * eh[2]) / H[4];
-    e[2] = eh[2];
-    if (sfmi_trifocal_normalize(e, 3) != SFM_OK)
-        return SFM_E_SINGULAR;
-    sfmi_trifocal_fix_sign(e, 3);
-    return SFM_OK;
-}
-
 void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double *G)
 {
     /* per triplet (u u^T) (x) Av (x) Bq (triplet_factors), W = Av (x) Bq
@@ -489,13 +478,6 @@ void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double
 
 int sfm_trifocal_7pt(const double *x1, const double *x2, const double *x3, int n, double T[27],
                      void *ws, size_t ws_size)
-{
-    double e2[3], e3[3];
-    return sfmi_trifocal_7pt_epipoles(x1, x2, x3, n, T, e2, e3, ws, ws_size);
-}
-
-int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double *x3, int n,
-                               double T[27], double e2[3], double e3[3], void *ws, size_t ws_size)
 {
     if (x1 == NULL || x2 == NULL || x3 == NULL || T == NULL || ws == NULL ||
         n < SFM_TRIFOCAL_MIN_POINTS)
@@ -539,11 +521,6 @@ int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double 
     contract(tmp2, H1, 1, 9, out);   /* i with H1 (transposed) */
     if (sfmi_trifocal_normalize(out, NU) != SFM_OK || !sfmi_la_all_finite(out, NU))
         return SFM_E_SINGULAR;
-    double f2[3], f3[3];
-    if (denormalize_epipole(H2, eh2, f2) != SFM_OK || denormalize_epipole(H3, eh3, f3) != SFM_OK)
-        return SFM_E_SINGULAR;
-    memcpy(e2, f2, sizeof f2);
-    memcpy(e3, f3, sizeof f3);
     sfmi_trifocal_fix_sign(out, NU);
     memcpy(T, out, sizeof out);
     return SFM_OK;

@@ -55,11 +55,15 @@ static inline int sfmi_tf_residual_impl(const double P[12], const double X[4], c
 #define sfmi_tf_residual sfmi_tf_residual_impl
 #endif
 
-/* sfm_trifocal_7pt, also giving the unit epipoles e2, e3 of T (signed as
- * sfm_trifocal_epipoles signs them): those the algebraic step held fixed, so
- * no second extraction is needed. e2, e3 are written on success only. */
-int sfmi_trifocal_7pt_epipoles(const double *x1, const double *x2, const double *x3, int n,
-                               double T[27], double e2[3], double e3[3], void *ws, size_t ws_size);
+/* The projective cameras of the minimal problem, six point triplets
+ * (trifocal_6pt.c): x1, x2, x3 pixels (n x 2 each), the triplets idx[0..6)
+ * of them (idx NULL: the first six). P2[k], P3[k] with
+ * P1 = [I | 0], each of unit Frobenius norm, for the k < 3 solutions
+ * returned (0 for a degenerate sample: three of the first four points
+ * collinear in a view, or a step without a unique answer). Every solution
+ * reproduces the six triplets exactly. */
+int sfmi_trifocal_6pt(const double *x1, const double *x2, const double *x3, const int *idx,
+                      double P2[][12], double P3[][12]);
 
 /* The Gram matrix A^T A (27 x 27, upper triangle; the strict lower part
  * zero) of the point equations of sfm_trifocal_7pt for the n triplets

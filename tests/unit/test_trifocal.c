@@ -3,6 +3,7 @@
 
 #include "sfm/sfm.h"
 #include "sfm_test.h"
+#include "solvers/trifocal_internal.h"
 
 /* Random camera P = K [R | t] looking at the origin region. */
 static void random_camera(sfm_test_ctx *t, double P[12], double center_scale)
@@ -387,4 +388,69 @@ SFM_TEST(trifocal_contracts)
     double l[3] = {1, 2, 3};
     SFM_CHECK_EQ_INT(sfm_trifocal_transfer_line(NULL, l, l, l), SFM_E_ARGUMENT);
     SFM_CHECK_EQ_INT(sfm_trifocal_epipoles(T, NULL, l), SFM_E_ARGUMENT);
+}
+
+/* The six-point minimal solver (solvers/trifocal_6pt.c): on noise-free
+ * triplets every solution reproduces its six triplets (three-view
+ * reprojection error after optimal triangulation under the solution's
+ * cameras), one of them is the true tensor, and a seventh triplet, which
+ * the solver never sees, fits that one. A sample with three of its first
+ * four points collinear in a view gives no solution. */
+SFM_TEST(trifocal_6pt_minimal_solutions_contain_truth)
+{
+    static const double I34[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    int found = 0, total = 0, sols = 0, worst_fit_bad = 0;
+    double worst_fit = 0.0;
+    for (int it = 0; it < SFM_TEST_ITERS(500); it++) {
+        double P[3][12], T[27], x1[14], x2[14], x3[14];
+        three_cameras(t, P);
+        if (!make_triplets(t, P, 7, x1, x2, x3, 0.0))
+            continue;
+        SFM_CHECK_EQ_INT(sfm_trifocal_from_cameras(P[0], P[1], P[2], T), SFM_OK);
+        double P2[3][12], P3[3][12];
+        int k = sfmi_trifocal_6pt(x1, x2, x3, NULL, P2, P3);
+        SFM_CHECK(k >= 0 && k <= 3);
+        {   /* the same sample through an index list: the same bits */
+            static const int idx[6] = {0, 1, 2, 3, 4, 5};
+            double Q2[3][12], Q3[3][12];
+            SFM_CHECK_EQ_INT(sfmi_trifocal_6pt(x1, x2, x3, idx, Q2, Q3), k);
+            SFM_CHECK(k == 0 || (memcmp(P2, Q2, sizeof(double) * 12 * (size_t)k) == 0 &&
+                                 memcmp(P3, Q3, sizeof(double) * 12 * (size_t)k) == 0));
+        }
+        total++;
+        sols += k;
+        int hit = 0;
+        for (int s = 0; s < k; s++) {
+            double Ts[27], e, X[4];
+            if (sfm_trifocal_from_cameras(I34, P2[s], P3[s], Ts) != SFM_OK)
+                continue;
+            for (int p = 0; p < 6; p++) {
+                if (sfm_trifocal_point_error(I34, P2[s], P3[s], &x1[2 * p], &x2[2 * p], &x3[2 * p],
+                                             &e, X) != SFM_OK)
+                    e = HUGE_VAL;
+                if (!(e < 1e-12))
+                    worst_fit_bad++;
+                else if (e > worst_fit)
+                    worst_fit = e;
+            }
+            if (dist_up_to_sign(T, Ts, 27) < 1e-6 &&
+                sfm_trifocal_point_error(I34, P2[s], P3[s], &x1[12], &x2[12], &x3[12], &e, X) ==
+                    SFM_OK &&
+                e < 1e-12)
+                hit = 1;
+        }
+        found += hit;
+    }
+    SFM_TEST_LOG("6-point: truth in %d of %d problems, %.2f solutions each, worst fit %.1e px2, "
+                 "%d triplets not reproduced",
+                 found, total, (double)sols / (total > 0 ? total : 1), worst_fit, worst_fit_bad);
+    SFM_CHECK(found >= total - total / 200);
+    SFM_CHECK(worst_fit_bad <= total / 200);
+
+    double P[3][12], x1[14], x2[14], x3[14], P2[3][12], P3[3][12];
+    three_cameras(t, P);
+    SFM_CHECK(make_triplets(t, P, 7, x1, x2, x3, 0.0));
+    x1[4] = 0.5 * (x1[0] + x1[2]);
+    x1[5] = 0.5 * (x1[1] + x1[3]);
+    SFM_CHECK_EQ_INT(sfmi_trifocal_6pt(x1, x2, x3, NULL, P2, P3), 0);
 }
