@@ -2,7 +2,9 @@
  * Trifocal RANSAC: the trifocal tensor and three consistent projective
  * cameras from pixel triplets with outliers, on the engine of sfm_ransac.h.
  *
- * Samples of 7 triplets are fitted by sfm_trifocal_7pt; each triplet is
+ * Minimal samples of 6 triplets are solved exactly (Quan 1995; Hartley &
+ * Zisserman alg. 20.1: up to three projective reconstructions each, every
+ * one verified); each triplet is
  * scored by its three-view reprojection error after optimal triangulation
  * (sfm_trifocal_point_error), as the mean over the three views of the squared
  * pixel error, so opt->threshold is a per-view pixel distance (a triplet
@@ -36,7 +38,12 @@ SFM_API size_t sfm_ransac_trifocal_workspace_size(int n);
  * and SFM_E_NO_MODEL (the support checks of sfm_ransac.h: the inliers on one
  * line or in one cluster in a view, a normalised design with a second null
  * direction -- all points on one plane, no baseline --, or a support no
- * larger than random triplets give). Nothing is written on failure.
+ * larger than random triplets give). The line and cluster tests leave out
+ * each view's 6 points farthest from the support's centroid (a tenth at
+ * most), and the design's second direction is held without the 6 triplets
+ * that weigh most on it: a minimal sample that holds a stray match fits it
+ * exactly, and a stray or two must not make a cluster, a line, a plane or a
+ * pure rotation look determined. Nothing is written on failure.
  */
 SFM_API int sfm_ransac_trifocal(const double *x1, const double *x2, const double *x3, int n,
                                 const sfm_ransac_options *opt, double T[27], double *P,
