@@ -269,20 +269,15 @@ static int to_first_frame(double P[3][12], double P2[12], double P3[12])
     sfmi_matvec3(Mi, m, w);
     double *out[2] = {P2, P3};
     for (int v = 1; v < 3; v++) {
-        double *Q = out[v - 1], nn = 0.0;
+        double *Q = out[v - 1];
         for (int r = 0; r < 3; r++) {
             const double *pr = &P[v][4 * r];
             for (int c = 0; c < 3; c++)
                 Q[4 * r + c] = pr[0] * Mi[c] + pr[1] * Mi[3 + c] + pr[2] * Mi[6 + c];
             Q[4 * r + 3] = pr[3] - (pr[0] * w[0] + pr[1] * w[1] + pr[2] * w[2]);
         }
-        for (int k = 0; k < 12; k++)
-            nn += Q[k] * Q[k];
-        if (!(nn > 0.0) || !(nn < HUGE_VAL))
+        if (sfmi_trifocal_normalize(Q, 12) != SFM_OK)
             return 0;
-        const double s = 1.0 / sqrt(nn);
-        for (int k = 0; k < 12; k++)
-            Q[k] *= s;
     }
     return 1;
 }
@@ -299,15 +294,15 @@ int sfmi_trifocal_6pt(const double *x1, const double *x2, const double *x3, cons
     double A[4][6];
     for (int v = 0; v < 3; v++) {
         const double *a = a5[v], *b = a6[v];
-        double r[6] = {b[0] * a[1], b[0] * a[2], b[1] * a[0], b[1] * a[2], b[2] * a[0], b[2] * a[1]};
-        double nn = 0.0;
-        for (int c = 0; c < 6; c++)
-            nn += r[c] * r[c];
-        if (!(nn > 0.0) || !(nn < HUGE_VAL))
+        double *r = A[v];
+        r[0] = b[0] * a[1];
+        r[1] = b[0] * a[2];
+        r[2] = b[1] * a[0];
+        r[3] = b[1] * a[2];
+        r[4] = b[2] * a[0];
+        r[5] = b[2] * a[1];
+        if (sfmi_trifocal_normalize(r, 6) != SFM_OK)
             return 0;
-        const double s = 1.0 / sqrt(nn);
-        for (int c = 0; c < 6; c++)
-            A[v][c] = r[c] * s;
     }
     for (int c = 0; c < 6; c++)
         A[3][c] = 0.4082482904638631; /* 1 / sqrt 6 */
@@ -317,22 +312,17 @@ int sfmi_trifocal_6pt(const double *x1, const double *x2, const double *x3, cons
     /* orthonormal pencil, then the chart g' + a h' whose leading
      * coefficient det h' is the largest of four directions, so that no
      * solution sits at a = infinity */
-    double gg = 0.0, gh = 0.0;
-    for (int c = 0; c < 6; c++)
-        gg += g[c] * g[c];
-    for (int c = 0; c < 6; c++)
-        g[c] /= sqrt(gg);
+    if (sfmi_trifocal_normalize(g, 6) != SFM_OK)
+        return 0;
+    double gh = 0.0, hh = 0.0;
     for (int c = 0; c < 6; c++)
         gh += g[c] * h[c];
-    double hh = 0.0;
     for (int c = 0; c < 6; c++) {
         h[c] -= gh * g[c];
         hh += h[c] * h[c];
     }
-    if (!(hh > TINY))
+    if (!(hh > TINY) || sfmi_trifocal_normalize(h, 6) != SFM_OK)
         return 0;
-    for (int c = 0; c < 6; c++)
-        h[c] /= sqrt(hh);
     static const double dir[4][2] = {{1.0, 0.0}, {0.0, 1.0}, {0.7071067811865476, 0.7071067811865476},
                                      {0.7071067811865476, -0.7071067811865476}};
     int bestd = 0;
