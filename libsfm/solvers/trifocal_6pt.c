@@ -27,6 +27,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/linalg_util.h"
+#include "solvers/normalize.h"
 #include "solvers/small_math.h"
 #include "solvers/trifocal_internal.h"
 #include "sfm/sfm_poly.h"
@@ -37,57 +39,36 @@
  * in a view, a point on a line of the basis, coincident dual points). */
 #define TINY 1e-12
 
-/* Inverse of a 3x3 matrix by its adjugate; 0 when det is below TINY of the
- * product of the column norms (a nearly singular basis). */
+/* Inverse of a 3x3 matrix (sfmi_mat3_inverse); 0 when |det| is below TINY
+ * of the product of the column norms (a nearly singular basis). */
 static int inv3(const double M[9], double Mi[9])
 {
-    double c0[3] = {M[0], M[3], M[6]}, c1[3] = {M[1], M[4], M[7]}, c2[3] = {M[2], M[5], M[8]};
-    double r0[3], r1[3], r2[3];
-    sfmi_cross3(c1, c2, r0);
-    sfmi_cross3(c2, c0, r1);
-    sfmi_cross3(c0, c1, r2);
-    double det = sfmi_dot3(c0, r0);
-    double scale = sqrt(sfmi_dot3(c0, c0) * sfmi_dot3(c1, c1) * sfmi_dot3(c2, c2));
-    if (!(fabs(det) > TINY * scale))
-        return 0;
-    for (int k = 0; k < 3; k++) {
-        Mi[k] = r0[k] / det;
-        Mi[3 + k] = r1[k] / det;
-        Mi[6 + k] = r2[k] / det;
-    }
-    return 1;
+    double n = 1.0;
+    for (int c = 0; c < 3; c++)
+        n *= M[c] * M[c] + M[3 + c] * M[3 + c] + M[6 + c] * M[6 + c];
+    return sfmi_mat3_inverse(M, Mi, TINY * sqrt(n));
 }
 
-/* One view: the similarity N (centroid to the origin, mean distance sqrt 2)
- * and the basis B = N^-1-free part with B e_i ~ y_i (i < 3), B (1,1,1) ~ y_3
- * for the normalised points y = N x; a5, a6 the points 5 and 6 in the
- * canonical frame (B^-1 y). G = N^-1 B maps the canonical frame to pixels.
- * 0 when the first four points do not form a projective basis. */
+/* One view: the Hartley similarity N of its six points (sfmi_hartley_2d)
+ * and the basis B with B e_i ~ y_i (i < 3) and B (1,1,1) = y_3 for the
+ * normalised points y = N x; a5, a6 the points 5 and 6 in that canonical
+ * frame (B^-1 y); G = N^-1 B maps the canonical frame to pixels. 0 when the
+ * first four points do not form a projective basis. */
 static int view_frame(const double *xs, const int *idx, double G[9], double a5[3], double a6[3])
 {
-    double x[12];
+    double x[12], t[3];
     for (int k = 0; k < 6; k++) {
         const int i = idx != NULL ? idx[k] : k;
         x[2 * k] = xs[2 * i];
         x[2 * k + 1] = xs[2 * i + 1];
     }
-    double cx = 0.0, cy = 0.0;
-    for (int k = 0; k < 6; k++) {
-        cx += x[2 * k];
-        cy += x[2 * k + 1];
-    }
-    cx /= 6.0;
-    cy /= 6.0;
-    double md = 0.0;
-    for (int k = 0; k < 6; k++)
-        md += sqrt((x[2 * k] - cx) * (x[2 * k] - cx) + (x[2 * k + 1] - cy) * (x[2 * k + 1] - cy));
-    if (!(md > 0.0))
+    if (sfmi_hartley_2d(x, 6, t) != 0)
         return 0;
-    const double s = 6.0 * 1.4142135623730951 / md;
+    const double s = t[0], cx = -t[1] / s, cy = -t[2] / s;
     double y[6][3];
     for (int k = 0; k < 6; k++) {
-        y[k][0] = s * (x[2 * k] - cx);
-        y[k][1] = s * (x[2 * k + 1] - cy);
+        y[k][0] = s * x[2 * k] + t[1];
+        y[k][1] = s * x[2 * k + 1] + t[2];
         y[k][2] = 1.0;
     }
     double M[9], Mi[9], l[3];
