@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs each make target given, keeps going when one fails, and ends with one
 # summary line adding up every step's "N passed, N failed" (or pytest's
-# "N passed" line).
+# "N passed" line), and the skips: pytest's "N skipped" and the C tests'
+# "SKIP:" lines (a data set, a tool or a device that is not there), so that
+# a run without ../shared/data does not read like a full one.
 #
 # Steps run TEST_JOBS at a time (default: the number of cores): most of them
 # are one process (a test binary, an emulator, pytest), so on a 2-core machine
@@ -46,11 +48,11 @@ if [ "$jobs" -gt 1 ]; then
     fi
 fi
 
-total_pass=0; total_fail=0; bad_steps=()
+total_pass=0; total_fail=0; total_skip=0; bad_steps=()
 
 # report STEP: prints the step's log and its line, adds up its counts.
 report() {
-    local step=$1 rc dt line p=0 f=0 py
+    local step=$1 rc dt line p=0 f=0 py k=0 ks
     read -r rc dt <"$logdir/$step.rc"
     echo "=== $step"
     cat "$logdir/$step.log"
@@ -66,10 +68,14 @@ report() {
             [ -n "$p" ] || p=0; [ -n "$f" ] || f=0
         fi
     fi
+    ks=$(grep -E '^(=+ )?[0-9]+ (passed|failed|skipped|error).* in [0-9.]+s' "$logdir/$step.log" | tail -n 1 |
+         grep -oE '[0-9]+ skipped' | grep -oE '[0-9]+' || true)
+    k=$(( ${ks:-0} + $(grep -c '^SKIP:' "$logdir/$step.log" || true) ))
     if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
     if [ "$rc" -ne 0 ]; then bad_steps+=("$step"); fi
-    total_pass=$((total_pass + p)); total_fail=$((total_fail + f))
-    printf -- '--- %s: %d passed, %d failed, exit %d, %ds\n' "$step" "$p" "$f" "$rc" "$dt"
+    total_pass=$((total_pass + p)); total_fail=$((total_fail + f)); total_skip=$((total_skip + k))
+    printf -- '--- %s: %d passed, %d failed, exit %d, %ds%s\n' "$step" "$p" "$f" "$rc" "$dt" \
+        "$([ "$k" -gt 0 ] && echo ", $k skipped")"
 }
 
 launch() {
@@ -106,5 +112,5 @@ wait
 
 echo
 echo "steps: ${#steps[@]}, failed steps: ${#bad_steps[@]} ${bad_steps[*]:-}, $(( $(date +%s) - start ))s"
-echo "test: $total_pass passed, $total_fail failed"
+echo "test: $total_pass passed, $total_fail failed, $total_skip skipped"
 [ ${#bad_steps[@]} -eq 0 ]
