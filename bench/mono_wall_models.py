@@ -145,19 +145,29 @@ def real(w, h, r, xs):
     row("shear of views 2, 3, chessboard pp and aspect", c, I)
 
 
-def synthetic(w, h, g, draws, noise, shear3=0.0):
+def chessboard_views(g, h, rng, noise, shears=(0.0, 0.0, 0.0)):
+    """The inlier points of answer g seen by its cameras through the
+    chessboard's whole model (its fx, fy, principal point, k1, k2), with
+    Gaussian noise and each view v's x moved by shears[v] (y - c_y), c_y
+    the centre row of an image h rows high: (n, 2) pixels per view."""
     cv2 = __import__("cv2")
-    cx, cy = (w - 1) / 2, (h - 1) / 2
     keep = g["inliers"] & np.any(g["X"] != 0, axis=1)
     X = g["X"][keep]
     K = np.array([[CB["fx"], 0, CB["cx"]], [0, CB["fy"], CB["cy"]], [0, 0, 1]])
     D = np.array([CB["k1"], CB["k2"], 0, 0, 0])
+    xs = [cv2.projectPoints(X, cv2.Rodrigues(g["R"][v])[0], g["t"][v], K, D)[0].reshape(-1, 2)
+          + rng.normal(0, noise, (len(X), 2)) for v in range(3)]
+    for v in range(3):
+        xs[v][:, 0] += shears[v] * (xs[v][:, 1] - (h - 1) / 2)
+    return xs
+
+
+def synthetic(w, h, g, draws, noise, shear3=0.0):
+    cx, cy = (w - 1) / 2, (h - 1) / 2
     rng = np.random.default_rng(2018)
     out = []
     for _ in range(draws):
-        xs = [cv2.projectPoints(X, cv2.Rodrigues(g["R"][v])[0], g["t"][v], K, D)[0].reshape(-1, 2)
-              + rng.normal(0, noise, (len(X), 2)) for v in range(3)]
-        xs[2][:, 0] += shear3 * (xs[2][:, 1] - cy)
+        xs = chessboard_views(g, h, rng, noise, (0.0, 0.0, shear3))
         try:
             q = libsfm.reconstruct_three_view(*xs, w, h, seed=1, max_focal_sigma=1.0)
         except libsfm.SfmError:

@@ -25,23 +25,10 @@ sys.path.insert(0, os.path.join(HERE, "..", "python"))
 import numpy as np  # noqa: E402
 
 import libsfm  # noqa: E402
+from mono_wall_models import chessboard_views  # noqa: E402
 from test_recon import MONO_WALL as CB, boof_images  # noqa: E402
 
 FLOOR = 0.2  # px, FOCAL_NOISE_FLOOR of libsfm/recon/metric_upgrade.c
-
-
-def synthetic_pixels(g, w, h, shears, noise, seed):
-    import cv2
-    keep = g["inliers"] & np.any(g["X"] != 0, axis=1)
-    X = g["X"][keep]
-    K = np.array([[CB["fx"], 0, CB["cx"]], [0, CB["fy"], CB["cy"]], [0, 0, 1]])
-    dist = np.array([CB["k1"], CB["k2"], 0, 0, 0])
-    rng = np.random.default_rng(seed)
-    obs = [cv2.projectPoints(X, cv2.Rodrigues(g["R"][v])[0], g["t"][v], K, dist)[0].reshape(-1, 2)
-           + rng.normal(0, noise, (len(X), 2)) for v in range(3)]
-    for v in (1, 2):
-        obs[v][:, 0] += shears[v - 1] * (obs[v][:, 1] - (h - 1) / 2)
-    return obs
 
 
 def main():
@@ -58,7 +45,7 @@ def main():
     g = libsfm.reconstruct_three_view_images(*imgs, seed=1, max_focal_sigma=1.0 if a.synthetic else None)
     if a.synthetic:
         truth = [float(v) for v in a.shears.split(",")]
-        xs = synthetic_pixels(g, w, h, truth, a.noise, 2020)
+        xs = chessboard_views(g, h, np.random.default_rng(2020), a.noise, [0.0] + truth)
         print("synthetic: mono_wall's geometry, the chessboard's model (f %.1f), shears %s, %.2f px noise"
               % (CB["fx"], truth, a.noise))
     else:

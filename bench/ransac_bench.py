@@ -128,12 +128,13 @@ def timed(fn):
     return time.perf_counter() - t0, out
 
 
-def rel_libsfm(p1, p2, thr, seed):
+def rel_libsfm(p1, p2, thr, seed, **options):
     # a refusal (SFM_E_NO_MODEL, SFM_E_DEGENERATE) on these non-degenerate
-    # scenes counts as a failure (180 deg), as a missing anchor answer does
+    # scenes counts as a failure (180 deg), as a missing anchor answer does;
+    # options: more keyword options of estimate_relative_pose
     try:
         r = libsfm.estimate_relative_pose(p1, p2, K, K, threshold_px=thr, seed=seed,
-                                          confidence=CONF, max_iterations=MAX_IT)
+                                          confidence=CONF, max_iterations=MAX_IT, **options)
     except libsfm.SfmError:
         return None, None
     return r["R"], r["t"]
@@ -203,11 +204,16 @@ def stats(e):
     return np.median(e), e.mean(), np.percentile(e, 90), int((e > 3.0).sum())
 
 
+def row_rng(cls, n, ratio, thr):
+    """The generator of a row's scenes (the same scenes in every script)."""
+    return np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr) +
+                                 {"unit": 0, "small": 7, "tiny": 13}[cls])
+
+
 def run_grid(kind, methods, trials, grid, anchor_names, reps):
     rows = []
     for cls, n, ratio, thr in grid:
-        rng = np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr) +
-                                    {"unit": 0, "small": 7, "tiny": 13}[cls])
+        rng = row_rng(cls, n, ratio, thr)
         if kind == "rel":
             scenes = [relpose_scene(rng, n, ratio, cls=cls) for _ in range(trials)]
         else:

@@ -31,8 +31,7 @@ ROWS = [("unit", 200, 0.25, 1.0), ("unit", 200, 0.5, 2.0), ("unit", 1000, 0.5, 2
 
 def scenes(row, count):
     cls, n, ratio, thr = row
-    rng = np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr) +
-                                {"unit": 0, "small": 7, "tiny": 13}[cls])
+    rng = rb.row_rng(cls, n, ratio, thr)
     return [rb.relpose_scene(rng, n, ratio, cls=cls)[:2] for _ in range(count)]
 
 

@@ -15,7 +15,6 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ransac_bench as rb  # noqa: E402
-import libsfm  # noqa: E402
 
 
 def main():
@@ -26,26 +25,18 @@ def main():
     a = ap.parse_args()
     cls, n, ratio, thr = a.row.split(",")
     n, ratio, thr = int(n), float(ratio), float(thr)
-    rng = np.random.default_rng(1000 * n + int(100 * ratio) + int(10 * thr) +
-                                {"unit": 0, "small": 7, "tiny": 13}[cls])
+    rng = rb.row_rng(cls, n, ratio, thr)
     scenes = [rb.relpose_scene(rng, n, ratio, cls=cls) for _ in range(a.trials)]
-
-    def lib(kw):
-        def run(p1, p2, seed):
-            try:
-                r = libsfm.estimate_relative_pose(p1, p2, rb.K, rb.K, threshold_px=thr, seed=seed,
-                                                  confidence=rb.CONF, max_iterations=rb.MAX_IT, **kw)
-            except libsfm.SfmError:
-                return None, None
-            return r["R"], r["t"]
-        return run
-
-    methods = [("libsfm defaults", lib({})), ("libsfm lo_rounds=0", lib(dict(lo_rounds=0))),
-               ("libsfm lo_rounds=0 polish_rounds=0", lib(dict(lo_rounds=0, polish_rounds=0))),
-               ("poselib", lambda p1, p2, seed: rb.rel_poselib(p1, p2, thr, seed))]
+    methods = [("libsfm defaults", {}), ("libsfm lo_rounds=0", dict(lo_rounds=0)),
+               ("libsfm lo_rounds=0 polish_rounds=0", dict(lo_rounds=0, polish_rounds=0)),
+               ("poselib", None)]
     print("%s N=%d %d%% outliers %g px, %d scenes, fastest of %d calls" % (cls, n, round(100 * ratio), thr,
                                                                            a.trials, a.reps))
-    for name, fn in methods:
+    for name, options in methods:
+        def fn(p1, p2, seed):
+            if options is None:
+                return rb.rel_poselib(p1, p2, thr, seed)
+            return rb.rel_libsfm(p1, p2, thr, seed, **options)
         ts, err = [], []
         for k, (p1, p2, _, tg) in enumerate(scenes):
             best = float("inf")
@@ -55,9 +46,8 @@ def main():
                 best = min(best, time.perf_counter() - t0)
             ts.append(best)
             err.append(180.0 if R is None else rb.dir_angle_deg(t, tg))
-        err = np.array(err)
-        print("| %s | %.3f ms | %.3f / %.3f / %d |" % (name, 1e3 * np.median(ts), np.median(err),
-                                                        np.percentile(err, 90), int((err > 3).sum())), flush=True)
+        med, _, p90, above = rb.stats(err)
+        print("| %s | %.3f ms | %.3f / %.3f / %d |" % (name, 1e3 * np.median(ts), med, p90, above), flush=True)
 
 
 if __name__ == "__main__":

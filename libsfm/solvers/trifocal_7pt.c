@@ -438,8 +438,6 @@ static int degenerate_points(const double *x1, const double *x2, const double *x
     return 1;
 }
 
-/* Unit epipole of the denormalised tensor from the normalised one: points
- * map back by H^-1; the sign as sfm_trifocal_epipoles gives it. */
 void sfmi_trifocal_gram(const double *const x[3], int n, const double *H, double *G)
 {
     /* per triplet (u u^T) (x) Av (x) Bq (triplet_factors), W = Av (x) Bq
